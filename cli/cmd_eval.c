@@ -1,0 +1,238 @@
+/* skyfit eval QUANTITY: reference quantities at points read as CSV on stdin
+ * (SPEC §11). All input is read and validated first; a bad row exits 2 with
+ * nothing on stdout. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/commands.h"
+#include "cli/csv_points.h"
+#include "models/atmosphere_file.h"
+#include "models/optical_depth.h"
+#include "models/phase.h"
+#include "models/single_scattering.h"
+#include "models/view_ray.h"
+
+typedef enum quantity { Q_OPTICAL_DEPTH, Q_TRANSMITTANCE, Q_SINGLE_SCATTERING } quantity;
+
+typedef struct eval_options {
+  quantity what;
+  const char *atmosphere_path;
+  int phase;
+  sf_ray_end end;
+  double distance;      /* < 0: none */
+} eval_options;
+
+static const char *const ray_columns[] = {"h_km", "mu", NULL};
+static const char *const sun_columns[] = {"h_km", "mu", "mu_s", "nu", NULL};
+
+static void eval_usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit eval optical_depth|transmittance|single_scattering [options] < points.csv\n"
+          "\n"
+          "Reads CSV on stdin: a header naming the columns, then one point per row.\n"
+          "  optical_depth, transmittance: h_km,mu\n"
+          "  single_scattering:            h_km,mu,mu_s,nu\n"
+          "h_km is the viewer altitude above the ground (may exceed the top of the\n"
+          "atmosphere), mu the cosine of the view zenith angle, mu_s of the sun zenith angle,\n"
+          "nu of the view-sun angle (clamped to what mu and mu_s allow).\n"
+          "Writes CSV on stdout: the input columns, then\n"
+          "  optical_depth:     one column per constituent (density integral, km)\n"
+          "  transmittance:     T_<channel>\n"
+          "  single_scattering: <constituent>_<channel> per scattering constituent\n"
+          "\n"
+          "options:\n"
+          "  --atmosphere FILE  atmosphere JSON (default: the built-in Earth, SPEC §4)\n"
+          "  --phase            multiply single scattering by the phase function at nu\n"
+          "  --to nearest|top   ray end: the ground or the top, whichever comes first\n"
+          "                     (default), or the top (rays that hit the ground are an error)\n"
+          "  --to-distance D    the segment from the viewer to distance D km along the ray\n"
+          "  --help             this text\n");
+}
+
+static int parse_options(int argc, char **argv, eval_options *o) {
+  memset(o, 0, sizeof *o);
+  o->distance = -1.0;
+  const char *q = NULL;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      eval_usage(stdout);
+      return 0;
+    } else if (strcmp(a, "--atmosphere") == 0 && i + 1 < argc) {
+      o->atmosphere_path = argv[++i];
+    } else if (strcmp(a, "--phase") == 0) {
+      o->phase = 1;
+    } else if (strcmp(a, "--to") == 0 && i + 1 < argc) {
+      const char *v = argv[++i];
+      if (strcmp(v, "top") == 0) o->end = SF_RAY_END_TOP;
+      else if (strcmp(v, "nearest") == 0) o->end = SF_RAY_END_NEAREST;
+      else {
+        fprintf(stderr, "skyfit eval: --to: expected 'nearest' or 'top', got '%s'\n", v);
+        return 2;
+      }
+    } else if (strcmp(a, "--to-distance") == 0 && i + 1 < argc) {
+      char *end;
+      o->distance = strtod(argv[++i], &end);
+      if (*end != '\0' || !isfinite(o->distance) || o->distance < 0.0) {
+        fprintf(stderr, "skyfit eval: --to-distance: expected a distance >= 0 in km, got '%s'\n",
+                argv[i]);
+        return 2;
+      }
+    } else if (a[0] == '-') {
+      fprintf(stderr, "skyfit eval: unknown option '%s' (or missing value); see --help\n", a);
+      return 2;
+    } else if (!q) {
+      q = a;
+    } else {
+      fprintf(stderr, "skyfit eval: unexpected argument '%s'\n", a);
+      return 2;
+    }
+  }
+  if (!q) {
+    fprintf(stderr, "skyfit eval: which quantity? optical_depth, transmittance or single_scattering\n");
+    eval_usage(stderr);
+    return 2;
+  }
+  if (strcmp(q, "optical_depth") == 0) o->what = Q_OPTICAL_DEPTH;
+  else if (strcmp(q, "transmittance") == 0) o->what = Q_TRANSMITTANCE;
+  else if (strcmp(q, "single_scattering") == 0) o->what = Q_SINGLE_SCATTERING;
+  else {
+    fprintf(stderr, "skyfit eval: unknown quantity '%s' (optical_depth, transmittance, single_scattering)\n", q);
+    return 2;
+  }
+  if (o->phase && o->what != Q_SINGLE_SCATTERING) {
+    fprintf(stderr, "skyfit eval: --phase applies to single_scattering only\n");
+    return 2;
+  }
+  return -1;   /* go on */
+}
+
+/* Output column names after the input columns. Returns their count. */
+static int output_columns(const sf_atmosphere *atm, quantity what, char names[][64]) {
+  int n = 0;
+  if (what == Q_OPTICAL_DEPTH) {
+    for (int i = 0; i < atm->n_constituents; ++i)
+      snprintf(names[n++], 64, "%s", atm->constituents[i].name);
+  } else if (what == Q_TRANSMITTANCE) {
+    for (int ch = 0; ch < atm->n_channels; ++ch)
+      snprintf(names[n++], 64, "T_%s", atm->channel_names[ch]);
+  } else {
+    for (int i = 0; i < atm->n_constituents; ++i) {
+      if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
+      for (int ch = 0; ch < atm->n_channels; ++ch)
+        snprintf(names[n++], 64, "%s_%s", atm->constituents[i].name, atm->channel_names[ch]);
+    }
+  }
+  return n;
+}
+
+/* Checks the ranges of one row and builds its view ray. */
+static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf_csv_points *pts,
+                       long row, sf_view_ray *ray, sf_error *err) {
+  const double *v = pts->values + row * pts->n_columns;
+  static const char *const unit_columns[] = {"mu", "mu_s", "nu"};
+  for (int k = 0; k < 3; ++k) {
+    int c = sf_csv_points_column(pts, unit_columns[k]);
+    if (c >= 0 && (v[c] < -1.0 || v[c] > 1.0))
+      return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column %s: %s is outside [-1, 1]", row + 2,
+                     unit_columns[k], pts->fields[row * pts->n_columns + c]);
+  }
+  double h = v[sf_csv_points_column(pts, "h_km")];
+  if (h < 0.0)
+    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", row + 2,
+                   pts->fields[row * pts->n_columns + sf_csv_points_column(pts, "h_km")]);
+  const char *why = "";
+  if (sf_view_ray_make(atm, h, v[sf_csv_points_column(pts, "mu")], o->end, o->distance, ray, &why))
+    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld: %s", row + 2, why);
+  return 0;
+}
+
+static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const sf_csv_points *pts,
+                         long row, const sf_view_ray *ray, double *out) {
+  const double *v = pts->values + row * pts->n_columns;
+  double depth[SF_MAX_CONSTITUENTS];
+  if (o->what != Q_SINGLE_SCATTERING) {
+    sf_optical_depth_segment(atm, ray->r, ray->mu, ray->t0, ray->t1, depth);
+    if (o->what == Q_OPTICAL_DEPTH)
+      memcpy(out, depth, sizeof(double) * (size_t)atm->n_constituents);
+    else
+      sf_transmittance_from_depth(atm, depth, out);
+    return;
+  }
+  double mu_s = v[sf_csv_points_column(pts, "mu_s")], nu = v[sf_csv_points_column(pts, "nu")];
+  double all[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  sf_single_scattering(atm, ray, mu_s, nu, all);
+  double clamped_nu = sf_clamp_nu(ray->mu, mu_s, nu);
+  int n = 0;
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    const sf_constituent *c = &atm->constituents[i];
+    if (!sf_constituent_scatters(c, atm->n_channels)) continue;
+    double phase = o->phase ? sf_phase_value(&c->phase, clamped_nu) : 1.0;
+    for (int ch = 0; ch < atm->n_channels; ++ch) out[n++] = all[i * atm->n_channels + ch] * phase;
+  }
+}
+
+int sf_cmd_eval(int argc, char **argv) {
+  eval_options o;
+  int rc = parse_options(argc, argv, &o);
+  if (rc >= 0) return rc;
+
+  sf_error err;
+  sf_error_clear(&err);
+  sf_atmosphere atm;
+  if (o.atmosphere_path) {
+    if (sf_atmosphere_load_file(o.atmosphere_path, &atm, &err)) {
+      fprintf(stderr, "skyfit eval: %s\n", err.message);
+      return err.status;
+    }
+  } else {
+    sf_atmosphere_default(&atm);
+  }
+
+  sf_csv_points pts;
+  const char *const *columns = o.what == Q_SINGLE_SCATTERING ? sun_columns : ray_columns;
+  if (sf_csv_points_read(stdin, "stdin", columns, columns, &pts, &err)) {
+    fprintf(stderr, "skyfit eval: %s\n", err.message);
+    return err.status;
+  }
+  static char names[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS][64];
+  int n_out = output_columns(&atm, o.what, names);
+  sf_view_ray *rays = malloc(sizeof(sf_view_ray) * (size_t)(pts.n_rows ? pts.n_rows : 1));
+  double *results = malloc(sizeof(double) * (size_t)((pts.n_rows ? pts.n_rows : 1) * (n_out ? n_out : 1)));
+  if (!rays || !results) {
+    fprintf(stderr, "skyfit eval: out of memory for %ld points\n", pts.n_rows);
+    free(rays), free(results), sf_csv_points_free(&pts);
+    return 1;
+  }
+  for (long row = 0; row < pts.n_rows; ++row)
+    if (prepare_row(&atm, &o, &pts, row, &rays[row], &err)) {
+      fprintf(stderr, "skyfit eval: %s\n", err.message);
+      free(rays), free(results), sf_csv_points_free(&pts);
+      return err.status;
+    }
+
+  /* Rows are independent: the thread count cannot change any value. */
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long row = 0; row < pts.n_rows; ++row)
+    evaluate_row(&atm, &o, &pts, row, &rays[row], results + row * n_out);
+
+  for (int c = 0; c < pts.n_columns; ++c) printf("%s%s", c ? "," : "", pts.column_names[c]);
+  for (int k = 0; k < n_out; ++k) printf(",%s", names[k]);
+  printf("\n");
+  for (long row = 0; row < pts.n_rows; ++row) {
+    for (int c = 0; c < pts.n_columns; ++c)
+      printf("%s%s", c ? "," : "", pts.fields[row * pts.n_columns + c]);
+    for (int k = 0; k < n_out; ++k) printf(",%.17g", results[row * n_out + k]);
+    printf("\n");
+  }
+  free(rays);
+  free(results);
+  sf_csv_points_free(&pts);
+  if (fflush(stdout) != 0 || ferror(stdout)) {
+    fprintf(stderr, "skyfit eval: writing to stdout failed\n");
+    return 1;
+  }
+  return 0;
+}

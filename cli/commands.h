@@ -1,0 +1,8 @@
+/* The sub-commands of `skyfit` (SPEC §11). Each returns the process exit
+ * code: 0 success, 2 bad input, 1 internal failure. */
+#ifndef SKYFIT_CLI_COMMANDS_H
+#define SKYFIT_CLI_COMMANDS_H
+
+int sf_cmd_eval(int argc, char **argv);
+
+#endif

@@ -1,0 +1,48 @@
+/* skyfit: command dispatch (SPEC §11). */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/commands.h"
+
+typedef struct command {
+  const char *name;
+  int (*run)(int argc, char **argv);
+  const char *summary;
+} command;
+
+static const command commands[] = {
+    {"eval", sf_cmd_eval,
+     "evaluate reference quantities (optical depth, transmittance, single scattering) at CSV points"},
+};
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit <command> [options]\n"
+          "\n"
+          "skyfit turns a physical description of an atmosphere into small, fast sky models.\n"
+          "\n"
+          "commands:\n");
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+    fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
+  fprintf(out, "\n'skyfit <command> --help' describes a command's options.\n");
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    usage(stderr);
+    return 2;
+  }
+  if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
+    usage(stdout);
+    return 0;
+  }
+  if (strcmp(argv[1], "--version") == 0) {
+    printf("skyfit %s\n", SKYFIT_VERSION);
+    return 0;
+  }
+  for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
+    if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+  fprintf(stderr, "skyfit: unknown command '%s'\n", argv[1]);
+  usage(stderr);
+  return 2;
+}

@@ -1,0 +1,49 @@
+/* Ray geometry in a spherical atmosphere, in double and float (the float
+ * forms are what emitted shaders do). A ray starts at radius r (km from the
+ * planet centre) with direction cosine mu against the local zenith; a point at
+ * distance t along it has radius sqrt(r^2 + t^2 + 2 r mu t). Every formula
+ * avoids the cancellations of the textbook quadratic (SPEC §10): the small
+ * root is computed as c/q, and r^2 - R^2 as (r - R)(r + R). */
+#ifndef SKYFIT_MODELS_RAY_GEOMETRY_H
+#define SKYFIT_MODELS_RAY_GEOMETRY_H
+
+/* Squared distance of the ray's line from the planet centre, r^2 (1 - mu^2). */
+double sf_ray_closest_radius_sq(double r, double mu);
+/* Radius at distance t along the ray, clamped to be non-negative. */
+double sf_ray_radius_at(double r, double mu, double t);
+/* Cosine of the zenith angle at distance t along the ray. */
+double sf_ray_mu_at(double r, double mu, double t);
+
+/* Does the ray from radius r hit the sphere of radius R_ground? A ray tangent
+ * to it (discriminant exactly 0) counts as hitting, as in Bruneton 2017. */
+int sf_ray_hits_sphere_from_above(double r, double mu, double sphere_radius);
+/* Horizon cosine: mu of the ray tangent to the sphere of radius R (< r),
+ * -sqrt(1 - (R/r)^2). */
+double sf_horizon_mu(double r, double sphere_radius);
+
+/* Both intersections t_near <= t_far of the ray's line with the sphere of
+ * radius R, as distances along the ray (they may be negative: behind the
+ * viewer). Returns 0 and leaves them untouched if the line misses. */
+int sf_ray_sphere_intersections(double r, double mu, double sphere_radius,
+                                double *t_near, double *t_far);
+
+/* Where the ray (inside or outside the atmosphere) is within it:
+ * [t_enter, t_exit] from the viewer, stopping at the ground if it hits it.
+ * t_enter is 0 for viewers inside. Returns 0 if the ray never enters the
+ * atmosphere. *hits_ground says whether the segment ends on the ground. */
+int sf_ray_atmosphere_segment(double r, double mu, double bottom_radius,
+                              double top_radius, double *t_enter,
+                              double *t_exit, int *hits_ground);
+
+/* The same in float32. */
+float sf_ray_closest_radius_sq_f(float r, float mu);
+float sf_ray_radius_at_f(float r, float mu, float t);
+int sf_ray_hits_sphere_from_above_f(float r, float mu, float sphere_radius);
+float sf_horizon_mu_f(float r, float sphere_radius);
+int sf_ray_sphere_intersections_f(float r, float mu, float sphere_radius,
+                                  float *t_near, float *t_far);
+int sf_ray_atmosphere_segment_f(float r, float mu, float bottom_radius,
+                                float top_radius, float *t_enter, float *t_exit,
+                                int *hits_ground);
+
+#endif

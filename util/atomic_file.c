@@ -1,0 +1,59 @@
+#include "util/atomic_file.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int sf_atomic_temp_name(const char *path, char *temp, size_t n) {
+  /* The pid keeps concurrent writers of the same file apart; XXXXXX is
+   * filled by mkstemp. The temporary sits beside the target so rename()
+   * never crosses a file system. */
+  int len = snprintf(temp, n, "%s.tmp.%ld.XXXXXX", path, (long)getpid());
+  return (len < 0 || (size_t)len >= n) ? -1 : 0;
+}
+
+int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
+  memset(f, 0, sizeof *f);
+  if (strlen(path) + 1 > sizeof f->final_path)
+    return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
+  strcpy(f->final_path, path);
+  if (sf_atomic_temp_name(path, f->temp_path, sizeof f->temp_path) != 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
+  int fd = mkstemp(f->temp_path);
+  if (fd < 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here: %s", path, strerror(errno));
+  f->stream = fdopen(fd, "wb");
+  if (!f->stream) {
+    close(fd);
+    unlink(f->temp_path);
+    return sf_fail(err, SF_ERR_INTERNAL, "%s: fdopen failed: %s", path, strerror(errno));
+  }
+  return 0;
+}
+
+int sf_atomic_commit(sf_atomic_file *f, sf_error *err) {
+  int failed = ferror(f->stream) || fflush(f->stream) != 0 || fsync(fileno(f->stream)) != 0;
+  int saved = errno;
+  if (fclose(f->stream) != 0) failed = 1;
+  f->stream = NULL;
+  if (!failed) {
+    /* mkstemp creates 0600 files; outputs should look like any other file. */
+    mode_t mask = umask(0);
+    umask(mask);
+    chmod(f->temp_path, 0666 & ~mask);
+    if (rename(f->temp_path, f->final_path) == 0) return 0;
+    saved = errno;
+  }
+  unlink(f->temp_path);
+  return sf_fail(err, SF_ERR_INPUT, "%s: writing failed: %s", f->final_path, strerror(saved));
+}
+
+void sf_atomic_abort(sf_atomic_file *f) {
+  if (f->stream) fclose(f->stream);
+  f->stream = NULL;
+  if (f->temp_path[0]) unlink(f->temp_path);
+}
