@@ -34,9 +34,19 @@ void sf_optical_depth_segment_tol(const sf_atmosphere *atm, double r, double mu,
   double breaks[SF_MAX_RAY_BREAKS];
   int n = sf_ray_breakpoints(atm, r, mu, t0, t1, breaks);
   density_ray ray = {atm, r, mu};
-  for (int p = 0; p + 1 < n; ++p)
+  for (int p = 0; p + 1 < n; ++p) {
+    /* Altitudes computed from radii near 6000 km are only resolved to
+     * ~1e-12 km, so a density is uncertain by |d density/dh| * 1e-12 (<= ~1e-12
+     * for any scale height >= 1 km). A relative tolerance cannot be met where
+     * the integral itself is of that size (a sliver of the ozone tent's
+     * corner): the absolute floor SF_DENSITY_RESOLUTION per km of path stops
+     * there, at an optical-thickness error far below 1e-9. */
+    double floor_tol[SF_MAX_CONSTITUENTS];
+    for (int i = 0; i < atm->n_constituents; ++i)
+      floor_tol[i] = SF_DENSITY_RESOLUTION * (breaks[p + 1] - breaks[p]);
     sf_integrate_adaptive(densities_along_ray, &ray, breaks[p], breaks[p + 1],
-                          atm->n_constituents, rel_tol, NULL, out);
+                          atm->n_constituents, rel_tol, floor_tol, out);
+  }
 }
 
 void sf_optical_depth_segment(const sf_atmosphere *atm, double r, double mu,

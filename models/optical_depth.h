@@ -11,6 +11,8 @@
 /* Relative tolerance the reference aims for per constituent; the tests hold
  * it to 1e-9 against an independent integrator. */
 #define SF_OPTICAL_DEPTH_REL_TOL 1e-11
+/* Absolute density resolution the quadrature stops at (see optical_depth.c). */
+#define SF_DENSITY_RESOLUTION 1e-13
 
 typedef enum sf_ray_end {
   SF_RAY_END_NEAREST = 0,   /* the ground if the ray hits it, else the top */

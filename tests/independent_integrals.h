@@ -12,7 +12,7 @@
 typedef long double ld;
 
 /* Bruneton's layered density, written out again in long double. */
-static ld ind_density(const sf_constituent *c, ld h) {
+static inline ld ind_density(const sf_constituent *c, ld h) {
   ld top_of_layer = 0;
   int k = c->n_layers - 1;
   for (int i = 0; i < c->n_layers - 1; ++i) {
@@ -26,9 +26,10 @@ static ld ind_density(const sf_constituent *c, ld h) {
 
 typedef ld (*ind_fn)(void *ctx, ld t);
 
-/* Tanh-sinh on [a, b], refining the step until two levels agree to 1e-17
- * relative (or 12 levels). Exact for analytic integrands on the piece. */
-static ld ind_tanh_sinh(ind_fn f, void *ctx, ld a, ld b) {
+/* Tanh-sinh on [a, b], refining the step until two levels agree to rel_tol
+ * (or 12 levels). Converges double-exponentially for integrands analytic on
+ * the piece; the error is then far below the last change. */
+static inline ld ind_tanh_sinh_tol(ind_fn f, void *ctx, ld a, ld b, ld rel_tol) {
   if (!(b > a)) return 0;
   const ld half_pi = 1.5707963267948966192313216916397514L;
   ld c = 0.5L * (a + b), hw = 0.5L * (b - a);
@@ -56,9 +57,13 @@ static ld ind_tanh_sinh(ind_fn f, void *ctx, ld a, ld b) {
       sum += w * (f(ctx, c - hw * d) + f(ctx, c + hw * d));
     }
     estimate = sum * step;
-    if (level >= 4 && fabsl(estimate - previous) <= 1e-17L * fabsl(estimate)) break;
+    if (level >= 4 && fabsl(estimate - previous) <= rel_tol * fabsl(estimate)) break;
   }
   return estimate * hw;
+}
+
+static inline ld ind_tanh_sinh(ind_fn f, void *ctx, ld a, ld b) {
+  return ind_tanh_sinh_tol(f, ctx, a, b, 1e-17L);
 }
 
 typedef struct ind_ray {
@@ -66,22 +71,22 @@ typedef struct ind_ray {
   ld r, mu, bottom, top;
 } ind_ray;
 
-static ld ind_density_along(void *ctx, ld t) {
+static inline ld ind_density_along(void *ctx, ld t) {
   const ind_ray *ray = ctx;
   ld rr = sqrtl(ray->r * ray->r + t * t + 2 * ray->r * ray->mu * t);
   if (rr > ray->top) return 0;
   return ind_density(ray->c, rr - ray->bottom);
 }
 
-static int ind_compare(const void *a, const void *b) {
+static inline int ind_compare(const void *a, const void *b) {
   ld x = *(const ld *)a, y = *(const ld *)b;
   return (x > y) - (x < y);
 }
 
 /* Optical depth of constituent c over [t0, t1], split at the closest
  * approach and at the crossings of the given kink altitudes. */
-static ld ind_optical_depth(const sf_constituent *c, ld bottom, ld top, ld r, ld mu, ld t0, ld t1,
-                            const double *kinks, int n_kinks) {
+static inline ld ind_optical_depth_tol(const sf_constituent *c, ld bottom, ld top, ld r, ld mu, ld t0,
+                                ld t1, const double *kinks, int n_kinks, ld rel_tol) {
   ld cuts[64];
   int n = 0;
   cuts[n++] = t0;
@@ -100,13 +105,19 @@ static ld ind_optical_depth(const sf_constituent *c, ld bottom, ld top, ld r, ld
   qsort(cuts, (size_t)n, sizeof cuts[0], ind_compare);
   ind_ray ray = {c, r, mu, bottom, top};
   ld sum = 0;
-  for (int i = 0; i + 1 < n; ++i) sum += ind_tanh_sinh(ind_density_along, &ray, cuts[i], cuts[i + 1]);
+  for (int i = 0; i + 1 < n; ++i)
+    sum += ind_tanh_sinh_tol(ind_density_along, &ray, cuts[i], cuts[i + 1], rel_tol);
   return sum;
+}
+
+static inline ld ind_optical_depth(const sf_constituent *c, ld bottom, ld top, ld r, ld mu, ld t0, ld t1,
+                            const double *kinks, int n_kinks) {
+  return ind_optical_depth_tol(c, bottom, top, r, mu, t0, t1, kinks, n_kinks, 1e-17L);
 }
 
 /* Distance to the sphere of radius R along (r, mu): the far root (which > 0
  * for r <= R), or the near root when near is set; stable in long double. */
-static ld ind_sphere_distance(ld r, ld mu, ld R, int near) {
+static inline ld ind_sphere_distance(ld r, ld mu, ld R, int near) {
   ld disc = (R - r) * (R + r) + r * r * mu * mu;
   if (disc < 0) return -1;
   ld s = sqrtl(disc);
@@ -115,6 +126,84 @@ static ld ind_sphere_distance(ld r, ld mu, ld R, int near) {
   ld a = q, b = q != 0 ? c / q : 0;
   ld lo = a < b ? a : b, hi = a < b ? b : a;
   return near ? lo : hi;
+}
+
+/* Vector-valued tanh-sinh: n components at once (n <= 16), converged when
+ * every component's last change is <= rel_tol of its value. */
+typedef void (*ind_vec_fn)(void *ctx, ld t, ld *values);
+
+static inline void ind_tanh_sinh_vec(ind_vec_fn f, void *ctx, ld a, ld b, int n, ld rel_tol, ld *out) {
+  for (int i = 0; i < n; ++i) out[i] = 0;
+  if (!(b > a)) return;
+  const ld half_pi = 1.5707963267948966192313216916397514L;
+  ld c = 0.5L * (a + b), hw = 0.5L * (b - a);
+  ld step = 0.5L, sum[16], est[16], prev[16], v1[16], v2[16];
+  f(ctx, c, v1);
+  for (int i = 0; i < n; ++i) sum[i] = half_pi * v1[i];
+  for (int level = 0; level <= 12; ++level) {
+    if (level > 0) step *= 0.5L;
+    int stride = level == 0 ? 1 : 2;
+    for (int k = 1; k <= 60 * (1 << level); k += stride) {
+      ld x = k * step;
+      ld u = half_pi * sinhl(x), ch = coshl(u);
+      ld w = half_pi * coshl(x) / (ch * ch);
+      ld d = tanhl(u);
+      if (w < 1e-40L) break;
+      f(ctx, c - hw * d, v1);
+      f(ctx, c + hw * d, v2);
+      for (int i = 0; i < n; ++i) sum[i] += w * (v1[i] + v2[i]);
+    }
+    int done = level >= 4;
+    for (int i = 0; i < n; ++i) {
+      prev[i] = est[i];
+      est[i] = sum[i] * step;
+      if (level < 1 || fabsl(est[i] - prev[i]) > rel_tol * fabsl(est[i])) done = 0;
+    }
+    if (done) break;
+  }
+  for (int i = 0; i < n; ++i) out[i] = est[i] * hw;
+}
+
+typedef struct ind_ray_all {
+  const sf_atmosphere *atm;
+  ld r, mu;
+} ind_ray_all;
+
+static inline void ind_densities_along(void *ctx, ld t, ld *values) {
+  const ind_ray_all *ray = ctx;
+  ld rr = sqrtl(ray->r * ray->r + t * t + 2 * ray->r * ray->mu * t);
+  for (int i = 0; i < ray->atm->n_constituents; ++i)
+    values[i] = rr > (ld)ray->atm->top_radius_km
+                    ? 0
+                    : ind_density(&ray->atm->constituents[i], rr - (ld)ray->atm->bottom_radius_km);
+}
+
+/* Optical depth of every constituent over [t0, t1] (split as above). */
+static inline void ind_optical_depth_all(const sf_atmosphere *atm, ld r, ld mu, ld t0, ld t1,
+                                         const double *kinks, int n_kinks, ld rel_tol, ld *out) {
+  ld cuts[64];
+  int n = 0;
+  cuts[n++] = t0;
+  cuts[n++] = t1;
+  ld tc = -r * mu;
+  if (tc > t0 && tc < t1) cuts[n++] = tc;
+  ld d2 = r * r * (1 - mu) * (1 + mu);
+  for (int k = 0; k < n_kinks && n < 60; ++k) {
+    ld R = (ld)atm->bottom_radius_km + kinks[k];
+    ld disc = R * R - d2;
+    if (disc < 0) continue;
+    ld s = sqrtl(disc);
+    if (tc - s > t0 && tc - s < t1) cuts[n++] = tc - s;
+    if (tc + s > t0 && tc + s < t1) cuts[n++] = tc + s;
+  }
+  qsort(cuts, (size_t)n, sizeof cuts[0], ind_compare);
+  ind_ray_all ray = {atm, r, mu};
+  for (int i = 0; i < atm->n_constituents; ++i) out[i] = 0;
+  for (int p = 0; p + 1 < n; ++p) {
+    ld piece[16];
+    ind_tanh_sinh_vec(ind_densities_along, &ray, cuts[p], cuts[p + 1], atm->n_constituents, rel_tol, piece);
+    for (int i = 0; i < atm->n_constituents; ++i) out[i] += piece[i];
+  }
 }
 
 #endif

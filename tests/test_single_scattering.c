@@ -1,0 +1,258 @@
+/* Reference single scattering against the flat-slab closed form (seed 000
+ * eq. 47) in the large-radius limit, against an independent nested long-double
+ * integration with the planet's shadow, and the blocked-sun identity. Bound:
+ * 1e-7 relative (issue "Foundation"). */
+#include <string.h>
+
+#include "check.h"
+#include "independent_integrals.h"
+#include "models/atmosphere_file.h"
+#include "models/phase.h"
+#include "models/ray_geometry.h"
+#include "models/single_scattering.h"
+#include "models/view_ray.h"
+
+/* A homogeneous slab 1 km thick on a planet of radius R: one constituent of
+ * density 1, scattering bs and absorption ba. */
+static sf_atmosphere slab(double R, double bs, double ba) {
+  sf_atmosphere atm;
+  memset(&atm, 0, sizeof atm);
+  atm.bottom_radius_km = R;
+  atm.top_radius_km = R + 1.0;
+  atm.n_channels = 1;
+  atm.sun_irradiance[0] = 1.0;
+  atm.n_constituents = 1;
+  sf_constituent *c = &atm.constituents[0];
+  strcpy(c->name, "haze");
+  c->scattering[0] = bs;
+  c->absorption[0] = ba;
+  c->phase.kind = SF_PHASE_ISOTROPIC;
+  c->n_layers = 1;
+  c->layers[0].constant = 1.0;
+  sf_atmosphere_finalize(&atm);
+  return atm;
+}
+
+/* seed 000 eq. 45-47 for a viewer at the bottom of a slab of thickness H:
+ * bs/cv * (e^{-be H/cl} - e^{-be H/cv}) / (be (1/cv - 1/cl)). */
+static double flat_slab(double bs, double be, double H, double cv, double cl) {
+  double a = be / cv, b = be / cl;
+  return bs / cv * H * (exp(-b * H) - exp(-a * H)) / ((a - b) * H);
+}
+
+static void test_flat_limit(void) {
+  printf("-- flat homogeneous slab, seed 000 eq. 47, radius -> infinity\n");
+  const double bs = 0.3, ba = 0.2;
+  double cases[][2] = {{1.0, 0.9}, {0.8, 0.5}, {0.6, 0.95}};
+  for (int i = 0; i < 3; ++i) {
+    double cv = cases[i][0], cl = cases[i][1];
+    double want = flat_slab(bs, bs + ba, 1.0, cv, cl);
+    double err[2];
+    double radii[2] = {1e5, 1e6};
+    for (int k = 0; k < 2; ++k) {
+      sf_atmosphere atm = slab(radii[k], bs, ba);
+      sf_view_ray ray;
+      const char *why;
+      sf_view_ray_make(&atm, 0.0, cv, SF_RAY_END_NEAREST, -1.0, &ray, &why);
+      /* sun in the plane of the view, on the same side: nu = cos(theta_v - theta_l) */
+      double sv = sqrt(1 - cv * cv), sl = sqrt(1 - cl * cl);
+      double out[1];
+      sf_single_scattering(&atm, &ray, cl, cv * cl + sv * sl, out);
+      err[k] = fabs(out[0] - want) / want;
+      printf("R = %.0e km, cos(view) %.2f cos(sun) %.2f: got %.12g want %.12g rel %.3g\n",
+             radii[k], cv, cl, out[0], want, err[k]);
+    }
+    /* curvature makes paths differ by O(H tan^2/R): the error must shrink
+     * ~10x with R and be <= 2e-6 at R = 1e6 km */
+    CHECK(err[1] <= 2e-6);
+    CHECK(err[1] < err[0] * 0.2 || err[1] < 1e-9);
+  }
+}
+
+/* ---- independent nested integration ---------------------------------- */
+
+typedef struct nested {
+  const sf_atmosphere *atm;
+  const double *kinks;
+  int n_kinks;
+  ld r, mu, mu_s, nu, t0;
+} nested;
+
+/* Density * T(view) * T(sun) for every constituent and channel:
+ * values[c * n_channels + ch]. */
+static void nested_integrand(void *ctx, ld t, ld *values) {
+  const nested *q = ctx;
+  const sf_atmosphere *atm = q->atm;
+  int nch = atm->n_channels, nc = atm->n_constituents;
+  ld R = atm->bottom_radius_km, top = atm->top_radius_km;
+  ld rp = sqrtl(q->r * q->r + t * t + 2 * q->r * q->mu * t);
+  ld mu_sun = (q->r * q->mu_s + t * q->nu) / rp;
+  for (int k = 0; k < nc * nch; ++k) values[k] = 0;
+  /* sun hidden by the planet? */
+  if (mu_sun < 0 && (R - rp) * (R + rp) + rp * rp * mu_sun * mu_sun >= 0) return;
+  ld t_sun = ind_sphere_distance(rp, mu_sun, top, 0);
+  ld view[16], sun[16];
+  ind_optical_depth_all(atm, q->r, q->mu, q->t0, t, q->kinks, q->n_kinks, 1e-11L, view);
+  ind_optical_depth_all(atm, rp, mu_sun, 0, t_sun, q->kinks, q->n_kinks, 1e-11L, sun);
+  for (int ch = 0; ch < nch; ++ch) {
+    ld tau = 0;
+    for (int i = 0; i < nc; ++i) tau += (view[i] + sun[i]) * (ld)sf_extinction(atm, i, ch);
+    ld transmittance = expl(-tau);
+    for (int c = 0; c < nc; ++c)
+      values[c * nch + ch] = ind_density(&atm->constituents[c], rp - R) * transmittance;
+  }
+}
+
+/* Split points: the view ray's kink crossings and closest approach, and
+ * where the sun ray from the view ray grazes the ground or a kink sphere,
+ * found by bisection on the sign of the grazing condition. */
+static int nested_cuts(const nested *q, ld t0, ld t1, ld *cuts) {
+  int n = 0;
+  cuts[n++] = t0;
+  cuts[n++] = t1;
+  ld tc = -q->r * q->mu;
+  if (tc > t0 && tc < t1) cuts[n++] = tc;
+  ld radii[16];
+  int nr = 0;
+  radii[nr++] = q->atm->bottom_radius_km;
+  for (int k = 0; k < q->n_kinks; ++k) radii[nr++] = q->atm->bottom_radius_km + q->kinks[k];
+  ld d2 = q->r * q->r * (1 - q->mu) * (1 + q->mu);
+  for (int k = 1; k < nr; ++k) {
+    ld disc = radii[k] * radii[k] - d2;
+    if (disc < 0) continue;
+    ld s = sqrtl(disc);
+    if (tc - s > t0 && tc - s < t1) cuts[n++] = tc - s;
+    if (tc + s > t0 && tc + s < t1) cuts[n++] = tc + s;
+  }
+  const int samples = 400;
+  for (int k = 0; k < nr; ++k) {
+    ld Rk = radii[k];
+    ld prev_t = t0, prev_g = 0;
+    for (int i = 0; i <= samples; ++i) {
+      ld t = t0 + (t1 - t0) * i / samples;
+      ld px = t * sqrtl(1 - q->mu * q->mu), pz = q->r + t * q->mu;
+      ld p2 = px * px + pz * pz, ps = q->r * q->mu_s + t * q->nu;
+      ld g = p2 - ps * ps - Rk * Rk;   /* impact parameter^2 - Rk^2 */
+      if (i > 0 && (g < 0) != (prev_g < 0)) {
+        ld a = prev_t, b = t;
+        for (int it = 0; it < 200; ++it) {
+          ld m = 0.5L * (a + b);
+          ld mx = m * sqrtl(1 - q->mu * q->mu), mz = q->r + m * q->mu;
+          ld ms = q->r * q->mu_s + m * q->nu;
+          ld gm = mx * mx + mz * mz - ms * ms - Rk * Rk;
+          if ((gm < 0) == (prev_g < 0)) a = m; else b = m;
+        }
+        if (n < 60) cuts[n++] = 0.5L * (a + b);
+      }
+      prev_t = t;
+      prev_g = g;
+    }
+  }
+  qsort(cuts, (size_t)n, sizeof cuts[0], ind_compare);
+  return n;
+}
+
+static void test_against_nested(const sf_atmosphere *atm) {
+  printf("-- default atmosphere vs nested long-double tanh-sinh, shadow included\n");
+  int oz = sf_atmosphere_find(atm, "ozone");
+  const sf_density_layer *l0 = &atm->constituents[oz].layers[0], *l1 = &atm->constituents[oz].layers[1];
+  double kinks[5] = {-l0->constant / l0->linear_per_km, (1.0 - l0->constant) / l0->linear_per_km,
+                     l0->width_km, (1.0 - l1->constant) / l1->linear_per_km,
+                     -l1->constant / l1->linear_per_km};
+  /* h, mu, mu_s, nu: ground at noon, sunset looking at the sun, a view
+   * through the shadow at dusk, a plane at 10 km looking down, a viewer at
+   * 100 km looking at the limb, one in space looking down. */
+  double R = atm->bottom_radius_km;
+  double pts[][4] = {{0.0, 1.0, 1.0, 1.0},
+                     {0.0, 0.05, 0.0, 0.99},
+                     {0.0, 0.2, -0.08, -0.3},
+                     {10.0, -0.3, 0.5, 0.1},
+                     {100.0, sf_horizon_mu(R + 100.0, R) + 0.002, 0.2, 0.6},
+                     {500.0, -0.95, 0.7, -0.6}};
+  double max_err = 0.0;
+  for (int p = 0; p < 6; ++p) {
+    sf_view_ray ray;
+    const char *why;
+    sf_view_ray_make(atm, pts[p][0], pts[p][1], SF_RAY_END_NEAREST, -1.0, &ray, &why);
+    double nu = sf_clamp_nu(pts[p][1], pts[p][2], pts[p][3]);
+    double got[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+    sf_single_scattering(atm, &ray, pts[p][2], nu, got);
+    nested q = {atm, kinks, 5, ray.r, ray.mu, pts[p][2], nu, ray.t0};
+    ld cuts[64], sum[16] = {0};
+    int n = nested_cuts(&q, ray.t0, ray.t1, cuts);
+    int nv = atm->n_constituents * atm->n_channels;
+    for (int i = 0; i + 1 < n; ++i) {
+      ld piece[16];
+      ind_tanh_sinh_vec(nested_integrand, &q, cuts[i], cuts[i + 1], nv, 1e-10L, piece);
+      for (int k = 0; k < nv; ++k) sum[k] += piece[k];
+    }
+    for (int c = 0; c < atm->n_constituents; ++c) {
+      if (!sf_constituent_scatters(&atm->constituents[c], atm->n_channels)) continue;
+      for (int ch = 0; ch < atm->n_channels; ++ch) {
+        ld s = sum[c * atm->n_channels + ch];
+        double want = (double)(s * (ld)atm->sun_irradiance[ch] * (ld)atm->constituents[c].scattering[ch]);
+        double g = got[c * atm->n_channels + ch];
+        double e = fabs(g - want) / want;
+        if (e > max_err) max_err = e;
+        printf("%s h=%g mu=%.6g mu_s=%g nu=%.6g %s_%s: got %.12g want %.12g rel %.2e\n",
+               e <= 1e-7 ? "ok  " : "FAIL", pts[p][0], pts[p][1], pts[p][2], nu,
+               atm->constituents[c].name, atm->channel_names[ch], g, want, e);
+        CHECK(e <= 1e-7);
+      }
+    }
+  }
+  printf("max relative error %.3g (bound 1e-7)\n", max_err);
+}
+
+static void test_blocked_sun(const sf_atmosphere *atm) {
+  printf("-- sun blocked for the whole ray -> exactly 0\n");
+  /* Looking up from the ground with the sun 30 degrees below the horizon:
+   * every point up to 100 km has its horizon above -asin... > -0.18. */
+  sf_view_ray ray;
+  const char *why;
+  sf_view_ray_make(atm, 0.0, 1.0, SF_RAY_END_NEAREST, -1.0, &ray, &why);
+  double out[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  sf_single_scattering(atm, &ray, -0.5, -0.5, out);
+  double total = 0.0;
+  for (int k = 0; k < atm->n_constituents * atm->n_channels; ++k) total += fabs(out[k]);
+  CHECK_ABS(total, 0.0, 0.0);
+  /* ... while with the sun just above the horizon it is positive and finite */
+  sf_single_scattering(atm, &ray, 0.01, 0.01, out);
+  CHECK(out[0] > 0.0 && isfinite(out[0]));
+}
+
+static void test_hard_cases(const sf_atmosphere *atm) {
+  printf("-- SPEC §10 hard cases: finite, non-negative\n");
+  double R = atm->bottom_radius_km;
+  double heights[] = {0.0, 0.001, 50.0, 100.0, 100.001, 1000.0};
+  int bad = 0, n = 0;
+  for (int hi = 0; hi < 6; ++hi) {
+    double r = R + heights[hi];
+    double mh = heights[hi] > 0 ? sf_horizon_mu(r, R) : 0.0;
+    double mus[] = {-1.0, mh - 1e-6, mh, mh + 1e-6, 0.0, 1.0};
+    double suns[] = {-1.0, -0.1, 0.0, 1e-6, 1.0};
+    for (int mi = 0; mi < 6; ++mi)
+      for (int si = 0; si < 5; ++si)
+        for (int k = -1; k <= 1; ++k) {
+          sf_view_ray ray;
+          const char *why;
+          if (sf_view_ray_make(atm, heights[hi], mus[mi], SF_RAY_END_NEAREST, -1.0, &ray, &why)) continue;
+          double out[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+          sf_single_scattering(atm, &ray, suns[si], (double)k, out);
+          for (int j = 0; j < atm->n_constituents * atm->n_channels; ++j, ++n)
+            if (!isfinite(out[j]) || out[j] < 0.0) ++bad;
+        }
+  }
+  printf("%d values, %d non-finite or negative\n", n, bad);
+  CHECK(bad == 0);
+}
+
+int main(void) {
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  test_flat_limit();
+  test_blocked_sun(&atm);
+  test_hard_cases(&atm);
+  test_against_nested(&atm);
+  return check_summary();
+}
