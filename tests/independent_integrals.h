@@ -83,11 +83,11 @@ static inline int ind_compare(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* Optical depth of constituent c over [t0, t1], split at the closest
- * approach and at the crossings of the given kink altitudes. */
-static inline ld ind_optical_depth_tol(const sf_constituent *c, ld bottom, ld top, ld r, ld mu, ld t0,
-                                ld t1, const double *kinks, int n_kinks, ld rel_tol) {
-  ld cuts[64];
+/* Split points of [t0, t1] on the ray (r, mu): the closest approach and the
+ * crossings of the kink altitudes (km above bottom). Returns the sorted
+ * count, ends included. */
+static inline int ind_ray_cuts(ld bottom, const double *kinks, int n_kinks, ld r, ld mu, ld t0, ld t1,
+                               ld *cuts) {
   int n = 0;
   cuts[n++] = t0;
   cuts[n++] = t1;
@@ -103,6 +103,15 @@ static inline ld ind_optical_depth_tol(const sf_constituent *c, ld bottom, ld to
     if (tc + s > t0 && tc + s < t1) cuts[n++] = tc + s;
   }
   qsort(cuts, (size_t)n, sizeof cuts[0], ind_compare);
+  return n;
+}
+
+/* Optical depth of constituent c over [t0, t1], split at the closest
+ * approach and at the crossings of the given kink altitudes. */
+static inline ld ind_optical_depth_tol(const sf_constituent *c, ld bottom, ld top, ld r, ld mu, ld t0,
+                                       ld t1, const double *kinks, int n_kinks, ld rel_tol) {
+  ld cuts[64];
+  int n = ind_ray_cuts(bottom, kinks, n_kinks, r, mu, t0, t1, cuts);
   ind_ray ray = {c, r, mu, bottom, top};
   ld sum = 0;
   for (int i = 0; i + 1 < n; ++i)
@@ -182,21 +191,7 @@ static inline void ind_densities_along(void *ctx, ld t, ld *values) {
 static inline void ind_optical_depth_all(const sf_atmosphere *atm, ld r, ld mu, ld t0, ld t1,
                                          const double *kinks, int n_kinks, ld rel_tol, ld *out) {
   ld cuts[64];
-  int n = 0;
-  cuts[n++] = t0;
-  cuts[n++] = t1;
-  ld tc = -r * mu;
-  if (tc > t0 && tc < t1) cuts[n++] = tc;
-  ld d2 = r * r * (1 - mu) * (1 + mu);
-  for (int k = 0; k < n_kinks && n < 60; ++k) {
-    ld R = (ld)atm->bottom_radius_km + kinks[k];
-    ld disc = R * R - d2;
-    if (disc < 0) continue;
-    ld s = sqrtl(disc);
-    if (tc - s > t0 && tc - s < t1) cuts[n++] = tc - s;
-    if (tc + s > t0 && tc + s < t1) cuts[n++] = tc + s;
-  }
-  qsort(cuts, (size_t)n, sizeof cuts[0], ind_compare);
+  int n = ind_ray_cuts(atm->bottom_radius_km, kinks, n_kinks, r, mu, t0, t1, cuts);
   ind_ray_all ray = {atm, r, mu};
   for (int i = 0; i < atm->n_constituents; ++i) out[i] = 0;
   for (int p = 0; p + 1 < n; ++p) {
