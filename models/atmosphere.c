@@ -12,7 +12,7 @@ static int layer_index(const sf_constituent *c, double h_km) {
   return c->n_layers - 1;
 }
 
-static double layer_value(const sf_density_layer *l, double h_km) {
+double sf_density_layer_value(const sf_density_layer *l, double h_km) {
   double v = l->linear_per_km * h_km + l->constant;
   if (l->exp_term != 0.0) v += l->exp_term * exp(l->exp_scale_per_km * h_km);
   return v;
@@ -20,7 +20,7 @@ static double layer_value(const sf_density_layer *l, double h_km) {
 
 double sf_constituent_density(const sf_constituent *c, double h_km) {
   if (c->n_layers <= 0) return 0.0;
-  double v = layer_value(&c->layers[layer_index(c, h_km)], h_km);
+  double v = sf_density_layer_value(&c->layers[layer_index(c, h_km)], h_km);
   return v < 0.0 ? 0.0 : (v > 1.0 ? 1.0 : v);
 }
 
@@ -58,14 +58,14 @@ static void add_kink(double *k, int *n, double h, double thickness) {
   k[(*n)++] = h;
 }
 
-/* Root of layer_value(l, h) - level on [a, b], where the function is
+/* Root of sf_density_layer_value(l, h) - level on [a, b], where the function is
  * monotone and changes sign: bisection to full double precision. */
 static double bisect_level(const sf_density_layer *l, double level, double a, double b) {
-  double fa = layer_value(l, a) - level;
+  double fa = sf_density_layer_value(l, a) - level;
   for (int it = 0; it < 200 && b - a > 0.0; ++it) {
     double m = 0.5 * (a + b);
     if (m <= a || m >= b) break;
-    double fm = layer_value(l, m) - level;
+    double fm = sf_density_layer_value(l, m) - level;
     if ((fm < 0.0) == (fa < 0.0)) { a = m; fa = fm; } else { b = m; }
   }
   return 0.5 * (a + b);
@@ -92,7 +92,7 @@ static void add_clamp_kinks(const sf_density_layer *l, double lo, double hi,
   for (int piece = 0; piece + 1 < n_cuts; ++piece) {
     double a = cuts[piece], b = cuts[piece + 1];
     for (int level = 0; level <= 1; ++level) {
-      double fa = layer_value(l, a) - level, fb = layer_value(l, b) - level;
+      double fa = sf_density_layer_value(l, a) - level, fb = sf_density_layer_value(l, b) - level;
       if (fa == 0.0) add_kink(k, n, a, thickness);
       else if (fa * fb < 0.0) add_kink(k, n, bisect_level(l, level, a, b), thickness);
     }

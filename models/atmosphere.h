@@ -70,6 +70,8 @@ typedef struct sf_atmosphere {
  * Bruneton 2017: clamp(exp_term*exp(exp_scale*h) + linear*h + constant, 0, 1).
  * Zero above the top of the atmosphere. */
 double sf_constituent_density(const sf_constituent *c, double h_km);
+/* One layer's unclamped value exp_term*exp(exp_scale*h) + linear*h + constant. */
+double sf_density_layer_value(const sf_density_layer *l, double h_km);
 double sf_atmosphere_thickness_km(const sf_atmosphere *atm);
 /* Extinction coefficient beta_s + beta_a of constituent i in channel ch. */
 static inline double sf_extinction(const sf_atmosphere *atm, int i, int ch) {

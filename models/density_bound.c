@@ -2,13 +2,6 @@
 
 #include <math.h>
 
-/* The layer's unclamped value, as sf_constituent_density computes it. */
-static double layer_value(const sf_density_layer *l, double h) {
-  double v = l->linear_per_km * h + l->constant;
-  if (l->exp_term != 0.0) v += l->exp_term * exp(l->exp_scale_per_km * h);
-  return v;
-}
-
 /* Limit of the layer's value as h -> +infinity. */
 static double layer_limit_at_infinity(const sf_density_layer *l) {
   double e = l->exp_term, s = l->exp_scale_per_km, lin = l->linear_per_km;
@@ -20,8 +13,8 @@ static double layer_limit_at_infinity(const sf_density_layer *l) {
 /* Max of one layer's unclamped value over [a, b], a finite, b finite or
  * +infinity. */
 static double layer_max(const sf_density_layer *l, double a, double b) {
-  double best = layer_value(l, a);
-  double end = isfinite(b) ? layer_value(l, b) : layer_limit_at_infinity(l);
+  double best = sf_density_layer_value(l, a);
+  double end = isfinite(b) ? sf_density_layer_value(l, b) : layer_limit_at_infinity(l);
   if (end > best) best = end;
   double e = l->exp_term, s = l->exp_scale_per_km, lin = l->linear_per_km;
   if (e != 0.0 && s != 0.0) {            /* stationary point: e s exp(s h) + lin = 0 */
@@ -29,7 +22,7 @@ static double layer_max(const sf_density_layer *l, double a, double b) {
     if (arg > 0.0) {
       double h = log(arg) / s;
       if (h > a && h < b) {
-        double v = layer_value(l, h);
+        double v = sf_density_layer_value(l, h);
         if (v > best) best = v;
       }
     }
