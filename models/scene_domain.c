@@ -1,0 +1,50 @@
+/* A scene's domain in table coordinates (h, mu, mu_s): the box that
+ * `skyfit build` samples and fits (SPEC §5 "model only what a scene needs"). */
+#include <math.h>
+
+#include "models/ray_geometry.h"
+#include "models/scene_file.h"
+#include "util/constants.h"
+
+static double clamp_unit(double x) { return x < -1.0 ? -1.0 : x > 1.0 ? 1.0 : x; }
+
+int sf_scene_get_domain(const sf_scene *s, sf_scene_domain *out, sf_error *err) {
+  const char *name = s->name[0] ? s->name : "unnamed";
+  const double *v = s->viewer_altitude_km, *e = s->sun_elevation_deg;
+  if (!(isfinite(v[0]) && isfinite(v[1])))
+    return sf_fail(err, SF_ERR_INPUT, "scene \"%s\": viewer_altitude_km: not finite", name);
+  if (v[0] < 0.0)
+    return sf_fail(err, SF_ERR_INPUT, "scene \"%s\": viewer_altitude_km[0]: negative altitude %.17g",
+                   name, v[0]);
+  if (!(v[0] <= v[1]))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "scene \"%s\": viewer_altitude_km: empty domain (min %.17g > max %.17g)", name,
+                   v[0], v[1]);
+  if (!(e[0] >= -90.0 && e[1] <= 90.0))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "scene \"%s\": sun_elevation_deg: must be within [-90, 90], got [%.17g, %.17g]",
+                   name, e[0], e[1]);
+  if (!(e[0] <= e[1]))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "scene \"%s\": sun_elevation_deg: empty domain (min %.17g > max %.17g)", name,
+                   e[0], e[1]);
+  const sf_atmosphere *atm = &s->atmosphere;
+  double thickness = atm->top_radius_km - atm->bottom_radius_km;
+  if (!(thickness > 0.0))
+    return sf_fail(err, SF_ERR_INPUT, "scene \"%s\": atmosphere: top radius must exceed bottom", name);
+  sf_scene_domain d;
+  /* A viewer above the top sees the atmosphere only through rays entering at
+   * the top: the same table entries as a viewer placed there. */
+  d.h_min_km = fmin(v[0], thickness);
+  d.h_max_km = fmin(v[1], thickness);
+  /* The horizon cosine -sqrt(1 - (R/r)^2) falls as r grows: the highest viewer
+   * looks furthest down, so its horizon bounds every viewer's sky. */
+  d.mu_min = s->view == SF_VIEW_ALL
+                 ? -1.0
+                 : sf_horizon_mu(atm->bottom_radius_km + d.h_max_km, atm->bottom_radius_km);
+  d.mu_max = 1.0;
+  d.mu_s_min = clamp_unit(sin(e[0] * (SF_PI / 180.0)));
+  d.mu_s_max = clamp_unit(sin(e[1] * (SF_PI / 180.0)));
+  *out = d;
+  return 0;
+}
