@@ -4,5 +4,6 @@
 #define SKYFIT_CLI_COMMANDS_H
 
 int sf_cmd_eval(int argc, char **argv);
+int sf_cmd_sample(int argc, char **argv);
 
 #endif

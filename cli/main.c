@@ -13,6 +13,7 @@ typedef struct command {
 static const command commands[] = {
     {"eval", sf_cmd_eval,
      "evaluate reference quantities (optical depth, transmittance, single scattering) at CSV points"},
+    {"sample", sf_cmd_sample, "compute the reference tables (transmittance, single and multiple scattering) into a folder"},
 };
 
 static void usage(FILE *out) {

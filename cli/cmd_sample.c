@@ -1,0 +1,189 @@
+/* skyfit sample: the reference tables of an atmosphere (SPEC §6, §11) into a
+ * folder that is also their cache. Writes DIR/<quantity>-<key>.exr per table
+ * and DIR/tables.json, which lists them. Tables already there (same key) are
+ * loaded, not recomputed; a corrupt one is reported and recomputed. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli/commands.h"
+#include "cli/progress_bar.h"
+#include "cli/table_options.h"
+#include "data/table_set.h"
+#include "models/atmosphere_file.h"
+#include "util/atomic_file.h"
+
+#define COMMAND "skyfit sample"
+
+static void sample_usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit sample --out DIR [options]\n"
+          "\n"
+          "Computes the reference tables of an atmosphere: transmittance over (h, mu); single\n"
+          "scattering per scattering constituent (without phase function, Bruneton's convention),\n"
+          "multiple scattering (orders 2..N) over (h, mu, mu_s, nu); and the indirect ground\n"
+          "irradiance over (h, mu_s). Each is a float32 EXR, one channel per colour channel, with\n"
+          "the atmosphere, parameterisation and axes in its header, named\n"
+          "DIR/<quantity>-<key>.exr, the key hashing everything that determines it; DIR/tables.json\n"
+          "lists them. Tables already in DIR are reused; damaged ones are recomputed.\n"
+          "\n"
+          "options:\n"
+          "  --out DIR               output (and cache) folder, created if missing; required\n");
+  sf_table_cli_help(out);
+  fprintf(out, "  --help                  this text\n");
+}
+
+static void print_note(void *ctx, const char *message) {
+  sf_progress_bar *bar = ctx;
+  sf_progress_bar_finish(bar);
+  fprintf(stderr, "%s: %s\n", COMMAND, message);
+}
+
+/* mkdir -p, then proves the folder writable with a temporary file. */
+static int prepare_folder(const char *dir, sf_error *err) {
+  char path[4096];
+  size_t n = strlen(dir);
+  if (n == 0 || n + 32 >= sizeof path) return sf_fail(err, SF_ERR_INPUT, "--out: folder name '%s' is not usable", dir);
+  memcpy(path, dir, n + 1);
+  for (size_t i = 1; i <= n; ++i) {
+    if (path[i] != '/' && path[i] != '\0') continue;
+    char saved = path[i];
+    path[i] = '\0';
+    struct stat st;
+    if (stat(path, &st) != 0) {
+      if (mkdir(path, 0777) != 0 && errno != EEXIST)
+        return sf_fail(err, SF_ERR_INPUT, "--out: cannot create folder %s: %s", path, strerror(errno));
+    } else if (!S_ISDIR(st.st_mode)) {
+      return sf_fail(err, SF_ERR_INPUT, "--out: %s is not a folder", path);
+    }
+    path[i] = saved;
+  }
+  snprintf(path, sizeof path, "%s/tables.json", dir);
+  sf_atomic_file probe;
+  sf_error inner = {0};
+  if (sf_atomic_open(&probe, path, &inner) != SF_OK)
+    return sf_fail(err, SF_ERR_INPUT, "--out: folder %s is not writable: %s", dir, inner.message);
+  sf_atomic_abort(&probe);
+  return SF_OK;
+}
+
+static const char *base_name(const char *path) {
+  const char *slash = strrchr(path, '/');
+  return slash ? slash + 1 : path;
+}
+
+/* DIR/tables.json: what was sampled and where each table is. Depends only
+ * on the inputs, so reruns write the same bytes. */
+static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_table_set_options *o,
+                          const sf_table_set *set, sf_error *err) {
+  cJSON *root = cJSON_CreateObject();
+  char hash[17];
+  sf_atmosphere_hash_hex(atm, hash);
+  cJSON_AddNumberToObject(root, "skyfit_tables", 1);
+  cJSON_AddStringToObject(root, "code_version", SF_TABLES_CODE_VERSION);
+  cJSON_AddStringToObject(root, "atmosphere_name", atm->name);
+  cJSON_AddStringToObject(root, "atmosphere_hash", hash);
+  cJSON_AddStringToObject(root, "parameterization", sf_parameterization_name(o->kind));
+  cJSON *res = cJSON_AddObjectToObject(root, "resolution");
+  cJSON_AddNumberToObject(res, "transmittance_mu", o->res.transmittance_mu);
+  cJSON_AddNumberToObject(res, "transmittance_h", o->res.transmittance_h);
+  cJSON_AddNumberToObject(res, "scattering_h", o->res.scattering_h);
+  cJSON_AddNumberToObject(res, "scattering_mu", o->res.scattering_mu);
+  cJSON_AddNumberToObject(res, "scattering_mu_s", o->res.scattering_mu_s);
+  cJSON_AddNumberToObject(res, "scattering_nu", o->res.scattering_nu);
+  cJSON_AddNumberToObject(res, "irradiance_mu_s", o->res.irradiance_mu_s);
+  cJSON_AddNumberToObject(res, "irradiance_h", o->res.irradiance_h);
+  cJSON_AddNumberToObject(root, "orders", o->orders);
+  cJSON_AddNumberToObject(root, "stop_fraction", o->stop_fraction);
+  cJSON *tables = cJSON_AddArrayToObject(root, "tables");
+  for (int t = 0; t < set->n_tables; ++t) {
+    cJSON *e = cJSON_CreateObject();
+    cJSON_AddStringToObject(e, "quantity", set->tables[t]->desc.quantity);
+    cJSON_AddStringToObject(e, "file", base_name(set->paths[t]));
+    cJSON_AddStringToObject(e, "content_hash", set->tables[t]->desc.content_hash);
+    cJSON_AddItemToArray(tables, e);
+  }
+  char *text = cJSON_Print(root);
+  cJSON_Delete(root);
+  if (!text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory writing tables.json");
+  char path[4096];
+  snprintf(path, sizeof path, "%s/tables.json", dir);
+  sf_atomic_file f;
+  int status = sf_atomic_open(&f, path, err);
+  if (status == SF_OK) {
+    fputs(text, f.stream);
+    fputc('\n', f.stream);
+    status = sf_atomic_commit(&f, err);
+  }
+  cJSON_free(text);
+  return status;
+}
+
+int sf_cmd_sample(int argc, char **argv) {
+  sf_table_cli o;
+  sf_table_cli_default(&o);
+  const char *out_dir = NULL;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      sample_usage(stdout);
+      return 0;
+    }
+    int used = sf_table_cli_option(&o, COMMAND, argc, argv, &i);
+    if (used < 0) return 2;
+    if (used) continue;
+    if (strcmp(a, "--out") == 0 && i + 1 < argc) {
+      out_dir = argv[++i];
+    } else {
+      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
+      return 2;
+    }
+  }
+  if (!out_dir) {
+    fprintf(stderr, "%s: --out DIR is required\n", COMMAND);
+    return 2;
+  }
+  sf_atmosphere atm;
+  int rc = sf_table_cli_atmosphere(&o, COMMAND, &atm);
+  if (rc) return rc;
+  sf_error err = {0};
+  if (sf_table_set_check(&atm, &o.set, &err) != SF_OK || prepare_folder(out_dir, &err) != SF_OK) {
+    fprintf(stderr, "%s: %s\n", COMMAND, err.message);
+    return err.status;
+  }
+
+  sf_progress_bar bar;
+  sf_progress_bar_init(&bar, stderr, !o.quiet);
+  o.set.cache_dir = out_dir;
+  o.set.run.progress = sf_progress_bar_update;
+  o.set.run.progress_ctx = &bar;
+  if (!o.quiet) {
+    o.set.note = print_note;
+    o.set.note_ctx = &bar;
+  }
+  sf_table_set set;
+  int status = sf_table_set_make(&set, &atm, &o.set, &err);
+  sf_progress_bar_finish(&bar);
+  if (status == SF_OK) status = write_manifest(out_dir, &atm, &o.set, &set, &err);
+  if (status != SF_OK) {
+    fprintf(stderr, "%s: %s\n", COMMAND, err.message);
+    sf_table_set_free(&set);
+    return status;
+  }
+  if (!o.quiet) {
+    int cached = 0;
+    for (int t = 0; t < set.n_tables; ++t) cached += set.from_cache[t];
+    if (set.multiple_computed)
+      for (int k = 2; k <= set.report.highest_order; ++k)
+        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far\n", COMMAND, k,
+                set.report.added_fraction[k]);
+    fprintf(stderr, "%s: %d tables in %s (%d computed, %d from the cache); list in %s/tables.json\n",
+            COMMAND, set.n_tables, out_dir, set.n_tables - cached, cached, out_dir);
+  }
+  sf_table_set_free(&set);
+  return 0;
+}

@@ -1,0 +1,31 @@
+/* The options that `skyfit sample` and `skyfit eval multiple_scattering |
+ * sky_radiance` share: which atmosphere and which reference tables. */
+#ifndef SKYFIT_CLI_TABLE_OPTIONS_H
+#define SKYFIT_CLI_TABLE_OPTIONS_H
+
+#include <stdio.h>
+
+#include "data/table_set.h"
+#include "models/atmosphere.h"
+
+typedef struct sf_table_cli {
+  const char *atmosphere_path;     /* NULL: the built-in default */
+  sf_table_set_options set;
+  int quiet;
+} sf_table_cli;
+
+void sf_table_cli_default(sf_table_cli *o);
+
+/* If argv[*i] is one of the shared options, consumes it (and its value),
+ * advancing *i, and returns 1; returns 0 if it is not one; returns -1 after
+ * printing "<command>: <problem>" for a bad value. */
+int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **argv, int *i);
+
+/* The lines of --help that describe the shared options. */
+void sf_table_cli_help(FILE *out);
+
+/* Loads the atmosphere (or the default); prints the error and returns its
+ * exit code on failure. */
+int sf_table_cli_atmosphere(const sf_table_cli *o, const char *command, sf_atmosphere *atm);
+
+#endif

@@ -1,0 +1,651 @@
+#include "data/precompute_multiple.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "data/gauss_rule.h"
+#include "data/parallel_rows.h"
+#include "data/precompute_transmittance.h"
+#include "data/table_interp.h"
+#include "models/phase.h"
+#include "models/ray_geometry.h"
+#include "models/single_scattering.h"
+#include "util/constants.h"
+
+#define N_DIRS_MU (SF_DENSITY_DIRS_UP + SF_DENSITY_DIRS_DOWN)
+#define N_HALF_PHI (SF_DENSITY_DIRS_PHI / 2)
+#define N_DIRS (N_DIRS_MU * N_HALF_PHI)
+
+void sf_multiple_internal_params(const sf_table_params *p, sf_table_params *internal) {
+  *internal = *p;
+  internal->kind = SF_PARAM_BRUNETON;
+  internal->mu_s_min = SF_BRUNETON_MU_S_MIN;
+  if (internal->res.scattering_mu % 2) internal->res.scattering_mu += 1;
+  if (internal->res.scattering_mu < 4) internal->res.scattering_mu = 4;
+}
+
+/* Directions of step 1 at one altitude: mu split at the horizon. */
+typedef struct direction_set {
+  double mu[N_DIRS_MU], weight[N_DIRS_MU];   /* weight includes 2 pi / n_phi */
+  double dist_ground[SF_DENSITY_DIRS_DOWN];  /* to the ground, km */
+  double *t_ground;                          /* [d * n_channels + ch] */
+} direction_set;
+
+typedef struct thread_scratch {
+  sf_view_row row;
+  double *node_coef;     /* [q * ns * nch + k * nch + ch] */
+  double *node_pos;      /* [q * 8]: lookup corners in (mu, h) of node q */
+  double *incoming;      /* [N_DIRS * nch] */
+} thread_scratch;
+
+typedef struct multiple_run {
+  const sf_scattering_setup *s;
+  const sf_atmosphere *atm;
+  sf_table_params pi;              /* internal grid */
+  int nch, ns;
+  int n_mus, n_mu, n_nu, n_h;      /* internal sizes */
+  int order;                       /* being computed: k */
+  sf_grid_view single[SF_MAX_CONSTITUENTS];
+  sf_grid_view previous;           /* L_{k-1} for k >= 3 */
+  float *previous_data, *current_data;
+  float *g_data, *g_sum_data;      /* [entry * ns * nch] */
+  sf_grid_view g_view;             /* of g (step 3) or g_sum (final gather) */
+  double *l_sum;                   /* [entry * nch] */
+  double *ground_prev, *ground_new;   /* E_{k-2}, E_{k-1} at the ground samples */
+  double *irradiance_sum;          /* [irradiance entry * nch] */
+  direction_set *dirs;             /* one per internal altitude */
+  sf_gauss_rule irradiance_rule;   /* mu over the upper hemisphere */
+  thread_scratch *scratch;
+  /* gather target */
+  const sf_table_params *target_p;
+  float *target;                   /* [entry * nch] in the target's layout */
+  double *row_total;               /* sum of the target row's values */
+  double *row_single;              /* sum of single scattering with phases */
+} multiple_run;
+
+/* ---- lookups ------------------------------------------------------------ */
+
+/* Radiance of order j (1 or the previous order) along direction (mu, nu) at
+ * internal position (pos_mu_s, pos_h). */
+static void radiance_of_order(const multiple_run *m, int j, double pos_mu_s, double h, double mu,
+                              int hits_ground, double nu, double pos_h, double *out) {
+  sf_scattering_coord c = {h, mu, 0.0, nu, hits_ground};
+  double pos[4];
+  sf_params_scattering_pos(&m->pi, &c, pos);
+  pos[0] = pos_mu_s;
+  pos[3] = pos_h;
+  if (j >= 2) {
+    sf_grid_interp(&m->previous, pos, out);
+    return;
+  }
+  for (int ch = 0; ch < m->nch; ++ch) out[ch] = 0.0;
+  long offsets[16];
+  double weights[16];
+  sf_grid_corners(&m->single[0], pos, offsets, weights);
+  for (int k = 0; k < m->ns; ++k) {
+    double phase = sf_phase_value(&m->atm->constituents[m->s->scattering[k]].phase, nu);
+    const float *data = m->single[k].data;
+    for (int c4 = 0; c4 < 16; ++c4) {
+      if (weights[c4] == 0.0) continue;
+      const float *v = data + offsets[c4] * m->nch;
+      double w = weights[c4] * phase;
+      for (int ch = 0; ch < m->nch; ++ch) out[ch] += w * v[ch];
+    }
+  }
+}
+
+/* Irradiance on the ground of order k-2 for a ground point whose sun cosine
+ * is mu_s: the sun's direct irradiance for k = 2, else the ground samples. */
+static void ground_irradiance(const multiple_run *m, double mu_s, double *out) {
+  int nch = m->nch;
+  if (m->order == 2) {
+    double depth[SF_MAX_CONSTITUENTS];
+    if (mu_s <= 0.0 || !sf_sun_depth(m->s, m->atm->bottom_radius_km, mu_s, depth)) {
+      for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
+      return;
+    }
+    sf_setup_transmittance(m->s, depth, out);
+    for (int ch = 0; ch < nch; ++ch) out[ch] *= m->atm->sun_irradiance[ch] * mu_s;
+    return;
+  }
+  double pos = 0.5 * (mu_s + 1.0) * (SF_GROUND_IRRADIANCE_SAMPLES - 1);
+  if (!(pos > 0.0)) pos = 0.0;
+  if (pos > SF_GROUND_IRRADIANCE_SAMPLES - 1) pos = SF_GROUND_IRRADIANCE_SAMPLES - 1;
+  int i = (int)pos;
+  if (i > SF_GROUND_IRRADIANCE_SAMPLES - 2) i = SF_GROUND_IRRADIANCE_SAMPLES - 2;
+  double f = pos - i;
+  const double *a = m->ground_prev + (size_t)i * nch, *b = a + nch;
+  for (int ch = 0; ch < nch; ++ch) out[ch] = (1.0 - f) * a[ch] + f * b[ch];
+}
+
+/* The phase functions of models/phase.h, inlined for the inner loop of
+ * step 1 (the same formulas; the dispatch there is a function call). */
+static inline double hg_fast(double g, double c) {
+  double k = 1.0 + g * g - 2.0 * g * c;
+  return (1.0 - g * g) / (4.0 * SF_PI * k * sqrt(k));
+}
+
+static inline double phase_fast(const sf_phase *p, double c) {
+  switch (p->kind) {
+    case SF_PHASE_HENYEY_GREENSTEIN: return hg_fast(p->g, c);
+    case SF_PHASE_CORNETTE_SHANKS: {
+      double g = p->g, k = 1.0 + g * g - 2.0 * g * c;
+      return 3.0 / (8.0 * SF_PI) * (1.0 - g * g) * (1.0 + c * c) / ((2.0 + g * g) * k * sqrt(k));
+    }
+    case SF_PHASE_DOUBLE_HENYEY_GREENSTEIN: return (1.0 - p->f) * hg_fast(p->g1, c) + p->f * hg_fast(p->g2, c);
+    default: return sf_phase_value(p, c);
+  }
+}
+
+/* ---- step 1: scattering density (phase-convolved incoming radiance) ------ */
+
+static void density_row(void *ctx, int thread, long row) {
+  multiple_run *m = ctx;
+  const sf_atmosphere *atm = m->atm;
+  int nch = m->nch, ns = m->ns;
+  int i_h = (int)(row / m->n_mus), i_s = (int)(row % m->n_mus);
+  double pos0[4] = {i_s, 0.0, 0.0, i_h};
+  sf_scattering_coord c0;
+  sf_params_scattering_coord(&m->pi, pos0, &c0);
+  double h = c0.h, mu_s = c0.mu_s, r = atm->bottom_radius_km + h;
+  double sin_s = sqrt(fmax(0.0, (1.0 - mu_s) * (1.0 + mu_s)));
+  const direction_set *ds = &m->dirs[i_h];
+  double *incoming = m->scratch[thread].incoming;
+  double dx[N_DIRS], dy[N_DIRS], dz[N_DIRS], dw[N_DIRS];
+  double albedo_pi[SF_MAX_CHANNELS];
+  for (int ch = 0; ch < nch; ++ch) albedo_pi[ch] = atm->ground_albedo[ch] / SF_PI;
+
+  for (int d = 0; d < N_DIRS_MU; ++d) {
+    double mu = ds->mu[d], st = sqrt(fmax(0.0, (1.0 - mu) * (1.0 + mu)));
+    int ground = d >= SF_DENSITY_DIRS_UP;
+    for (int a = 0; a < N_HALF_PHI; ++a) {
+      int idx = d * N_HALF_PHI + a;
+      double phi = (a + 0.5) * (2.0 * SF_PI / SF_DENSITY_DIRS_PHI);
+      dx[idx] = st * cos(phi);
+      dy[idx] = st * sin(phi);
+      dz[idx] = mu;
+      dw[idx] = ds->weight[d];
+      double nu = dx[idx] * sin_s + mu * mu_s;
+      double *in = incoming + (size_t)idx * nch;
+      radiance_of_order(m, m->order - 1, i_s, h, mu, ground, nu, i_h, in);
+      if (ground) {
+        int g = d - SF_DENSITY_DIRS_UP;
+        double dist = ds->dist_ground[g];
+        double mu_s_ground = (r * mu_s + dist * nu) / atm->bottom_radius_km;
+        mu_s_ground = mu_s_ground > 1.0 ? 1.0 : (mu_s_ground < -1.0 ? -1.0 : mu_s_ground);
+        double e[SF_MAX_CHANNELS];
+        ground_irradiance(m, mu_s_ground, e);
+        const double *t = ds->t_ground + (size_t)g * nch;
+        for (int ch = 0; ch < nch; ++ch) in[ch] += t[ch] * albedo_pi[ch] * e[ch];
+      }
+    }
+  }
+
+  /* Rayleigh and isotropic phase functions are polynomials of degree <= 2
+   * in cos = w . w_i, so their sums over the directions reduce to the
+   * zeroth and second moments of the incoming radiance (and, for the
+   * normalisation, of the quadrature weights): the same numbers as the
+   * direct sum, at a cost independent of the number of directions. The
+   * field is symmetric under y -> -y, so the xy and yz moments vanish. */
+  double m_l[5][SF_MAX_CHANNELS], m_w[5] = {0};   /* 1, xx, yy, zz, xz */
+  for (int ch = 0; ch < nch; ++ch) m_l[0][ch] = m_l[1][ch] = m_l[2][ch] = m_l[3][ch] = m_l[4][ch] = 0.0;
+  for (int idx = 0; idx < N_DIRS; ++idx) {
+    /* both azimuths +-phi: the y terms double, the odd ones cancel */
+    double w2 = 2.0 * dw[idx];
+    double mono[5] = {w2, w2 * dx[idx] * dx[idx], w2 * dy[idx] * dy[idx], w2 * dz[idx] * dz[idx],
+                      w2 * dx[idx] * dz[idx]};
+    const double *in = incoming + (size_t)idx * nch;
+    for (int j = 0; j < 5; ++j) {
+      m_w[j] += mono[j];
+      for (int ch = 0; ch < nch; ++ch) m_l[j][ch] += mono[j] * in[ch];
+    }
+  }
+  int direct[SF_MAX_CONSTITUENTS], n_direct = 0;
+  for (int k = 0; k < ns; ++k) {
+    sf_phase_kind kind = atm->constituents[m->s->scattering[k]].phase.kind;
+    if (kind != SF_PHASE_RAYLEIGH && kind != SF_PHASE_ISOTROPIC) direct[n_direct++] = k;
+  }
+
+  for (int i_mu = 0; i_mu < m->n_mu; ++i_mu)
+    for (int i_n = 0; i_n < m->n_nu; ++i_n) {
+      double pos[4] = {i_s, i_mu, i_n, i_h};
+      sf_scattering_coord c;
+      sf_params_scattering_coord(&m->pi, pos, &c);
+      double nu = sf_clamp_nu(c.mu, mu_s, c.nu);
+      double sin_v = sqrt(fmax(0.0, (1.0 - c.mu) * (1.0 + c.mu)));
+      double cos_phi = sin_v * sin_s > 0.0 ? (nu - c.mu * mu_s) / (sin_v * sin_s) : 1.0;
+      cos_phi = cos_phi > 1.0 ? 1.0 : (cos_phi < -1.0 ? -1.0 : cos_phi);
+      double ex = sin_v * cos_phi, ey = sin_v * sqrt(fmax(0.0, 1.0 - cos_phi * cos_phi)), ez = c.mu;
+      double acc[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], norm[SF_MAX_CONSTITUENTS] = {0};
+      for (int k = 0; k < ns * nch; ++k) acc[k] = 0.0;
+      for (int idx = 0; idx < N_DIRS && n_direct > 0; ++idx) {
+        double common = ex * dx[idx] + ez * dz[idx], side = ey * dy[idx];
+        double cos1 = common + side, cos2 = common - side;
+        cos1 = cos1 > 1.0 ? 1.0 : (cos1 < -1.0 ? -1.0 : cos1);
+        cos2 = cos2 > 1.0 ? 1.0 : (cos2 < -1.0 ? -1.0 : cos2);
+        const double *in = incoming + (size_t)idx * nch;
+        for (int j = 0; j < n_direct; ++j) {
+          int k = direct[j];
+          const sf_phase *ph = &atm->constituents[m->s->scattering[k]].phase;
+          double wp = dw[idx] * (phase_fast(ph, cos1) + phase_fast(ph, cos2));
+          norm[k] += wp;
+          double *ak = acc + k * nch;
+          for (int ch = 0; ch < nch; ++ch) ak[ch] += wp * in[ch];
+        }
+      }
+      /* (w . w_i)^2 summed = ex^2 Mxx + ey^2 Myy + ez^2 Mzz + 2 ex ez Mxz */
+      double quad[5] = {1.0, ex * ex, ey * ey, ez * ez, 2.0 * ex * ez};
+      for (int k = 0; k < ns; ++k) {
+        sf_phase_kind kind = atm->constituents[m->s->scattering[k]].phase.kind;
+        if (kind != SF_PHASE_RAYLEIGH && kind != SF_PHASE_ISOTROPIC) continue;
+        /* Rayleigh: 3/(16 pi) (1 + cos^2); isotropic: 1/(4 pi). The
+         * constant factors cancel in the normalised ratio. */
+        double second = kind == SF_PHASE_RAYLEIGH ? 1.0 : 0.0;
+        double wsum = m_w[0];
+        for (int j = 1; j < 5; ++j) wsum += second * quad[j] * m_w[j];
+        norm[k] = wsum;
+        for (int ch = 0; ch < nch; ++ch) {
+          double v = m_l[0][ch];
+          for (int j = 1; j < 5; ++j) v += second * quad[j] * m_l[j][ch];
+          acc[k * nch + ch] = v;
+        }
+      }
+      int index[4] = {i_s, i_mu, i_n, i_h};
+      size_t entry = ((size_t)index[3] * m->n_nu + index[2]) * m->n_mu + index[1];
+      entry = entry * m->n_mus + index[0];
+      float *g = m->g_data + entry * (size_t)(ns * nch);
+      for (int k = 0; k < ns; ++k)
+        for (int ch = 0; ch < nch; ++ch)
+          g[k * nch + ch] = norm[k] > 0.0 ? (float)(acc[k * nch + ch] / norm[k]) : 0.0f;
+    }
+}
+
+/* ---- step 2: irradiance -------------------------------------------------- */
+
+/* Irradiance of order k-1 on a horizontal surface at altitude h for the
+ * sun at mu_s. */
+static void irradiance_at(const multiple_run *m, double h, double mu_s, double *out) {
+  int nch = m->nch;
+  sf_scattering_coord c = {h, 1.0, mu_s, 0.0, 0};
+  double pos[4];
+  sf_params_scattering_pos(&m->pi, &c, pos);
+  double sin_s = sqrt(fmax(0.0, (1.0 - mu_s) * (1.0 + mu_s)));
+  const sf_gauss_rule *rule = &m->irradiance_rule;
+  for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
+  double dphi = 2.0 * SF_PI / SF_IRRADIANCE_DIRS_PHI;
+  for (int q = 0; q < rule->n; ++q) {
+    double mu = rule->x[q], st = sqrt(fmax(0.0, (1.0 - mu) * (1.0 + mu)));
+    for (int a = 0; a < SF_IRRADIANCE_DIRS_PHI / 2; ++a) {
+      double nu = st * cos((a + 0.5) * dphi) * sin_s + mu * mu_s;
+      double l[SF_MAX_CHANNELS];
+      radiance_of_order(m, m->order - 1, pos[0], h, mu, 0, nu, pos[3], l);
+      /* both azimuths +-phi see the same radiance */
+      double w = 2.0 * rule->w[q] * dphi * mu;
+      for (int ch = 0; ch < nch; ++ch) out[ch] += w * l[ch];
+    }
+  }
+}
+
+static void ground_irradiance_row(void *ctx, int thread, long row) {
+  (void)thread;
+  multiple_run *m = ctx;
+  double mu_s = -1.0 + 2.0 * (double)row / (SF_GROUND_IRRADIANCE_SAMPLES - 1);
+  irradiance_at(m, 0.0, mu_s, m->ground_new + (size_t)row * m->nch);
+}
+
+static void irradiance_table_row(void *ctx, int thread, long row) {
+  (void)thread;
+  multiple_run *m = ctx;
+  int n_mus = m->pi.res.irradiance_mu_s;
+  for (int i = 0; i < n_mus; ++i) {
+    double pos[2] = {i, (double)row}, h, mu_s, e[SF_MAX_CHANNELS];
+    sf_params_irradiance_coord(&m->pi, pos, &h, &mu_s);
+    irradiance_at(m, h, mu_s, e);
+    double *sum = m->irradiance_sum + ((size_t)row * n_mus + i) * m->nch;
+    for (int ch = 0; ch < m->nch; ++ch) sum[ch] += e[ch];
+  }
+}
+
+/* ---- step 3: gather along view rays -------------------------------------- */
+
+/* Bruneton's mu_s mapping (data/table_params.h) with its constants
+ * precomputed: it runs at every node of every gathered entry. */
+typedef struct mu_s_map {
+  double R, H2, d_min, inv_span, inv_A;
+  int n;
+} mu_s_map;
+
+static mu_s_map make_mu_s_map(const multiple_run *m) {
+  double R = m->atm->bottom_radius_km, Rt = m->atm->top_radius_km;
+  mu_s_map f;
+  f.R = R;
+  f.H2 = (Rt - R) * (Rt + R);
+  f.d_min = Rt - R;
+  f.inv_span = 1.0 / (sqrt(f.H2) - f.d_min);
+  double root = sqrt(f.H2 + R * R * m->pi.mu_s_min * m->pi.mu_s_min);
+  double mu = m->pi.mu_s_min;
+  double d = mu > 0.0 ? f.H2 / (R * mu + root) : root - R * mu;
+  f.inv_A = 1.0 / ((d - f.d_min) * f.inv_span);
+  f.n = m->n_mus;
+  return f;
+}
+
+static inline double mu_s_position(const mu_s_map *f, double mu_s) {
+  double root = sqrt(f->H2 + f->R * f->R * mu_s * mu_s);
+  double d = mu_s > 0.0 ? f->H2 / (f->R * mu_s + root) : root - f->R * mu_s;
+  double a = (d - f->d_min) * f->inv_span;
+  double x = 1.0 - a * f->inv_A;
+  x = x > 0.0 ? x / (1.0 + a) : 0.0;
+  return (x > 1.0 ? 1.0 : x) * (f->n - 1);
+}
+
+/* Lower sample and fraction of a position on an axis of n >= 2 samples. */
+static inline int split_position(double pos, int n, double *frac) {
+  if (!(pos > 0.0)) pos = 0.0;
+  if (pos > n - 1) pos = n - 1;
+  int i = (int)pos;
+  if (i > n - 2) i = n - 2;
+  *frac = pos - i;
+  return i;
+}
+
+static void gather_row(void *ctx, int thread, long row) {
+  multiple_run *m = ctx;
+  const sf_scattering_setup *s = m->s;
+  const sf_atmosphere *atm = m->atm;
+  const sf_table_params *tp = m->target_p;
+  thread_scratch *sc = &m->scratch[thread];
+  int nch = m->nch, ns = m->ns, nc = atm->n_constituents, nv = ns * nch;
+  int bruneton = tp->kind == SF_PARAM_BRUNETON;
+  int slot_h = bruneton ? 3 : 0, slot_mu = 1, slot_mu_s = bruneton ? 0 : 2, slot_nu = bruneton ? 2 : 3;
+  int size[4];
+  size[slot_h] = tp->res.scattering_h;
+  size[slot_mu] = tp->res.scattering_mu;
+  size[slot_mu_s] = tp->res.scattering_mu_s;
+  size[slot_nu] = tp->res.scattering_nu;
+  int i_h = (int)(row / size[slot_mu]), i_mu = (int)(row % size[slot_mu]);
+  int index[4] = {0, 0, 0, 0};
+  index[slot_h] = i_h;
+  index[slot_mu] = i_mu;
+  double pos0[4] = {index[0], index[1], index[2], index[3]};
+  sf_scattering_coord c0;
+  sf_params_scattering_coord(tp, pos0, &c0);
+  sf_view_row *view = &sc->row;
+  sf_view_row_fill(view, s, c0.h, c0.mu, c0.hits_ground);
+  const sf_ray_nodes *nodes = &view->nodes;
+  double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
+  /* internal grid strides, in samples: mu_s, mu, nu, h */
+  long stride_mu = m->n_mus, stride_nu = stride_mu * m->n_mu, stride_h = stride_nu * m->n_nu;
+  int half = m->pi.res.scattering_mu / 2;
+  /* Per node, everything that does not depend on the sun: what it
+   * contributes per unit of G (w T(viewer -> p) beta_s density), and the
+   * corners of the lookup in mu and h (4 offsets and weights). */
+  for (int q = 0; q < nodes->n; ++q) {
+    double rp = nodes->radius[q], hp = rp - R;
+    double mu_p = (view->r * view->mu + nodes->t[q]) * view->inv_radius[q];
+    mu_p = mu_p > 1.0 ? 1.0 : (mu_p < -1.0 ? -1.0 : mu_p);
+    double *coef = sc->node_coef + (size_t)q * nv;
+    const double *tv = view->transmittance + (size_t)q * nch;
+    for (int k = 0; k < ns; ++k) {
+      const sf_constituent *con = &atm->constituents[s->scattering[k]];
+      double rho = nodes->density[(size_t)q * nc + s->scattering[k]];
+      for (int ch = 0; ch < nch; ++ch) coef[k * nch + ch] = nodes->weight[q] * tv[ch] * con->scattering[ch] * rho;
+    }
+    double pm = c0.hits_ground ? (half - 1) * (1.0 - sf_bruneton_x_from_mu_ground(R, hp, mu_p))
+                               : half + (half - 1) * sf_bruneton_x_from_mu_top(R, Rt, hp, mu_p);
+    double ph = sf_bruneton_x_from_h(R, Rt, hp) * (m->n_h - 1), f_mu, f_h;
+    int j_mu = split_position(pm, m->n_mu, &f_mu), j_h = split_position(ph, m->n_h, &f_h);
+    double *corner = sc->node_pos + (size_t)q * 8;   /* 4 offsets, 4 weights */
+    for (int a = 0; a < 4; ++a) {
+      int up_mu = a & 1, up_h = a >> 1;
+      corner[a] = (double)((j_mu + up_mu) * stride_mu + (j_h + up_h) * stride_h);
+      corner[4 + a] = (up_mu ? f_mu : 1.0 - f_mu) * (up_h ? f_h : 1.0 - f_h);
+    }
+  }
+  mu_s_map map = make_mu_s_map(m);
+  const float *g = m->g_view.data;
+  double row_total = 0.0, row_single = 0.0;
+  for (int i_s = 0; i_s < size[slot_mu_s]; ++i_s)
+    for (int i_n = 0; i_n < size[slot_nu]; ++i_n) {
+      index[slot_mu_s] = i_s;
+      index[slot_nu] = i_n;
+      double pos[4] = {index[0], index[1], index[2], index[3]};
+      sf_scattering_coord c;
+      sf_params_scattering_coord(tp, pos, &c);
+      double mu_s = c.mu_s, nu = sf_clamp_nu(c.mu, c.mu_s, c.nu);
+      double f_nu;
+      int j_nu = split_position(0.5 * (nu + 1.0) * (m->n_nu - 1), m->n_nu, &f_nu);
+      long nu_off[2] = {j_nu * stride_nu, (j_nu + 1) * stride_nu};
+      double nu_w[2] = {1.0 - f_nu, f_nu};
+      double l[SF_MAX_CHANNELS] = {0};
+      for (int q = 0; q < nodes->n; ++q) {
+        double mu_s_p = (view->r * mu_s + nodes->t[q] * nu) * view->inv_radius[q];
+        mu_s_p = mu_s_p > 1.0 ? 1.0 : (mu_s_p < -1.0 ? -1.0 : mu_s_p);
+        double f_s;
+        int j_s = split_position(mu_s_position(&map, mu_s_p), m->n_mus, &f_s);
+        const double *corner = sc->node_pos + (size_t)q * 8;
+        const double *coef = sc->node_coef + (size_t)q * nv;
+        double v[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+        for (int k = 0; k < nv; ++k) v[k] = 0.0;
+        for (int a = 0; a < 4; ++a) {
+          if (corner[4 + a] == 0.0) continue;
+          for (int b = 0; b < 2; ++b) {
+            double w = corner[4 + a] * nu_w[b];
+            if (w == 0.0) continue;
+            const float *lo = g + ((long)corner[a] + nu_off[b] + j_s) * nv, *hi = lo + nv;
+            double w_lo = w * (1.0 - f_s), w_hi = w * f_s;
+            for (int k = 0; k < nv; ++k) v[k] += w_lo * lo[k] + w_hi * hi[k];
+          }
+        }
+        for (int k = 0; k < ns; ++k)
+          for (int ch = 0; ch < nch; ++ch) l[ch] += coef[k * nch + ch] * v[k * nch + ch];
+      }
+      size_t off = 0;
+      for (int k = 3; k >= 0; --k) off = off * (size_t)size[k] + (size_t)index[k];
+      float *out = m->target + off * nch;
+      for (int ch = 0; ch < nch; ++ch) {
+        out[ch] = (float)l[ch];
+        row_total += l[ch];
+      }
+      if (m->row_single) {
+        /* the single-scattering sky radiance of the same entry, for the
+         * stopping rule (the target is then the internal grid) */
+        for (int k = 0; k < ns; ++k) {
+          double phase = sf_phase_value(&atm->constituents[s->scattering[k]].phase, nu);
+          const float *sv = m->single[k].data + off * nch;
+          for (int ch = 0; ch < nch; ++ch) row_single += phase * sv[ch];
+        }
+      }
+    }
+  m->row_total[row] = row_total;
+  if (m->row_single) m->row_single[row] = row_single;
+}
+
+/* ---- driver -------------------------------------------------------------- */
+
+static int make_directions(multiple_run *m, sf_error *err) {
+  const sf_atmosphere *atm = m->atm;
+  sf_gauss_rule up, down;
+  sf_gauss_rule_init(&up, SF_DENSITY_DIRS_UP);
+  sf_gauss_rule_init(&down, SF_DENSITY_DIRS_DOWN);
+  m->dirs = calloc((size_t)m->n_h, sizeof *m->dirs);
+  if (!m->dirs) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
+  double dphi = 2.0 * SF_PI / SF_DENSITY_DIRS_PHI;
+  for (int i = 0; i < m->n_h; ++i) {
+    direction_set *ds = &m->dirs[i];
+    ds->t_ground = malloc(sizeof(double) * SF_DENSITY_DIRS_DOWN * (size_t)m->nch);
+    if (!ds->t_ground) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
+    double pos[4] = {0, 0, 0, i};
+    sf_scattering_coord c;
+    sf_params_scattering_coord(&m->pi, pos, &c);
+    double r = atm->bottom_radius_km + c.h;
+    double mu_h = sf_horizon_mu(r, atm->bottom_radius_km);
+    for (int q = 0; q < SF_DENSITY_DIRS_UP; ++q) {
+      ds->mu[q] = mu_h + (1.0 - mu_h) * up.x[q];
+      ds->weight[q] = (1.0 - mu_h) * up.w[q] * dphi;
+    }
+    for (int q = 0; q < SF_DENSITY_DIRS_DOWN; ++q) {
+      double mu = -1.0 + (mu_h + 1.0) * down.x[q];
+      ds->mu[SF_DENSITY_DIRS_UP + q] = mu;
+      ds->weight[SF_DENSITY_DIRS_UP + q] = (mu_h + 1.0) * down.w[q] * dphi;
+      ds->dist_ground[q] = sf_ray_end_distance(atm, r, mu, 1);
+      double depth[SF_MAX_CONSTITUENTS];
+      sf_transmittance_ray_depth(atm, c.h, mu, 1, depth);
+      sf_setup_transmittance(m->s, depth, ds->t_ground + (size_t)q * m->nch);
+    }
+  }
+  return SF_OK;
+}
+
+static void free_run(multiple_run *m, int threads) {
+  if (m->dirs)
+    for (int i = 0; i < m->n_h; ++i) free(m->dirs[i].t_ground);
+  free(m->dirs);
+  if (m->scratch)
+    for (int t = 0; t < threads; ++t) {
+      sf_view_row_free(&m->scratch[t].row);
+      free(m->scratch[t].node_coef);
+      free(m->scratch[t].node_pos);
+      free(m->scratch[t].incoming);
+    }
+  free(m->scratch);
+  free(m->previous_data);
+  free(m->current_data);
+  free(m->g_data);
+  free(m->g_sum_data);
+  free(m->l_sum);
+  free(m->ground_prev);
+  free(m->ground_new);
+  free(m->irradiance_sum);
+  free(m->row_total);
+  free(m->row_single);
+}
+
+static void run_gather(multiple_run *m, const sf_table_params *tp, float *target, const float *g,
+                       const sf_precompute_options *opt, const char *stage) {
+  m->target_p = tp;
+  m->target = target;
+  m->g_view.data = g;
+  long rows = (long)tp->res.scattering_h * tp->res.scattering_mu;
+  sf_parallel_rows(rows, opt, stage, gather_row, m);
+}
+
+int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *p,
+                           const sf_table *single, const sf_multiple_options *mo,
+                           const sf_precompute_options *opt, sf_table *multiple, sf_table *irradiance,
+                           sf_multiple_report *report, sf_error *err) {
+  multiple_run m;
+  memset(&m, 0, sizeof m);
+  sf_multiple_report local_report;
+  if (!report) report = &local_report;
+  memset(report, 0, sizeof *report);
+  report->highest_order = 1;
+  m.s = s;
+  m.atm = s->atm;
+  sf_multiple_internal_params(p, &m.pi);
+  m.nch = s->atm->n_channels;
+  m.ns = s->n_scattering;
+  m.n_mus = m.pi.res.scattering_mu_s;
+  m.n_mu = m.pi.res.scattering_mu;
+  m.n_nu = m.pi.res.scattering_nu;
+  m.n_h = m.pi.res.scattering_h;
+  sf_gauss_rule_init(&m.irradiance_rule, SF_IRRADIANCE_DIRS_MU);
+  int orders = mo->orders < 1 ? 1 : (mo->orders > SF_MULTIPLE_MAX_ORDERS ? SF_MULTIPLE_MAX_ORDERS : mo->orders);
+  size_t n_out = sf_table_desc_points(&multiple->desc) * (size_t)m.nch;
+  size_t n_irr = sf_table_desc_points(&irradiance->desc) * (size_t)m.nch;
+  memset(multiple->data, 0, sizeof(float) * n_out);
+  memset(irradiance->data, 0, sizeof(float) * n_irr);
+  if (orders < 2 || m.ns == 0) return SF_OK;
+
+  int threads = sf_parallel_threads(opt);
+  size_t entries = (size_t)m.n_mus * m.n_mu * m.n_nu * m.n_h;
+  int leenman = p->kind != SF_PARAM_BRUNETON;
+  size_t rows_internal = (size_t)m.n_h * m.n_mu;
+  m.previous_data = malloc(sizeof(float) * entries * m.nch);
+  m.current_data = malloc(sizeof(float) * entries * m.nch);
+  m.g_data = malloc(sizeof(float) * entries * m.ns * m.nch);
+  m.g_sum_data = leenman ? calloc(entries * m.ns * m.nch, sizeof(float)) : NULL;
+  m.l_sum = calloc(entries * m.nch, sizeof(double));
+  m.ground_prev = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
+  m.ground_new = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
+  m.irradiance_sum = calloc(n_irr, sizeof(double));
+  m.row_total = calloc(rows_internal > (size_t)p->res.scattering_h * p->res.scattering_mu
+                           ? rows_internal : (size_t)p->res.scattering_h * p->res.scattering_mu,
+                       sizeof(double));
+  m.row_single = calloc(rows_internal, sizeof(double));
+  m.scratch = calloc((size_t)threads, sizeof *m.scratch);
+  int ok = m.previous_data && m.current_data && m.g_data && (!leenman || m.g_sum_data) && m.l_sum &&
+           m.ground_prev && m.ground_new && m.irradiance_sum && m.row_total && m.row_single && m.scratch;
+  for (int t = 0; ok && t < threads; ++t) {
+    thread_scratch *sc = &m.scratch[t];
+    if (sf_view_row_alloc(&sc->row, s)) { ok = 0; break; }
+    size_t cap = (size_t)sc->row.nodes.capacity;
+    sc->node_coef = malloc(sizeof(double) * cap * m.ns * m.nch);
+    sc->node_pos = malloc(sizeof(double) * cap * 8);
+    sc->incoming = malloc(sizeof(double) * N_DIRS * m.nch);
+    if (!sc->node_coef || !sc->node_pos || !sc->incoming) ok = 0;
+  }
+  if (!ok || make_directions(&m, err) != SF_OK) {
+    free_run(&m, threads);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory for multiple scattering (%zu table entries)", entries);
+  }
+  for (int k = 0; k < m.ns; ++k) m.single[k] = sf_grid_view_of(&single[k]);
+  m.previous.data = m.previous_data;
+  m.previous.n_values = m.nch;
+  m.g_view.n_values = m.ns * m.nch;
+  int sizes[4] = {m.n_mus, m.n_mu, m.n_nu, m.n_h};
+  for (int a = 0; a < 4; ++a) m.previous.size[a] = m.g_view.size[a] = sizes[a];
+
+  double sky_so_far = 0.0;
+  double *row_single_buffer = m.row_single;
+  char stage[96];
+  for (int order = 2; order <= orders; ++order) {
+    m.order = order;
+    snprintf(stage, sizeof stage, "multiple scattering order %d: density", order);
+    sf_parallel_rows((long)m.n_h * m.n_mus, opt, stage, density_row, &m);
+    /* E_{k-1}: from the radiance of order k-1, like the density above. */
+    snprintf(stage, sizeof stage, "multiple scattering order %d: irradiance", order);
+    sf_parallel_rows(SF_GROUND_IRRADIANCE_SAMPLES, opt, stage, ground_irradiance_row, &m);
+    /* the irradiance table sums orders 1..N-1, as Bruneton's */
+    sf_parallel_rows(m.pi.res.irradiance_h, opt, stage, irradiance_table_row, &m);
+    double e_total = 0.0;
+    for (size_t i = 0; i < (size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch; ++i) e_total += m.ground_new[i];
+    report->ground_irradiance_total[order - 1] = e_total;
+    double *swap = m.ground_prev;
+    m.ground_prev = m.ground_new;
+    m.ground_new = swap;
+
+    snprintf(stage, sizeof stage, "multiple scattering order %d: gather", order);
+    /* the single-scattering sky is summed once, with order 2 */
+    m.row_single = order == 2 ? row_single_buffer : NULL;
+    double *row_single = m.row_single;
+    run_gather(&m, &m.pi, m.current_data, m.g_data, opt, stage);
+    double total = 0.0;
+    for (size_t row = 0; row < rows_internal; ++row) total += m.row_total[row];
+    if (row_single)
+      for (size_t row = 0; row < rows_internal; ++row) sky_so_far += row_single[row];
+    for (size_t i = 0; i < entries * m.nch; ++i) m.l_sum[i] += m.current_data[i];
+    if (leenman)
+      for (size_t i = 0; i < entries * m.ns * m.nch; ++i) m.g_sum_data[i] += m.g_data[i];
+    sky_so_far += total;
+    report->order_total[order] = total;
+    report->added_fraction[order] = sky_so_far > 0.0 ? total / sky_so_far : 0.0;
+    report->highest_order = order;
+    float *swap_f = m.previous_data;
+    m.previous_data = m.current_data;
+    m.current_data = swap_f;
+    m.previous.data = m.previous_data;
+    if (mo->stop_fraction > 0.0 && report->added_fraction[order] < mo->stop_fraction) break;
+  }
+  m.row_single = row_single_buffer;
+  if (leenman) {
+    run_gather(&m, p, multiple->data, m.g_sum_data, opt, "multiple scattering: output");
+  } else {
+    for (size_t i = 0; i < entries * m.nch; ++i) multiple->data[i] = (float)m.l_sum[i];
+  }
+  for (size_t i = 0; i < n_irr; ++i) irradiance->data[i] = (float)m.irradiance_sum[i];
+  free_run(&m, threads);
+  return SF_OK;
+}

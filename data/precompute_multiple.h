@@ -1,0 +1,82 @@
+/* Multiple scattering by scattering orders (SPEC §6; Bruneton & Neyret 2008,
+ * Bruneton 2017 "ComputeScatteringDensity / ComputeIndirectIrradiance /
+ * ComputeMultipleScattering"), ground albedo included. For order k >= 2:
+ *
+ *  1. Scattering density. At every point of the scattering grid, the light
+ *     arriving from each direction w_i — the radiance of order k-1 seen
+ *     along w_i (for k = 2: single scattering times each constituent's
+ *     phase) plus, where w_i hits the ground, the ground's Lambertian
+ *     reflection T(x -> ground) albedo/pi E_{k-2}(ground) (E_0: the sun's
+ *     direct irradiance) — is convolved with each scattering constituent's
+ *     phase function:  G_c(x, w) = integral of L_in(x, w_i) P_c(w . w_i) dw_i.
+ *     The density of order k is J_k = sum_c beta_s,c density_c(x) G_c; the
+ *     tables keep G_c, without the density, because G_c is smooth in
+ *     altitude and density_c is applied exactly where J is used.
+ *  2. Indirect irradiance of order k-1 on a horizontal surface, E_{k-1} =
+ *     integral over the upper hemisphere of L_{k-1} cos(theta) dw: at the
+ *     ground for the next order's ground term, and at every altitude for the
+ *     irradiance table (Bruneton's irradiance texture: sum of orders 1..N-1,
+ *     the direct sun excluded).
+ *  3. Radiance of order k: L_k(x, v) = integral along the view ray of
+ *     T(x -> p) J_k(p, v) dt.
+ *
+ * All orders are computed on an internal grid in Bruneton's
+ * parameterisation at the output's scattering resolution (its horizon-aware
+ * mu keeps the sky/ground jump sharp in the lookups of step 1); the output
+ * table is sum_k L_k at its own entries (for a Leenman output, step 3 is
+ * done once more at the Leenman entries with sum_k G_k, which is the same
+ * sum since step 3 is linear).
+ *
+ * Quadrature: directions in step 1 are Gauss-Legendre in mu, split at the
+ * horizon (SF_DENSITY_DIRS_UP above, SF_DENSITY_DIRS_DOWN below), times
+ * SF_DENSITY_DIRS_PHI uniform azimuths; the sum is normalised by the same
+ * quadrature of the phase function alone, so that forward-peaked phase
+ * functions (Mie) conserve energy despite the coarse directions. Step 3 uses
+ * the view-ray nodes of data/ray_quadrature.h; lookups are multilinear. */
+#ifndef SKYFIT_DATA_PRECOMPUTE_MULTIPLE_H
+#define SKYFIT_DATA_PRECOMPUTE_MULTIPLE_H
+
+#include "data/precompute_options.h"
+#include "data/scattering_setup.h"
+#include "data/table.h"
+#include "data/table_params.h"
+#include "util/error.h"
+
+#define SF_DENSITY_DIRS_UP 12
+#define SF_DENSITY_DIRS_DOWN 6
+#define SF_DENSITY_DIRS_PHI 16
+#define SF_IRRADIANCE_DIRS_MU 8
+#define SF_IRRADIANCE_DIRS_PHI 16
+#define SF_GROUND_IRRADIANCE_SAMPLES 256
+#define SF_MULTIPLE_MAX_ORDERS 64
+
+typedef struct sf_multiple_options {
+  int orders;              /* highest order, >= 1 (1: no multiple scattering) */
+  double stop_fraction;    /* > 0: stop after the first order k >= 2 whose
+                              radiance, summed over the table, is less than
+                              this fraction of the sky radiance so far */
+} sf_multiple_options;
+
+typedef struct sf_multiple_report {
+  int highest_order;                           /* last order computed */
+  double added_fraction[SF_MULTIPLE_MAX_ORDERS + 1];   /* [k], k >= 2 */
+  double order_total[SF_MULTIPLE_MAX_ORDERS + 1];      /* [k]: sum of L_k over
+                                                          the internal grid */
+  double ground_irradiance_total[SF_MULTIPLE_MAX_ORDERS + 1];  /* [k]: sum of
+                                    E_k over the ground samples, k >= 1 */
+} sf_multiple_report;
+
+/* The internal grid's parameters for an output with parameters p: Bruneton
+ * at p's scattering resolution (mu made even). */
+void sf_multiple_internal_params(const sf_table_params *p, sf_table_params *internal);
+
+/* single: s->n_scattering single-scattering tables on the internal grid
+ * (sf_precompute_single with the internal parameters). Fills multiple
+ * (initialised with sf_params_scattering_desc(p, atm, "multiple")) and
+ * irradiance (sf_params_irradiance_desc); report may be NULL. */
+int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *p,
+                           const sf_table *single, const sf_multiple_options *mo,
+                           const sf_precompute_options *opt, sf_table *multiple, sf_table *irradiance,
+                           sf_multiple_report *report, sf_error *err);
+
+#endif

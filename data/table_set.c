@@ -1,0 +1,196 @@
+#include "data/table_set.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "data/precompute_single.h"
+#include "data/precompute_transmittance.h"
+#include "data/scattering_setup.h"
+#include "data/table_cache.h"
+#include "models/atmosphere_file.h"
+
+void sf_table_set_options_default(sf_table_set_options *o) {
+  memset(o, 0, sizeof *o);
+  o->kind = SF_PARAM_BRUNETON;
+  sf_table_resolution_default(&o->res);
+  o->orders = SF_TABLE_SET_DEFAULT_ORDERS;
+}
+
+static size_t scattering_entries(const sf_table_resolution *r) {
+  return (size_t)r->scattering_h * (size_t)r->scattering_mu * (size_t)r->scattering_mu_s *
+         (size_t)r->scattering_nu;
+}
+
+size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_options *o) {
+  /* Counts are checked to be <= SF_TABLE_MAX_AXIS_SIZE (2^16) each, so the
+   * products below are computed in double to stay clear of overflow. */
+  double nch = atm->n_channels, ns = 0;
+  for (int i = 0; i < atm->n_constituents; ++i) ns += sf_constituent_scatters(&atm->constituents[i], atm->n_channels);
+  const sf_table_resolution *r = &o->res;
+  double entries = (double)r->scattering_h * r->scattering_mu * r->scattering_mu_s * r->scattering_nu;
+  double internal = (double)r->scattering_h * (r->scattering_mu + 1) * r->scattering_mu_s * r->scattering_nu;
+  double bytes = 4.0 * nch * ((double)r->transmittance_mu * r->transmittance_h +
+                              (double)r->irradiance_mu_s * r->irradiance_h);
+  bytes += 4.0 * nch * entries * (ns + 1.0);                /* output singles, multiple */
+  if (o->orders >= 2 && ns > 0) {
+    double leenman = o->kind == SF_PARAM_LEENMAN;
+    /* internal singles (Leenman), previous and current order, G (and its
+     * sum for Leenman), the double sum of orders */
+    bytes += 4.0 * nch * internal * (leenman * ns + 2.0 + ns * (1.0 + leenman)) + 8.0 * nch * internal;
+  }
+  bytes += 8.0 * SF_DEPTH_GRID_MU * SF_DEPTH_GRID_H * atm->n_constituents;
+  return bytes > 1e18 ? (size_t)1e18 : (size_t)bytes;
+}
+
+int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, sf_error *err) {
+  if (sf_table_resolution_check(&o->res, o->kind, err) != SF_OK) return SF_ERR_INPUT;
+  if (o->orders < 1 || o->orders > SF_MULTIPLE_MAX_ORDERS)
+    return sf_fail(err, SF_ERR_INPUT, "orders: %d is outside 1..%d", o->orders, SF_MULTIPLE_MAX_ORDERS);
+  if (!(o->stop_fraction >= 0.0 && o->stop_fraction < 1.0))
+    return sf_fail(err, SF_ERR_INPUT, "stop fraction %g must be in [0, 1)", o->stop_fraction);
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
+    char name[SF_TABLE_NAME_LEN];
+    if (sf_single_table_name(&atm->constituents[i], name, err) != SF_OK) return SF_ERR_INPUT;
+  }
+  size_t need = sf_table_set_memory_bytes(atm, o);
+  if (need > SF_TABLE_SET_MAX_BYTES || scattering_entries(&o->res) > ((size_t)1 << 34))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "resolution %dx%d,%dx%dx%dx%d needs about %.1f GiB of memory for the tables "
+                   "(limit %.0f GiB)", o->res.transmittance_mu, o->res.transmittance_h, o->res.scattering_h,
+                   o->res.scattering_mu, o->res.scattering_mu_s, o->res.scattering_nu,
+                   (double)need / (1 << 30), (double)SF_TABLE_SET_MAX_BYTES / (1 << 30));
+  return SF_OK;
+}
+
+
+/* Sets the key of desc and tries the cache; returns 1 if *t was loaded. */
+static int try_cache(const sf_table_set_options *o, sf_table_desc *desc, const char *json, int orders,
+                     const char *version, sf_table *t, char *path, size_t path_size) {
+  sf_table_cache_key(desc, json, orders, version, desc->content_hash);
+  path[0] = '\0';
+  if (!o->cache_dir) return 0;
+  sf_error ignored = {0};
+  sf_table_cache_path(o->cache_dir, desc->quantity, desc->content_hash, path, path_size, &ignored);
+  sf_error problem = {0};
+  char text[2048];
+  if (sf_table_cache_load(o->cache_dir, desc, 0, t, &problem)) {
+    snprintf(text, sizeof text, "%.31s: loaded from the cache (%.1900s)", desc->quantity, path);
+    if (o->note) o->note(o->note_ctx, text);
+    return 1;
+  }
+  if (problem.status != SF_OK) {
+    snprintf(text, sizeof text, "%.1900s; recomputing it", problem.message);
+    if (o->note) o->note(o->note_ctx, text);
+  }
+  return 0;
+}
+
+void sf_table_set_free(sf_table_set *set) {
+  sf_table_free(&set->transmittance);
+  for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&set->single[k]);
+  sf_table_free(&set->multiple);
+  sf_table_free(&set->irradiance);
+  memset(set, 0, sizeof *set);
+}
+
+int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_table_set_options *o,
+                      sf_error *err) {
+  memset(set, 0, sizeof *set);
+  if (sf_table_set_check(atm, o, err) != SF_OK) return SF_ERR_INPUT;
+  char *json = sf_atmosphere_to_json(atm);
+  if (!json) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the atmosphere's JSON");
+  sf_table_params_make(&set->params, atm, o->kind, &o->res);
+  const sf_table_params *p = &set->params;
+
+  /* descriptions and keys; multiple scattering depends on the orders */
+  char version_multiple[128];
+  snprintf(version_multiple, sizeof version_multiple, "%s; stop %.17g", SF_TABLES_CODE_VERSION, o->stop_fraction);
+  sf_table_desc desc[SF_TABLE_SET_MAX_TABLES];
+  int n = 0, status = SF_OK;
+  status |= sf_params_transmittance_desc(p, atm, &desc[n], err);
+  set->tables[n++] = &set->transmittance;
+  for (int i = 0; i < atm->n_constituents && status == SF_OK; ++i) {
+    if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
+    char name[SF_TABLE_NAME_LEN];
+    status |= sf_single_table_name(&atm->constituents[i], name, err);
+    if (status == SF_OK) status |= sf_params_scattering_desc(p, atm, name, &desc[n], err);
+    set->single_constituent[set->n_single] = i;
+    set->tables[n++] = &set->single[set->n_single++];
+  }
+  int i_multiple = n;
+  if (status == SF_OK) status |= sf_params_scattering_desc(p, atm, "multiple", &desc[n], err);
+  set->tables[n++] = &set->multiple;
+  if (status == SF_OK) status |= sf_params_irradiance_desc(p, atm, &desc[n], err);
+  set->tables[n++] = &set->irradiance;
+  set->n_tables = n;
+  if (status != SF_OK) {
+    free(json);
+    return SF_ERR_INPUT;
+  }
+
+  int missing = 0, single_missing = 0, multiple_missing = 0;
+  for (int t = 0; t < n; ++t) {
+    int orders = t >= i_multiple ? o->orders : 0;
+    const char *version = t >= i_multiple ? version_multiple : SF_TABLES_CODE_VERSION;
+    set->from_cache[t] = try_cache(o, &desc[t], json, orders, version, set->tables[t], set->paths[t],
+                                   sizeof set->paths[t]);
+    if (set->from_cache[t]) continue;
+    ++missing;
+    if (t > 0 && t < i_multiple) single_missing = 1;
+    if (t >= i_multiple) multiple_missing = 1;
+    if (sf_table_init(set->tables[t], &desc[t], json, 0, err) != SF_OK) {
+      free(json);
+      sf_table_set_free(set);
+      return err->status;
+    }
+  }
+
+  if (!set->from_cache[0])
+    status = sf_precompute_transmittance(atm, p, &o->run, &set->transmittance, err);
+  sf_scattering_setup setup;
+  memset(&setup, 0, sizeof setup);
+  if (status == SF_OK && (single_missing || multiple_missing))
+    status = sf_scattering_setup_init(&setup, atm, &o->run, err);
+  if (status == SF_OK && single_missing && set->n_single > 0)
+    status = sf_precompute_single(&setup, p, &o->run, set->single, err);
+  if (status == SF_OK && multiple_missing) {
+    /* the internal grid's singles are the output's when both are Bruneton
+     * at the same resolution; otherwise they are computed here */
+    sf_table_params internal;
+    sf_multiple_internal_params(p, &internal);
+    sf_table internal_single[SF_MAX_CONSTITUENTS];
+    memset(internal_single, 0, sizeof internal_single);
+    const sf_table *singles = set->single;
+    int own = p->kind != SF_PARAM_BRUNETON || internal.res.scattering_mu != p->res.scattering_mu;
+    if (own && set->n_single > 0 && o->orders >= 2) {
+      for (int k = 0; k < set->n_single && status == SF_OK; ++k) {
+        sf_table_desc d;
+        status = sf_params_scattering_desc(&internal, atm, set->single[k].desc.quantity, &d, err);
+        if (status == SF_OK) status = sf_table_init(&internal_single[k], &d, "", 0, err);
+      }
+      if (status == SF_OK) status = sf_precompute_single(&setup, &internal, &o->run, internal_single, err);
+      singles = internal_single;
+    }
+    sf_multiple_options mo = {o->orders, o->stop_fraction};
+    if (status == SF_OK)
+      status = sf_precompute_multiple(&setup, p, singles, &mo, &o->run, &set->multiple, &set->irradiance,
+                                      &set->report, err);
+    set->multiple_computed = status == SF_OK;
+    for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&internal_single[k]);
+  }
+  sf_scattering_setup_free(&setup);
+
+  for (int t = 0; t < n && status == SF_OK && o->cache_dir; ++t) {
+    if (set->from_cache[t]) continue;
+    status = sf_table_cache_store(o->cache_dir, set->tables[t], err);
+  }
+  free(json);
+  if (status != SF_OK) {
+    sf_table_set_free(set);
+    return err->status ? err->status : SF_ERR_INTERNAL;
+  }
+  (void)missing;
+  return SF_OK;
+}

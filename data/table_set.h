@@ -1,0 +1,77 @@
+/* The reference tables of one atmosphere (SPEC §6), computed or taken from
+ * the cache: transmittance, one single-scattering table per scattering
+ * constituent ("single_<name>"), multiple scattering ("multiple", all
+ * orders >= 2 summed) and Bruneton's indirect ground irradiance
+ * ("irradiance"), in one parameterisation and resolution.
+ *
+ * With a cache folder, each table is DIR/<quantity>-<key>.exr
+ * (data/table_cache.h), the key hashing the atmosphere's canonical JSON,
+ * the table's description (quantity, parameterisation, axes, channels), the
+ * number of orders and SF_TABLES_CODE_VERSION. A cached table is loaded, not
+ * recomputed; a corrupt one is reported (through note) and recomputed over. */
+#ifndef SKYFIT_DATA_TABLE_SET_H
+#define SKYFIT_DATA_TABLE_SET_H
+
+#include <stddef.h>
+
+#include "data/precompute_multiple.h"
+#include "data/precompute_options.h"
+#include "data/table.h"
+#include "data/table_params.h"
+#include "models/atmosphere.h"
+#include "util/error.h"
+
+/* Bump whenever a change makes the tables' values differ. */
+#define SF_TABLES_CODE_VERSION "skyfit-tables 1"
+/* Working memory the computation may use (tables and scratch). */
+#define SF_TABLE_SET_MAX_BYTES ((size_t)8 << 30)
+#define SF_TABLE_SET_DEFAULT_ORDERS 4
+
+typedef struct sf_table_set_options {
+  sf_parameterization kind;
+  sf_table_resolution res;
+  int orders;               /* highest scattering order, >= 1 */
+  double stop_fraction;     /* see sf_multiple_options; 0: none */
+  const char *cache_dir;    /* NULL: compute in memory, store nothing */
+  sf_precompute_options run;
+  void (*note)(void *ctx, const char *message);   /* may be NULL */
+  void *note_ctx;
+} sf_table_set_options;
+
+/* kind bruneton, default resolution, 4 orders, no stop, no cache. */
+void sf_table_set_options_default(sf_table_set_options *o);
+
+enum { SF_TABLE_SET_MAX_TABLES = SF_MAX_CONSTITUENTS + 3 };
+
+typedef struct sf_table_set {
+  sf_table_params params;
+  sf_table transmittance;
+  int n_single;
+  int single_constituent[SF_MAX_CONSTITUENTS];   /* atmosphere index of each */
+  sf_table single[SF_MAX_CONSTITUENTS];
+  sf_table multiple;
+  sf_table irradiance;
+  /* Every table in a fixed order (transmittance, singles, multiple,
+   * irradiance), whether it came from the cache, and its file (cache only). */
+  int n_tables;
+  sf_table *tables[SF_TABLE_SET_MAX_TABLES];
+  int from_cache[SF_TABLE_SET_MAX_TABLES];
+  char paths[SF_TABLE_SET_MAX_TABLES][4096];
+  sf_multiple_report report;     /* when multiple scattering was computed */
+  int multiple_computed;
+} sf_table_set;
+
+/* Bytes of memory the computation needs for these options (an estimate
+ * that errs high), for rejecting absurd resolutions before any work. */
+size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_options *o);
+
+/* Checks the options (resolution, orders, constituent names, memory):
+ * SF_ERR_INPUT with a message otherwise. Does nothing else. */
+int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, sf_error *err);
+
+/* Loads or computes every table. On failure set is empty (safe to free). */
+int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_table_set_options *o,
+                      sf_error *err);
+void sf_table_set_free(sf_table_set *set);
+
+#endif
