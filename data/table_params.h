@@ -117,6 +117,10 @@ double sf_bruneton_x_from_mu_s(double R, double Rt, double mu_s_min, double mu_s
 double sf_bruneton_mu_s_from_x(double R, double Rt, double mu_s_min, double x);
 
 /* ---- table positions <-> coordinates ------------------------------------ */
+/* GPU texture coordinate of a position on an axis of n samples, and back. */
+static inline double sf_params_uv_of_pos(double pos, int n) { return (pos + 0.5) / n; }
+static inline double sf_params_pos_of_uv(double uv, int n) { return uv * n - 0.5; }
+
 /* Transmittance: pos[0..1] in axis order. */
 void sf_params_transmittance_coord(const sf_table_params *p, const double *pos, double *h, double *mu);
 /* Returns 0 and fills pos (clamped into the table) or -1 when the table

@@ -130,14 +130,13 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     return SF_ERR_INPUT;
   }
 
-  int missing = 0, single_missing = 0, multiple_missing = 0;
+  int single_missing = 0, multiple_missing = 0;
   for (int t = 0; t < n; ++t) {
     int orders = t >= i_multiple ? o->orders : 0;
     const char *version = t >= i_multiple ? version_multiple : SF_TABLES_CODE_VERSION;
     set->from_cache[t] = try_cache(o, &desc[t], json, orders, version, set->tables[t], set->paths[t],
                                    sizeof set->paths[t]);
     if (set->from_cache[t]) continue;
-    ++missing;
     if (t > 0 && t < i_multiple) single_missing = 1;
     if (t >= i_multiple) multiple_missing = 1;
     if (sf_table_init(set->tables[t], &desc[t], json, 0, err) != SF_OK) {
@@ -191,6 +190,5 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     sf_table_set_free(set);
     return err->status ? err->status : SF_ERR_INTERNAL;
   }
-  (void)missing;
   return SF_OK;
 }
