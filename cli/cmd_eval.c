@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/csv_points.h"
+#include "cli/cmd_eval_tables.h"
 #include "models/atmosphere_file.h"
 #include "models/optical_depth.h"
 #include "models/phase.h"
@@ -175,6 +176,9 @@ static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const 
 }
 
 int sf_cmd_eval(int argc, char **argv) {
+  /* multiple_scattering and sky_radiance are read from tables (issue 3). */
+  for (int i = 1; i < argc; ++i)
+    if (sf_eval_tables_handles(argv[i])) return sf_cmd_eval_tables(argc, argv);
   eval_options o;
   int rc = parse_options(argc, argv, &o);
   if (rc >= 0) return rc;

@@ -101,6 +101,22 @@ void sf_depth_grid_lookup_at(const sf_depth_grid *g, const sf_depth_grid_radius 
   int nc = g->n_constituents;
   const double *base = g->depth + ((size_t)at->i_h * g->n_mu + im) * nc;
   size_t row_stride = (size_t)g->n_mu * nc;
+  if (nc == 3) {
+    /* the common case (air, aerosols, ozone), written out so that the
+     * compiler keeps the three sums in registers */
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+    const double *p = base;
+    for (int a = 0; a < 4; ++a, p += row_stride) {
+      double w0 = at->w_h[a] * wm[0], w1 = at->w_h[a] * wm[1], w2 = at->w_h[a] * wm[2], w3 = at->w_h[a] * wm[3];
+      a0 += w0 * p[0] + w1 * p[3] + w2 * p[6] + w3 * p[9];
+      a1 += w0 * p[1] + w1 * p[4] + w2 * p[7] + w3 * p[10];
+      a2 += w0 * p[2] + w1 * p[5] + w2 * p[8] + w3 * p[11];
+    }
+    depth[0] = a0 > 0.0 ? a0 : 0.0;
+    depth[1] = a1 > 0.0 ? a1 : 0.0;
+    depth[2] = a2 > 0.0 ? a2 : 0.0;
+    return;
+  }
   for (int c = 0; c < nc; ++c) {
     const double *p = base + c;
     double acc = 0.0;

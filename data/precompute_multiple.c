@@ -419,7 +419,8 @@ static void gather_row(void *ctx, int thread, long row) {
       int j_nu = split_position(0.5 * (nu + 1.0) * (m->n_nu - 1), m->n_nu, &f_nu);
       long nu_off[2] = {j_nu * stride_nu, (j_nu + 1) * stride_nu};
       double nu_w[2] = {1.0 - f_nu, f_nu};
-      double l[SF_MAX_CHANNELS] = {0};
+      double l[SF_MAX_CHANNELS];
+      for (int ch = 0; ch < nch; ++ch) l[ch] = 0.0;
       for (int q = 0; q < nodes->n; ++q) {
         double mu_s_p = (view->r * mu_s + nodes->t[q] * nu) * view->inv_radius[q];
         mu_s_p = mu_s_p > 1.0 ? 1.0 : (mu_s_p < -1.0 ? -1.0 : mu_s_p);

@@ -93,6 +93,28 @@ static void add_cut_piece(const sun_sum *acc, double *sum, const sf_view_row *ro
   }
 }
 
+/* Piece p integrated in parts over which the sun's optical depth changes by
+ * about SF_SUN_SPLIT_TAU (variation: its change over the piece), merged with
+ * the sun's cuts inside the piece (cuts[0..n-1]). */
+static void add_split_piece(const sun_sum *acc, double *sum, const sf_view_row *row, int p, double variation,
+                            const double *cuts, int n) {
+  double a = row->nodes.piece_start[p], b = row->nodes.piece_end[p];
+  int parts = (int)ceil(variation / SF_SUN_SPLIT_TAU);
+  if (parts > SF_SUN_SPLIT_MAX) parts = SF_SUN_SPLIT_MAX;
+  double split[SF_SUN_SPLIT_MAX + 2 * (SF_MAX_KINKS + 1)];
+  int n_split = 0, c = 0;
+  for (int j = 1; j <= parts; ++j) {
+    double t = j < parts ? a + (b - a) * j / parts : b;
+    while (c < n && cuts[c] <= t) {
+      if (n_split == 0 || cuts[c] > split[n_split - 1]) split[n_split++] = cuts[c];
+      ++c;
+    }
+    if (j < parts && (n_split == 0 || t > split[n_split - 1])) split[n_split++] = t;
+  }
+  double lo = INFINITY, hi = 0.0;
+  add_cut_piece(acc, sum, row, p, split, n_split, &lo, &hi);
+}
+
 void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row *row, double mu_s,
                                  double nu, double *out) {
   const sf_atmosphere *atm = s->atm;
@@ -109,7 +131,8 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
     acc.beta_max[i] = 0.0;
     for (int ch = 0; ch < nch; ++ch) acc.beta_max[i] = fmax(acc.beta_max[i], s->extinction[ch][i]);
   }
-  double sum[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS] = {0};
+  double sum[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];   /* only ns * nch used: */
+  for (int k = 0; k < ns * nch; ++k) sum[k] = 0.0;    /* no memset of the whole */
 
   /* The sun's cuts inside the ray, sorted (a handful: insertion sort). */
   double cuts[2 * (SF_MAX_KINKS + 1)];
@@ -127,6 +150,14 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
 
   int k_rule = s->rule.n, next_cut = 0, nv = ns * nch;
   double wt[SF_MAX_CHANNELS], piece_sum[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  /* Pieces over which the sun's optical depth changes a lot (its light
+   * grazes the planet: sunset, thick air) are integrated again in parts,
+   * but only those that matter: a second pass redoes a piece whose first
+   * estimate is at least SF_SUN_SPLIT_SIGNIFICANCE of the entry's total. */
+  int flagged[SF_SUN_SPLIT_PIECES], n_flagged = 0;
+  double flagged_split[SF_SUN_SPLIT_PIECES];
+  double flagged_sum[SF_SUN_SPLIT_PIECES][SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  int flagged_cut_first[SF_SUN_SPLIT_PIECES], flagged_cut_count[SF_SUN_SPLIT_PIECES];
   for (int p = 0; p < nodes->n_pieces; ++p) {
     double a = nodes->piece_start[p], b = nodes->piece_end[p];
     while (next_cut < n_cuts && cuts[next_cut] <= a) ++next_cut;
@@ -148,28 +179,31 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
         }
       }
     }
-    /* Where the sun's light grazes the planet (sunset, thick air) its
-     * optical depth can change by tens along one piece: then the piece is
-     * integrated again in parts over which it changes by about
-     * SF_SUN_SPLIT_TAU (unless the sun is too dim there to matter). */
     if (tau_hi - tau_lo > SF_SUN_SPLIT_TAU && tau_lo < 60.0) {
-      int parts = (int)ceil((tau_hi - tau_lo) / SF_SUN_SPLIT_TAU);
-      if (parts > SF_SUN_SPLIT_MAX) parts = SF_SUN_SPLIT_MAX;
-      double split[SF_SUN_SPLIT_MAX + 2 * (SF_MAX_KINKS + 1)];
-      int n_split = 0, c = next_cut;
-      for (int j = 1; j <= parts; ++j) {
-        double t = j < parts ? a + (b - a) * j / parts : b;
-        while (c < next_cut + inside && cuts[c] <= t) {
-          if (n_split == 0 || cuts[c] > split[n_split - 1]) split[n_split++] = cuts[c];
-          ++c;
-        }
-        if (j < parts && (n_split == 0 || t > split[n_split - 1])) split[n_split++] = t;
+      double variation = tau_hi - tau_lo;
+      if (n_flagged < SF_SUN_SPLIT_PIECES) {
+        flagged[n_flagged] = p;
+        flagged_split[n_flagged] = variation;
+        flagged_cut_first[n_flagged] = next_cut;
+        flagged_cut_count[n_flagged] = inside;
+        for (int k = 0; k < nv; ++k) flagged_sum[n_flagged][k] = piece_sum[k];
+        ++n_flagged;
+      } else {   /* no room to defer: refine now */
+        for (int k = 0; k < nv; ++k) piece_sum[k] = 0.0;
+        add_split_piece(&acc, piece_sum, row, p, variation, cuts + next_cut, inside);
       }
-      for (int k = 0; k < nv; ++k) piece_sum[k] = 0.0;
-      double lo = INFINITY, hi = 0.0;
-      add_cut_piece(&acc, piece_sum, row, p, split, n_split, &lo, &hi);
     }
     for (int k = 0; k < nv; ++k) sum[k] += piece_sum[k];
+  }
+  for (int f = 0; f < n_flagged; ++f) {
+    double significance = 0.0;
+    for (int k = 0; k < nv; ++k)
+      if (sum[k] > 0.0) significance = fmax(significance, flagged_sum[f][k] / sum[k]);
+    if (significance < SF_SUN_SPLIT_SIGNIFICANCE) continue;
+    for (int k = 0; k < nv; ++k) piece_sum[k] = 0.0;
+    add_split_piece(&acc, piece_sum, row, flagged[f], flagged_split[f], cuts + flagged_cut_first[f],
+                    flagged_cut_count[f]);
+    for (int k = 0; k < nv; ++k) sum[k] += piece_sum[k] - flagged_sum[f][k];
   }
   for (int k = 0; k < ns; ++k) {
     const sf_constituent *con = &atm->constituents[s->scattering[k]];

@@ -70,16 +70,20 @@ int sf_ray_quad_breaks(const sf_atmosphere *atm, double r, double mu, double t0,
      * pieces. Growing densities are graded down from the highest point. */
     double cut[2 * 64];
     int n_cut = 0;
+    /* (The last sub-piece may stretch to 1.5 spans rather than leave a
+     * sliver before the piece's end.) */
     if (kappa_down > 0.0)
       for (double z = lo; n_cut < 64;) {
-        z += SF_RAY_QUAD_GRADING / kappa_down + (z - r_min);
-        if (z >= hi) break;
+        double span = SF_RAY_QUAD_GRADING / kappa_down + (z - r_min);
+        if (z + 1.5 * span >= hi) break;
+        z += span;
         cut[n_cut++] = z;
       }
     if (kappa_up > 0.0)
       for (double z = hi; n_cut < 128;) {
-        z -= SF_RAY_QUAD_GRADING / kappa_up + (r_max - z);
-        if (z <= lo) break;
+        double span = SF_RAY_QUAD_GRADING / kappa_up + (r_max - z);
+        if (z - 1.5 * span <= lo) break;
+        z -= span;
         cut[n_cut++] = z;
       }
     int first = n - 1;
@@ -124,8 +128,8 @@ static int grade_extinction(const sf_atmosphere *atm, double r, double mu, doubl
   for (int p = 0; p + 1 < n; ++p) {
     double a = in[p], b = in[p + 1];
     double k_b = extinction_bound(atm, beta_max, r, mu, b);
-    double thick = 0.5 * (k_a + k_b) * (b - a);
-    double allowed = SF_RAY_QUAD_OPTICAL_GRADING + tau;
+    double thick = 0.5 * (k_a + k_b) * (b - a);   /* trapezoid estimate */
+    double allowed = SF_RAY_QUAD_OPTICAL_GRADING + SF_RAY_QUAD_OPTICAL_GROWTH * tau;
     int parts = thick > allowed ? (int)ceil(thick / allowed) : 1;
     if (parts > 64) parts = 64;
     if (m + parts > max_breaks) parts = max_breaks - m > 1 ? max_breaks - m : 1;

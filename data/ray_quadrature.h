@@ -29,6 +29,7 @@
 /* Optical thickness of the first sub-piece of the extinction grading of
  * sf_ray_nodes_fill (below). */
 #define SF_RAY_QUAD_OPTICAL_GRADING 8.0
+#define SF_RAY_QUAD_OPTICAL_GROWTH 1.0
 
 /* Cut points of [t0, t1] along the ray (r, mu): t0, the sorted interior
  * cuts, t1; returns their count (>= 2, <= max_breaks). extra (n_extra
@@ -72,7 +73,8 @@ void sf_ray_nodes_free(sf_ray_nodes *nodes);
  * below the ground), cut as sf_ray_quad_breaks does and then graded in
  * optical depth from t0: a sub-piece that starts at optical depth tau
  * (estimated from the largest extinction at its ends) is at most
- * SF_RAY_QUAD_OPTICAL_GRADING + tau thick, because the scattering integrands carry
+ * SF_RAY_QUAD_OPTICAL_GRADING + SF_RAY_QUAD_OPTICAL_GROWTH tau thick, because
+ * the scattering integrands carry
  * exp(-tau), which in a thick atmosphere varies faster than any density. */
 void sf_ray_nodes_fill(sf_ray_nodes *nodes, const sf_atmosphere *atm, const sf_gauss_rule *rule,
                        double r, double mu, double t0, double t1, const double *extra, int n_extra);

@@ -66,9 +66,20 @@ static int tangent_roots(double r, double mu, double mu_s, double nu, double rho
 
 int sf_sun_tangent_points(const sf_atmosphere *atm, double r, double mu, double mu_s, double nu,
                           double *out) {
-  int n = tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km, out);
+  double roots[2 * (SF_MAX_KINKS + 1)];
+  int n_roots = tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km, roots);
   for (int k = 0; k < atm->n_kinks; ++k)
-    n += tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km + atm->kink_altitudes_km[k], out + n);
+    n_roots += tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km + atm->kink_altitudes_km[k], roots + n_roots);
+  /* The line towards the sun touches the sphere at a root, but the sun ray
+   * (a half-line) only does if it descends first: the sun's zenith cosine
+   * there is <= 0. At the other roots nothing changes. */
+  int n = 0;
+  for (int k = 0; k < n_roots; ++k) {
+    double t = roots[k];
+    double radius = sf_ray_radius_at(r, mu, t);
+    if (!(radius > 0.0)) continue;
+    if ((r * mu_s + t * nu) / radius <= 1e-9) out[n++] = t;
+  }
   return n;
 }
 

@@ -40,9 +40,10 @@ int sf_sun_depth(const sf_scattering_setup *s, double r, double mu_sun, double *
 double sf_ray_end_distance(const sf_atmosphere *atm, double r, double mu, int hits_ground);
 
 /* Points along the view ray (r, mu) where the sun ray (mu_s, nu at the
- * viewer) is tangent to the ground or to a kink sphere: the edge of the
- * planet's shadow and the corners of the sun's optical depth. Writes at
- * most 2 (1 + n_kinks) points to out; returns their count. */
+ * viewer) is tangent to the ground or to a kink sphere in front of the
+ * point: the edge of the planet's shadow and the corners of the sun's
+ * optical depth. Writes at most 2 (1 + n_kinks) points to out (unsorted,
+ * possibly outside the ray); returns their count. */
 int sf_sun_tangent_points(const sf_atmosphere *atm, double r, double mu, double mu_s, double nu,
                           double *out);
 
