@@ -2,6 +2,7 @@
  * folder that is also their cache. Writes DIR/<quantity>-<key>.exr per table
  * and DIR/tables.json, which lists them. Tables already there (same key) are
  * loaded, not recomputed; a corrupt one is reported and recomputed. */
+#include "util/make_folders.h"
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,23 +46,8 @@ static void print_note(void *ctx, const char *message) {
 
 /* mkdir -p, then proves the folder writable with a temporary file. */
 static int prepare_folder(const char *dir, sf_error *err) {
+  if (sf_make_folders(dir, "--out", err)) return SF_ERR_INPUT;
   char path[4096];
-  size_t n = strlen(dir);
-  if (n == 0 || n + 32 >= sizeof path) return sf_fail(err, SF_ERR_INPUT, "--out: folder name '%s' is not usable", dir);
-  memcpy(path, dir, n + 1);
-  for (size_t i = 1; i <= n; ++i) {
-    if (path[i] != '/' && path[i] != '\0') continue;
-    char saved = path[i];
-    path[i] = '\0';
-    struct stat st;
-    if (stat(path, &st) != 0) {
-      if (mkdir(path, 0777) != 0 && errno != EEXIST)
-        return sf_fail(err, SF_ERR_INPUT, "--out: cannot create folder %s: %s", path, strerror(errno));
-    } else if (!S_ISDIR(st.st_mode)) {
-      return sf_fail(err, SF_ERR_INPUT, "--out: %s is not a folder", path);
-    }
-    path[i] = saved;
-  }
   snprintf(path, sizeof path, "%s/tables.json", dir);
   sf_atomic_file probe;
   sf_error inner = {0};

@@ -1,5 +1,6 @@
 #include "data/table_cache.h"
 
+#include "util/make_folders.h"
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -110,32 +111,10 @@ int sf_table_cache_load(const char *dir, const sf_table_desc *desc, size_t max_b
   return 1;
 }
 
-/* mkdir -p: creates each missing component of dir. */
-static int make_folders(const char *dir, sf_error *err) {
-  char path[4096];
-  size_t n = strlen(dir);
-  if (n == 0 || n >= sizeof path) return sf_fail(err, SF_ERR_INPUT, "table cache: folder '%s' is not usable", dir);
-  memcpy(path, dir, n + 1);
-  for (size_t i = 1; i <= n; ++i) {
-    if (path[i] != '/' && path[i] != '\0') continue;
-    char saved = path[i];
-    path[i] = '\0';
-    struct stat st;
-    if (stat(path, &st) != 0) {
-      if (mkdir(path, 0777) != 0 && errno != EEXIST)
-        return sf_fail(err, SF_ERR_INPUT, "table cache: cannot create folder %s: %s", path, strerror(errno));
-    } else if (!S_ISDIR(st.st_mode)) {
-      return sf_fail(err, SF_ERR_INPUT, "table cache: %s is not a folder", path);
-    }
-    path[i] = saved;
-  }
-  return SF_OK;
-}
-
 int sf_table_cache_store(const char *dir, const sf_table *t, sf_error *err) {
   char path[4096];
   if (sf_table_cache_path(dir, t->desc.quantity, t->desc.content_hash, path, sizeof path, err) != SF_OK)
     return SF_ERR_INPUT;
-  if (make_folders(dir, err) != SF_OK) return SF_ERR_INPUT;
+  if (sf_make_folders(dir, "table cache", err) != SF_OK) return SF_ERR_INPUT;
   return sf_table_write_exr(t, path, err);
 }
