@@ -5,5 +5,6 @@
 
 int sf_cmd_eval(int argc, char **argv);
 int sf_cmd_sample(int argc, char **argv);
+int sf_cmd_fit(int argc, char **argv);
 
 #endif

@@ -13,6 +13,7 @@ typedef struct command {
 static const command commands[] = {
     {"eval", sf_cmd_eval,
      "evaluate reference quantities (optical depth, transmittance, single scattering) at CSV points"},
+    {"fit", sf_cmd_fit, "fit a compact model (sigmoid, preetham, hosek, spectral4, mlp-*) and write its weights"},
     {"sample", sf_cmd_sample, "compute the reference tables (transmittance, single and multiple scattering) into a folder"},
 };
 
