@@ -99,6 +99,11 @@ int sf_cmd_eval_tables(int argc, char **argv) {
   sf_atmosphere atm;
   int rc = sf_table_cli_atmosphere(&o, COMMAND, &atm);
   if (rc) return rc;
+  if (o.set.transmittance_only) {
+    fprintf(stderr, "%s: scene %s asks for transmittance only: it has no scattering tables to evaluate\n",
+            COMMAND, o.scene_path);
+    return 2;
+  }
   sf_error err = {0};
   if (sf_table_set_check(&atm, &o.set, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", COMMAND, err.message);

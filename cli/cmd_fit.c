@@ -7,6 +7,13 @@
 
 /* One line per model whose fitter exists. */
 static const sf_fit_command fit_commands[] = {
+    {"sigmoid", sf_cmd_fit_sigmoid, "sigmoid-polynomial transmittance per constituent and channel (SPEC 7.1)"},
+    {"preetham", sf_cmd_fit_preetham, "Perez/Preetham sky K F(theta,gamma) over the sun range (SPEC 7.2)"},
+    {"hosek", sf_cmd_fit_hosek, "Hosek-Wilkie 2012 sky F(theta,gamma) R over the sun range (SPEC 7.2)"},
+    {"spectral4", sf_cmd_fit_spectral4, "4 wavelengths + weights for spectral rendering at RGB cost (SPEC 7.3)"},
+    {"mlp-transmittance", sf_cmd_fit_mlp_transmittance, "transmittance MLP (seed 000 §9.6.1), hand-written Adam"},
+    {"mlp-scattering", sf_cmd_fit_mlp_scattering, "scattering MLP (seed 000 §9.6.2), exp(-x) outputs"},
+    {"mlp", sf_cmd_fit_mlp, "an MLP on any CSV (--dump-dataset), for trainer comparisons"},
     {NULL, NULL, NULL},
 };
 

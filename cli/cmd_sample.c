@@ -31,6 +31,8 @@ static void sample_usage(FILE *out) {
           "the atmosphere, parameterisation and axes in its header, named\n"
           "DIR/<quantity>-<key>.exr, the key hashing everything that determines it; DIR/tables.json\n"
           "lists them. Tables already in DIR are reused; damaged ones are recomputed.\n"
+          "With --scene, only the tables the scene asks for, and the scattering tables only over\n"
+          "its domain (their axes' ranges, in the EXR headers and tables.json, say which).\n"
           "\n"
           "options:\n"
           "  --out DIR               output (and cache) folder, created if missing; required\n");
@@ -85,12 +87,38 @@ static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_ta
   cJSON_AddNumberToObject(res, "irradiance_h", o->res.irradiance_h);
   cJSON_AddNumberToObject(root, "orders", o->orders);
   cJSON_AddNumberToObject(root, "stop_fraction", o->stop_fraction);
+  if (o->has_domain) {
+    /* the scene's domain as the scattering tables cover it (altitudes
+     * clamped into the atmosphere) */
+    const sf_table_params *p = &set->params;
+    cJSON *d = cJSON_AddObjectToObject(root, "domain");
+    cJSON_AddNumberToObject(d, "h_min_km", p->h_min_km);
+    cJSON_AddNumberToObject(d, "h_max_km", p->h_max_km);
+    cJSON_AddNumberToObject(d, "mu_min", o->kind == SF_PARAM_LEENMAN ? p->mu_min : o->domain.mu_min);
+    cJSON_AddNumberToObject(d, "mu_s_min", p->mu_s_min);
+    cJSON_AddNumberToObject(d, "mu_s_max", p->mu_s_max);
+    cJSON_AddBoolToObject(d, "sky_only", o->domain.sky_only);
+  }
+  cJSON *quantities = cJSON_AddArrayToObject(root, "quantities");
+  cJSON_AddItemToArray(quantities, cJSON_CreateString("transmittance"));
+  if (!o->transmittance_only) cJSON_AddItemToArray(quantities, cJSON_CreateString("sky_radiance"));
   cJSON *tables = cJSON_AddArrayToObject(root, "tables");
   for (int t = 0; t < set->n_tables; ++t) {
+    const sf_table_desc *desc = &set->tables[t]->desc;
     cJSON *e = cJSON_CreateObject();
-    cJSON_AddStringToObject(e, "quantity", set->tables[t]->desc.quantity);
+    cJSON_AddStringToObject(e, "quantity", desc->quantity);
     cJSON_AddStringToObject(e, "file", base_name(set->paths[t]));
-    cJSON_AddStringToObject(e, "content_hash", set->tables[t]->desc.content_hash);
+    cJSON_AddStringToObject(e, "content_hash", desc->content_hash);
+    cJSON *axes = cJSON_AddArrayToObject(e, "axes");
+    for (int k = 0; k < desc->n_axes; ++k) {
+      cJSON *a = cJSON_CreateObject();
+      cJSON_AddStringToObject(a, "name", desc->axes[k].name);
+      cJSON_AddNumberToObject(a, "size", desc->axes[k].size);
+      cJSON_AddNumberToObject(a, "min", desc->axes[k].min);
+      cJSON_AddNumberToObject(a, "max", desc->axes[k].max);
+      cJSON_AddStringToObject(a, "mapping", desc->axes[k].mapping);
+      cJSON_AddItemToArray(axes, a);
+    }
     cJSON_AddItemToArray(tables, e);
   }
   char *text = cJSON_Print(root);

@@ -6,5 +6,8 @@
 int sf_cmd_eval(int argc, char **argv);
 int sf_cmd_sample(int argc, char **argv);
 int sf_cmd_fit(int argc, char **argv);
+int sf_cmd_build(int argc, char **argv);
+int sf_cmd_report(int argc, char **argv);
+int sf_cmd_codegen(int argc, char **argv);
 
 #endif

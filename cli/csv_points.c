@@ -109,6 +109,11 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
     if (!nv || !nf) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
     *capacity = ncap;
   }
+  /* Every field is checked before any is copied, and a failed copy frees
+   * this row's earlier copies: a rejected row owns nothing (n_rows, which
+   * sf_csv_points_free goes by, does not count it). */
+  double *row_values = out->values + out->n_rows * nc;
+  char **row_fields = out->fields + out->n_rows * nc;
   for (int i = 0; i < nc; ++i) {
     char *end;
     double v = strtod(fields[i], &end);
@@ -118,10 +123,14 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
     if (!isfinite(v))
       return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%s' is not finite", source, row,
                      out->column_names[i], fields[i]);
-    out->values[out->n_rows * nc + i] = v;
-    out->fields[out->n_rows * nc + i] = strdup(fields[i]);
-    if (!out->fields[out->n_rows * nc + i])
+    row_values[i] = v;
+  }
+  for (int i = 0; i < nc; ++i) {
+    row_fields[i] = strdup(fields[i]);
+    if (!row_fields[i]) {
+      while (i-- > 0) free(row_fields[i]);
       return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
+    }
   }
   ++out->n_rows;
   return 0;

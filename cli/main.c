@@ -11,6 +11,9 @@ typedef struct command {
 } command;
 
 static const command commands[] = {
+    {"build", sf_cmd_build, "the whole pipeline for a scene: sample, fit, select, emit GLSL and C, report"},
+    {"report", sf_cmd_report, "measure every model of a scene and write report.html, report.md, metrics.json"},
+    {"codegen", sf_cmd_codegen, "emit GLSL and C headers for fitted models and analytic baselines"},
     {"eval", sf_cmd_eval,
      "evaluate reference quantities (optical depth, transmittance, single scattering) at CSV points"},
     {"fit", sf_cmd_fit, "fit a compact model (sigmoid, preetham, hosek, spectral4, mlp-*) and write its weights"},

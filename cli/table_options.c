@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "models/atmosphere_file.h"
+#include "models/scene_file.h"
 
 void sf_table_cli_default(sf_table_cli *o) {
   memset(o, 0, sizeof *o);
@@ -30,7 +31,7 @@ int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **a
     o->quiet = 1;
     return 1;
   }
-  static const char *const with_value[] = {"--atmosphere", "--resolution", "--orders", "--stop-fraction",
+  static const char *const with_value[] = {"--atmosphere", "--scene", "--resolution", "--orders", "--stop-fraction",
                                            "--parameterization", "--threads", NULL};
   int known = 0;
   for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
@@ -43,6 +44,8 @@ int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **a
   long n;
   if (strcmp(a, "--atmosphere") == 0) {
     o->atmosphere_path = v;
+  } else if (strcmp(a, "--scene") == 0) {
+    o->scene_path = v;
   } else if (strcmp(a, "--resolution") == 0) {
     if (sf_table_resolution_parse(v, &o->set.res, &err) != SF_OK) {
       fprintf(stderr, "%s: %s\n", command, err.message);
@@ -81,6 +84,10 @@ int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **a
 void sf_table_cli_help(FILE *out) {
   fprintf(out,
           "  --atmosphere FILE       atmosphere JSON (default: the built-in Earth, SPEC §4)\n"
+          "  --scene FILE            scene JSON (SPEC §5): its atmosphere, and scattering tables\n"
+          "                          over its domain only (viewer altitudes, view and sun angles);\n"
+          "                          transmittance alone if that is all it asks for. Not with\n"
+          "                          --atmosphere (the scene names its atmosphere)\n"
           "  --parameterization P    bruneton (default; horizon-aware, Bruneton 2017) or leenman\n"
           "                          (seed 000 §9.1: h = H x^2, cosines linear, 4D tiled into 2D)\n"
           "  --resolution T,S        sample counts: transmittance MUxH, then scattering\n"
@@ -93,7 +100,42 @@ void sf_table_cli_help(FILE *out) {
           SF_MULTIPLE_MAX_ORDERS, SF_TABLE_SET_DEFAULT_ORDERS);
 }
 
-int sf_table_cli_atmosphere(const sf_table_cli *o, const char *command, sf_atmosphere *atm) {
+/* The scene's atmosphere, domain and quantities into atm and o->set. */
+static int apply_scene(sf_table_cli *o, const char *command, sf_atmosphere *atm) {
+  sf_scene *scene = malloc(sizeof *scene);   /* large: holds an atmosphere */
+  if (!scene) {
+    fprintf(stderr, "%s: out of memory\n", command);
+    return 1;
+  }
+  sf_error err = {0};
+  sf_scene_domain d;
+  if (sf_scene_load_file(o->scene_path, scene, &err) != SF_OK ||
+      sf_scene_get_domain(scene, &d, &err) != SF_OK) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    free(scene);
+    return err.status ? err.status : 2;
+  }
+  *atm = scene->atmosphere;
+  o->set.has_domain = 1;
+  o->set.domain.h_min_km = d.h_min_km;
+  o->set.domain.h_max_km = d.h_max_km;
+  o->set.domain.mu_min = d.mu_min;
+  o->set.domain.mu_s_min = d.mu_s_min;
+  o->set.domain.mu_s_max = d.mu_s_max;
+  o->set.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
+  o->set.transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
+  free(scene);
+  return 0;
+}
+
+int sf_table_cli_atmosphere(sf_table_cli *o, const char *command, sf_atmosphere *atm) {
+  if (o->scene_path && o->atmosphere_path) {
+    fprintf(stderr,
+            "%s: --atmosphere and --scene both choose the atmosphere; give one (a scene names its "
+            "atmosphere with its \"atmosphere\" key)\n", command);
+    return 2;
+  }
+  if (o->scene_path) return apply_scene(o, command, atm);
   if (!o->atmosphere_path) {
     sf_atmosphere_default(atm);
     return 0;

@@ -10,6 +10,7 @@
 
 typedef struct sf_table_cli {
   const char *atmosphere_path;     /* NULL: the built-in default */
+  const char *scene_path;          /* NULL: no scene (the full domain) */
   sf_table_set_options set;
   int quiet;
 } sf_table_cli;
@@ -24,8 +25,13 @@ int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **a
 /* The lines of --help that describe the shared options. */
 void sf_table_cli_help(FILE *out);
 
-/* Loads the atmosphere (or the default); prints the error and returns its
- * exit code on failure. */
-int sf_table_cli_atmosphere(const sf_table_cli *o, const char *command, sf_atmosphere *atm);
+/* Loads the atmosphere (or the default). With --scene (SPEC §5), the atmosphere
+ * is the scene's, and o->set gets the scene's domain (models/scene_file.h
+ * sf_scene_get_domain: viewer altitudes, view cosines, sun cosines; view
+ * "above_horizon" keeps Bruneton's sky half only) and, for a scene that asks
+ * for transmittance alone, transmittance_only. --scene with --atmosphere is
+ * rejected: the scene names its atmosphere. Prints the error and returns its
+ * exit code (2 for bad input) on failure. */
+int sf_table_cli_atmosphere(sf_table_cli *o, const char *command, sf_atmosphere *atm);
 
 #endif

@@ -22,6 +22,14 @@ void sf_multiple_internal_params(const sf_table_params *p, sf_table_params *inte
   *internal = *p;
   internal->kind = SF_PARAM_BRUNETON;
   internal->mu_s_min = SF_BRUNETON_MU_S_MIN;
+  /* the full domain: light reaches a restricted output's entries from
+   * every altitude, direction and sun angle */
+  internal->h_min_km = 0.0;
+  internal->h_max_km = p->top_radius_km - p->bottom_radius_km;
+  internal->mu_min = -1.0;
+  internal->mu_s_max = 1.0;
+  internal->sky_only = 0;
+  internal->restricted = 0;
   if (internal->res.scattering_mu % 2) internal->res.scattering_mu += 1;
   if (internal->res.scattering_mu < 4) internal->res.scattering_mu = 4;
 }
@@ -562,12 +570,14 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
 
   int threads = sf_parallel_threads(opt);
   size_t entries = (size_t)m.n_mus * m.n_mu * m.n_nu * m.n_h;
-  int leenman = p->kind != SF_PARAM_BRUNETON;
+  /* an output other than the internal grid is gathered at the end from the
+   * sum of the orders' G (step 3 is linear) */
+  int separate_output = p->kind != SF_PARAM_BRUNETON || p->restricted;
   size_t rows_internal = (size_t)m.n_h * m.n_mu;
   m.previous_data = malloc(sizeof(float) * entries * m.nch);
   m.current_data = malloc(sizeof(float) * entries * m.nch);
   m.g_data = malloc(sizeof(float) * entries * m.ns * m.nch);
-  m.g_sum_data = leenman ? calloc(entries * m.ns * m.nch, sizeof(float)) : NULL;
+  m.g_sum_data = separate_output ? calloc(entries * m.ns * m.nch, sizeof(float)) : NULL;
   m.l_sum = calloc(entries * m.nch, sizeof(double));
   m.ground_prev = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
   m.ground_new = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
@@ -577,7 +587,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
                        sizeof(double));
   m.row_single = calloc(rows_internal, sizeof(double));
   m.scratch = calloc((size_t)threads, sizeof *m.scratch);
-  int ok = m.previous_data && m.current_data && m.g_data && (!leenman || m.g_sum_data) && m.l_sum &&
+  int ok = m.previous_data && m.current_data && m.g_data && (!separate_output || m.g_sum_data) && m.l_sum &&
            m.ground_prev && m.ground_new && m.irradiance_sum && m.row_total && m.row_single && m.scratch;
   for (int t = 0; ok && t < threads; ++t) {
     thread_scratch *sc = &m.scratch[t];
@@ -628,7 +638,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
     if (row_single)
       for (size_t row = 0; row < rows_internal; ++row) sky_so_far += row_single[row];
     for (size_t i = 0; i < entries * m.nch; ++i) m.l_sum[i] += m.current_data[i];
-    if (leenman)
+    if (separate_output)
       for (size_t i = 0; i < entries * m.ns * m.nch; ++i) m.g_sum_data[i] += m.g_data[i];
     sky_so_far += total;
     report->order_total[order] = total;
@@ -641,7 +651,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
     if (mo->stop_fraction > 0.0 && report->added_fraction[order] < mo->stop_fraction) break;
   }
   m.row_single = row_single_buffer;
-  if (leenman) {
+  if (separate_output) {
     run_gather(&m, p, multiple->data, m.g_sum_data, opt, "multiple scattering: output");
   } else {
     for (size_t i = 0; i < entries * m.nch; ++i) multiple->data[i] = (float)m.l_sum[i];

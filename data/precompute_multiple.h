@@ -21,11 +21,12 @@
  *     T(x -> p) J_k(p, v) dt.
  *
  * All orders are computed on an internal grid in Bruneton's
- * parameterisation at the output's scattering resolution (its horizon-aware
- * mu keeps the sky/ground jump sharp in the lookups of step 1); the output
- * table is sum_k L_k at its own entries (for a Leenman output, step 3 is
- * done once more at the Leenman entries with sum_k G_k, which is the same
- * sum since step 3 is linear).
+ * parameterisation at the output's scattering resolution over the full
+ * domain (its horizon-aware mu keeps the sky/ground jump sharp in the
+ * lookups of step 1); the output table is sum_k L_k at its own entries (for
+ * a Leenman output or one restricted to a scene's domain, step 3 is done
+ * once more at the output's entries with sum_k G_k, which is the same sum
+ * since step 3 is linear).
  *
  * Quadrature: directions in step 1 are Gauss-Legendre in mu, split at the
  * horizon (SF_DENSITY_DIRS_UP above, SF_DENSITY_DIRS_DOWN below), times

@@ -18,7 +18,7 @@ void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf
     sky->single_constituent[k] = set->single_constituent[k];
     sky->single[k] = &set->single[k];
   }
-  sky->multiple = &set->multiple;
+  sky->multiple = set->multiple.data ? &set->multiple : NULL;   /* none: transmittance only */
 }
 
 /* Moves a viewer above the top to where the ray enters. Returns 0 if the
@@ -53,15 +53,18 @@ void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s
                            sf_ray_hits_sphere_from_above(r, mu, atm->bottom_radius_km)};
   double pos[4];
   sf_params_scattering_pos(&sky->params, &c, pos);
+  /* geometric in mu_s (data/table_interp.h): the light of a sun below the
+   * horizon fades exponentially as it sinks */
+  int mu_s_axis = sky->params.kind == SF_PARAM_BRUNETON ? 0 : 2;
   for (int k = 0; k < sky->n_single; ++k) {
     sf_grid_view g = sf_grid_view_of(sky->single[k]);
-    sf_grid_interp(&g, pos, out->single[k]);
+    sf_grid_interp_geometric(&g, mu_s_axis, pos, out->single[k]);
     double phase = sf_phase_value(&atm->constituents[sky->single_constituent[k]].phase, nu);
     for (int ch = 0; ch < nch; ++ch) out->radiance[ch] += phase * out->single[k][ch];
   }
   if (sky->multiple) {
     sf_grid_view g = sf_grid_view_of(sky->multiple);
-    sf_grid_interp(&g, pos, out->multiple);
+    sf_grid_interp_geometric(&g, mu_s_axis, pos, out->multiple);
     for (int ch = 0; ch < nch; ++ch) out->radiance[ch] += out->multiple[ch];
   }
 }

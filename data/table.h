@@ -14,8 +14,9 @@
  *   x = i0 + n0 * i2,   y = i1 + n1 * i3,   width = n0*n2, height = n1*n3.
  * With axes (h², cos view, cos light, cos gamma) this is Leenman's Figure 6
  * (seed 000 §9.1: x/y inside a tile = h², cos θv; tile x/y = cos θl, cos γ);
- * with axes (nu, mu, mu_s, r) it is Bruneton's 3D scattering texture
- * (x = nu + NU*mu_s, y = mu) with its depth slices (r) stacked vertically.
+ * with Bruneton's axes (mu_s, mu, nu, h) — data/table_params.h — it is his
+ * 3D scattering texture (x = mu_s + MU_S_SIZE * nu, y = mu) with its depth
+ * slices (h, i.e. r) stacked vertically: y = mu + MU_SIZE * h.
  * A 2D table is a plain n0 x n1 picture; a 1D table one row. */
 #ifndef SKYFIT_DATA_TABLE_H
 #define SKYFIT_DATA_TABLE_H

@@ -51,3 +51,23 @@ void sf_grid_interp(const sf_grid_view *g, const double *pos, double *out) {
     for (int v = 0; v < nv; ++v) out[v] += weights[c] * src[v];
   }
 }
+
+void sf_grid_interp_geometric(const sf_grid_view *g, int axis, const double *pos, double *out) {
+  long offsets[16];
+  double weights[16];
+  sf_grid_corners(g, pos, offsets, weights);
+  int nv = g->n_values, bit = 1 << axis;
+  /* the weight of a corner pair along axis, and the fraction between them */
+  for (int v = 0; v < nv; ++v) out[v] = 0.0;
+  for (int c = 0; c < 16; ++c) {
+    if (c & bit) continue;
+    double w_lo = weights[c], w_hi = weights[c | bit], w = w_lo + w_hi;
+    if (w == 0.0) continue;
+    double f = w_hi / w;
+    const float *lo = g->data + offsets[c] * nv, *hi = g->data + offsets[c | bit] * nv;
+    for (int v = 0; v < nv; ++v) {
+      double a = lo[v], b = hi[v];
+      out[v] += w * (a > 0.0 && b > 0.0 && f > 0.0 && f < 1.0 ? a * pow(b / a, f) : (1.0 - f) * a + f * b);
+    }
+  }
+}

@@ -18,6 +18,13 @@ sf_grid_view sf_grid_view_of(const sf_table *t);
 /* out[0..n_values-1] = the values interpolated at pos[0..3]. */
 void sf_grid_interp(const sf_grid_view *g, const double *pos, double *out);
 
+/* Multilinear, except along `axis`, where each pair of corners is
+ * interpolated geometrically (linearly in the logarithm) when both are > 0.
+ * Exact for values that fall exponentially along that axis, as scattered
+ * light does with the sun's depression below the horizon (the planet's
+ * shadow), where linear interpolation overestimates by tens of percent. */
+void sf_grid_interp_geometric(const sf_grid_view *g, int axis, const double *pos, double *out);
+
 /* Corner offsets and weights of the interpolation at pos: 2^4 corners
  * (some with weight 0). For callers that combine several grids of one
  * layout. offsets are in samples (multiply by n_values for floats). */

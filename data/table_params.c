@@ -99,6 +99,36 @@ void sf_table_params_make(sf_table_params *p, const sf_atmosphere *atm, sf_param
   p->top_radius_km = atm->top_radius_km;
   p->mu_s_min = kind == SF_PARAM_BRUNETON ? SF_BRUNETON_MU_S_MIN : SF_LEENMAN_MU_S_MIN;
   p->res = *res;
+  p->h_min_km = 0.0;
+  p->h_max_km = atm->top_radius_km - atm->bottom_radius_km;
+  p->mu_min = -1.0;
+  p->mu_s_max = 1.0;
+  p->sky_only = 0;
+  p->restricted = 0;
+}
+
+int sf_table_params_restrict(sf_table_params *p, const sf_table_domain *d, sf_error *err) {
+  double v[5] = {d->h_min_km, d->h_max_km, d->mu_min, d->mu_s_min, d->mu_s_max};
+  for (int k = 0; k < 5; ++k)
+    if (!isfinite(v[k])) return sf_fail(err, SF_ERR_INPUT, "table domain: a bound is not finite");
+  double H = p->top_radius_km - p->bottom_radius_km;
+  double h_lo = fmin(fmax(d->h_min_km, 0.0), H), h_hi = fmin(fmax(d->h_max_km, 0.0), H);
+  if (!(d->h_min_km <= d->h_max_km))
+    return sf_fail(err, SF_ERR_INPUT, "table domain: empty altitude range [%.17g, %.17g] km", d->h_min_km,
+                   d->h_max_km);
+  if (!(d->mu_min >= -1.0 && d->mu_min <= 1.0))
+    return sf_fail(err, SF_ERR_INPUT, "table domain: lowest view cosine %.17g is outside [-1, 1]", d->mu_min);
+  if (!(d->mu_s_min >= -1.0 && d->mu_s_max <= 1.0 && d->mu_s_min <= d->mu_s_max))
+    return sf_fail(err, SF_ERR_INPUT, "table domain: sun cosine range [%.17g, %.17g] is empty or outside [-1, 1]",
+                   d->mu_s_min, d->mu_s_max);
+  p->h_min_km = h_lo;
+  p->h_max_km = h_hi;
+  p->mu_min = p->kind == SF_PARAM_LEENMAN ? d->mu_min : -1.0;
+  p->mu_s_min = d->mu_s_min;
+  p->mu_s_max = d->mu_s_max;
+  p->sky_only = p->kind == SF_PARAM_BRUNETON && d->sky_only;
+  p->restricted = 1;
+  return SF_OK;
 }
 
 /* ---- Bruneton ------------------------------------------------------------ */
@@ -207,6 +237,59 @@ static double leenman_x_from_h(const sf_table_params *p, double h) {
   return clamp01(sqrt(h > 0.0 ? h / H : 0.0));
 }
 
+/* ---- the scattering tables' (possibly restricted) axes -------------------- */
+
+/* rho at the ends of the h axis; the top uses horizon_length so that the
+ * full domain maps exactly as sf_bruneton_x_from_h does. */
+static double rho_at(const sf_table_params *p, double h) {
+  double R = p->bottom_radius_km, Rt = p->top_radius_km;
+  return h >= Rt - R ? horizon_length(R, Rt) : rho_of_h(R, h);
+}
+
+static double scattering_x_from_h(const sf_table_params *p, double h) {
+  if (p->kind == SF_PARAM_BRUNETON) {
+    double lo = rho_at(p, p->h_min_km), hi = rho_at(p, p->h_max_km);
+    return hi > lo ? clamp01((rho_of_h(p->bottom_radius_km, h) - lo) / (hi - lo)) : 0.0;
+  }
+  double span = p->h_max_km - p->h_min_km, dh = h - p->h_min_km;
+  return span > 0.0 ? clamp01(sqrt(dh > 0.0 ? dh / span : 0.0)) : 0.0;
+}
+
+static double scattering_h_from_x(const sf_table_params *p, double x) {
+  if (p->kind == SF_PARAM_BRUNETON) {
+    double R = p->bottom_radius_km;
+    double lo = rho_at(p, p->h_min_km), hi = rho_at(p, p->h_max_km);
+    if (!(hi > lo)) return p->h_min_km;
+    double rho = lo + x * (hi - lo);
+    return rho * rho / (R + sqrt(R * R + rho * rho));
+  }
+  return p->h_min_km + (p->h_max_km - p->h_min_km) * x * x;
+}
+
+/* Bruneton's mu_s mapping over [mu_s_min, mu_s_max]: his x (A at mu_s_min)
+ * divided by its value at mu_s_max, which is left out when mu_s_max is 1
+ * so that the full domain maps exactly as sf_bruneton_x_from_mu_s does. */
+static double scattering_x_from_mu_s(const sf_table_params *p, double mu_s) {
+  double R = p->bottom_radius_km, Rt = p->top_radius_km;
+  if (p->kind == SF_PARAM_LEENMAN) {
+    double span = p->mu_s_max - p->mu_s_min;
+    return span > 0.0 ? clamp01((mu_s - p->mu_s_min) / span) : 0.0;
+  }
+  double x = sf_bruneton_x_from_mu_s(R, Rt, p->mu_s_min, mu_s);
+  if (p->mu_s_max >= 1.0) return x;
+  double x_max = sf_bruneton_x_from_mu_s(R, Rt, p->mu_s_min, p->mu_s_max);
+  return x_max > 0.0 ? clamp01(x / x_max) : 0.0;
+}
+
+static double scattering_mu_s_from_x(const sf_table_params *p, double x) {
+  double R = p->bottom_radius_km, Rt = p->top_radius_km;
+  if (p->kind == SF_PARAM_LEENMAN) return p->mu_s_min + (p->mu_s_max - p->mu_s_min) * x;
+  if (p->mu_s_max >= 1.0) return sf_bruneton_mu_s_from_x(R, Rt, p->mu_s_min, x);
+  double x_max = sf_bruneton_x_from_mu_s(R, Rt, p->mu_s_min, p->mu_s_max);
+  if (!(x_max > 0.0)) return p->mu_s_min;
+  return fmin(sf_bruneton_mu_s_from_x(R, Rt, p->mu_s_min, x * x_max), p->mu_s_max);
+}
+
 void sf_params_transmittance_coord(const sf_table_params *p, const double *pos, double *h, double *mu) {
   double R = p->bottom_radius_km, Rt = p->top_radius_km;
   if (p->kind == SF_PARAM_BRUNETON) {
@@ -248,9 +331,14 @@ void sf_params_scattering_coord(const sf_table_params *p, const double *pos, sf_
   double R = p->bottom_radius_km, Rt = p->top_radius_km;
   const sf_table_resolution *s = &p->res;
   if (p->kind == SF_PARAM_BRUNETON) {
-    c->mu_s = sf_bruneton_mu_s_from_x(R, Rt, p->mu_s_min, unit_of(pos[0], s->scattering_mu_s));
+    c->mu_s = scattering_mu_s_from_x(p, unit_of(pos[0], s->scattering_mu_s));
     c->nu = -1.0 + 2.0 * unit_of(pos[2], s->scattering_nu);
-    c->h = sf_bruneton_h_from_x(R, Rt, unit_of(pos[3], s->scattering_h));
+    c->h = scattering_h_from_x(p, unit_of(pos[3], s->scattering_h));
+    if (p->sky_only) {
+      c->mu = sf_bruneton_mu_top_from_x(R, Rt, c->h, unit_of(pos[1], s->scattering_mu));
+      c->hits_ground = 0;
+      return;
+    }
     int half = s->scattering_mu / 2;
     double pm = clamp_pos(pos[1], s->scattering_mu);
     if (pm < half - 0.5) {
@@ -263,9 +351,9 @@ void sf_params_scattering_coord(const sf_table_params *p, const double *pos, sf_
       c->hits_ground = 0;
     }
   } else {
-    c->h = leenman_h_from_x(p, unit_of(pos[0], s->scattering_h));
-    c->mu = -1.0 + 2.0 * unit_of(pos[1], s->scattering_mu);
-    c->mu_s = p->mu_s_min + (1.0 - p->mu_s_min) * unit_of(pos[2], s->scattering_mu_s);
+    c->h = scattering_h_from_x(p, unit_of(pos[0], s->scattering_h));
+    c->mu = p->mu_min + (1.0 - p->mu_min) * unit_of(pos[1], s->scattering_mu);
+    c->mu_s = scattering_mu_s_from_x(p, unit_of(pos[2], s->scattering_mu_s));
     c->nu = -1.0 + 2.0 * unit_of(pos[3], s->scattering_nu);
     c->hits_ground = ray_hits_ground(R, c->h, c->mu);
   }
@@ -277,18 +365,19 @@ void sf_params_scattering_pos(const sf_table_params *p, const sf_scattering_coor
   double x_nu = clamp01(0.5 * (clamp_cos(c->nu) + 1.0));
   if (p->kind == SF_PARAM_BRUNETON) {
     int half = s->scattering_mu / 2;
-    pos[0] = sf_bruneton_x_from_mu_s(R, Rt, p->mu_s_min, c->mu_s) * (s->scattering_mu_s - 1);
-    if (c->hits_ground)
+    pos[0] = scattering_x_from_mu_s(p, c->mu_s) * (s->scattering_mu_s - 1);
+    if (p->sky_only)
+      pos[1] = sf_bruneton_x_from_mu_top(R, Rt, c->h, c->mu) * (s->scattering_mu - 1);
+    else if (c->hits_ground)
       pos[1] = (half - 1) * (1.0 - sf_bruneton_x_from_mu_ground(R, c->h, c->mu));
     else
       pos[1] = half + (half - 1) * sf_bruneton_x_from_mu_top(R, Rt, c->h, c->mu);
     pos[2] = x_nu * (s->scattering_nu - 1);
-    pos[3] = sf_bruneton_x_from_h(R, Rt, c->h) * (s->scattering_h - 1);
+    pos[3] = scattering_x_from_h(p, c->h) * (s->scattering_h - 1);
   } else {
-    double x_mu_s = clamp01((c->mu_s - p->mu_s_min) / (1.0 - p->mu_s_min));
-    pos[0] = leenman_x_from_h(p, c->h) * (s->scattering_h - 1);
-    pos[1] = clamp01(0.5 * (clamp_cos(c->mu) + 1.0)) * (s->scattering_mu - 1);
-    pos[2] = x_mu_s * (s->scattering_mu_s - 1);
+    pos[0] = scattering_x_from_h(p, c->h) * (s->scattering_h - 1);
+    pos[1] = clamp01((clamp_cos(c->mu) - p->mu_min) / (1.0 - p->mu_min)) * (s->scattering_mu - 1);
+    pos[2] = scattering_x_from_mu_s(p, c->mu_s) * (s->scattering_mu_s - 1);
     pos[3] = x_nu * (s->scattering_nu - 1);
   }
 }
@@ -350,17 +439,19 @@ int sf_params_transmittance_desc(const sf_table_params *p, const sf_atmosphere *
 int sf_params_scattering_desc(const sf_table_params *p, const sf_atmosphere *atm,
                               const char *quantity, sf_table_desc *desc, sf_error *err) {
   if (start_desc(p, atm, quantity, 4, desc, err)) return SF_ERR_INPUT;
-  double H = p->top_radius_km - p->bottom_radius_km;
   const sf_table_resolution *s = &p->res;
+  double h0 = p->h_min_km, h1 = p->h_max_km;
   if (p->kind == SF_PARAM_BRUNETON) {
-    set_axis(&desc->axes[0], "mu_s", s->scattering_mu_s, p->mu_s_min, 1.0, "bruneton_mu_s");
-    set_axis(&desc->axes[1], "mu", s->scattering_mu, -1.0, 1.0, "bruneton_mu_split");
+    set_axis(&desc->axes[0], "mu_s", s->scattering_mu_s, p->mu_s_min, p->mu_s_max, "bruneton_mu_s");
+    /* sky only: every sample a ray to the top, straight up to the horizon */
+    set_axis(&desc->axes[1], "mu", s->scattering_mu, -1.0, 1.0,
+             p->sky_only ? "bruneton_mu_top" : "bruneton_mu_split");
     set_axis(&desc->axes[2], "nu", s->scattering_nu, -1.0, 1.0, "linear");
-    set_axis(&desc->axes[3], "h_km", s->scattering_h, 0.0, H, "bruneton_rho");
+    set_axis(&desc->axes[3], "h_km", s->scattering_h, h0, h1, "bruneton_rho");
   } else {
-    set_axis(&desc->axes[0], "h_km", s->scattering_h, 0.0, H, "squared");
-    set_axis(&desc->axes[1], "mu", s->scattering_mu, -1.0, 1.0, "linear");
-    set_axis(&desc->axes[2], "mu_s", s->scattering_mu_s, p->mu_s_min, 1.0, "linear");
+    set_axis(&desc->axes[0], "h_km", s->scattering_h, h0, h1, "squared");
+    set_axis(&desc->axes[1], "mu", s->scattering_mu, p->mu_min, 1.0, "linear");
+    set_axis(&desc->axes[2], "mu_s", s->scattering_mu_s, p->mu_s_min, p->mu_s_max, "linear");
     set_axis(&desc->axes[3], "nu", s->scattering_nu, -1.0, 1.0, "linear");
   }
   return SF_OK;

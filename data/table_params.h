@@ -87,15 +87,47 @@ int sf_table_resolution_check(const sf_table_resolution *res, sf_parameterizatio
 #define SF_BRUNETON_MU_S_MIN (-0.20791169081775934)  /* cos 102° */
 #define SF_LEENMAN_MU_S_MIN (-0.17364817766693033)   /* cos 100° */
 
+/* The part of (h, mu, mu_s) a scene needs (SPEC §5, models/scene_file.h
+ * sf_scene_get_domain): the scattering tables may cover only it. */
+typedef struct sf_table_domain {
+  double h_min_km, h_max_km;   /* viewer altitudes, clamped into [0, Rt - R] */
+  double mu_min;               /* lowest view cosine (Leenman's linear mu axis) */
+  double mu_s_min, mu_s_max;   /* sun cosines, within [-1, 1] */
+  int sky_only;                /* only rays above the horizon are asked for
+                                  (view "above_horizon"): Bruneton's mu axis
+                                  keeps its sky half only */
+} sf_table_domain;
+
 typedef struct sf_table_params {
   sf_parameterization kind;
   double bottom_radius_km, top_radius_km;
   double mu_s_min;
   sf_table_resolution res;
+  /* The scattering tables' domain. sf_table_params_make sets the full one:
+   * h in [0, Rt - R], mu in [-1, 1] (both Bruneton halves), mu_s in
+   * [mu_s_min, 1]; sf_table_params_restrict narrows it. A restricted axis
+   * keeps its mapping, taken over the narrower range: Bruneton h is linear
+   * in rho between rho(h_min) and rho(h_max); Bruneton mu_s is his mapping
+   * with A at mu_s_min, rescaled so that mu_s_max sits at x = 1; Leenman h is
+   * h_min + (h_max - h_min) x^2, Leenman mu and mu_s linear over their
+   * ranges. The transmittance and irradiance tables always cover the full
+   * domain: ratios of transmittances (segments, rays to the ground) and the
+   * ground lit from anywhere need every altitude and sun angle. */
+  double h_min_km, h_max_km;
+  double mu_min;               /* Leenman only */
+  double mu_s_max;
+  int sky_only;                /* Bruneton only */
+  int restricted;              /* 1 after sf_table_params_restrict */
 } sf_table_params;
 
 void sf_table_params_make(sf_table_params *p, const sf_atmosphere *atm, sf_parameterization kind,
                           const sf_table_resolution *res);
+
+/* Narrows p's scattering domain to d (altitudes clamped into the
+ * atmosphere). SF_ERR_INPUT naming the range when d is not finite, a range
+ * is empty (min > max) or lies outside [-1, 1]. A range of one value is
+ * valid: every sample of that axis then holds the same point. */
+int sf_table_params_restrict(sf_table_params *p, const sf_table_domain *d, sf_error *err);
 
 /* A point of the scattering tables: viewer altitude h (km above the bottom),
  * view, sun and view-sun cosines, and whether the ray ends on the ground. */

@@ -32,9 +32,14 @@ size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_op
   double internal = (double)r->scattering_h * (r->scattering_mu + 1) * r->scattering_mu_s * r->scattering_nu;
   double bytes = 4.0 * nch * ((double)r->transmittance_mu * r->transmittance_h +
                               (double)r->irradiance_mu_s * r->irradiance_h);
+  if (o->transmittance_only) {
+    ns = 0;
+    entries = 0;
+  }
   bytes += 4.0 * nch * entries * (ns + 1.0);                /* output singles, multiple */
   if (o->orders >= 2 && ns > 0) {
-    double leenman = o->kind == SF_PARAM_LEENMAN;
+    /* an output apart from the internal grid: Leenman, or a restricted domain */
+    double leenman = o->kind == SF_PARAM_LEENMAN || o->has_domain;
     /* internal singles (Leenman), previous and current order, G (and its
      * sum for Leenman), the double sum of orders */
     bytes += 4.0 * nch * internal * (leenman * ns + 2.0 + ns * (1.0 + leenman)) + 8.0 * nch * internal;
@@ -53,6 +58,11 @@ int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, 
     if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
     char name[SF_TABLE_NAME_LEN];
     if (sf_single_table_name(&atm->constituents[i], name, err) != SF_OK) return SF_ERR_INPUT;
+  }
+  if (o->has_domain) {
+    sf_table_params p;
+    sf_table_params_make(&p, atm, o->kind, &o->res);
+    if (sf_table_params_restrict(&p, &o->domain, err) != SF_OK) return SF_ERR_INPUT;
   }
   size_t need = sf_table_set_memory_bytes(atm, o);
   if (need > SF_TABLE_SET_MAX_BYTES || scattering_entries(&o->res) > ((size_t)1 << 34))
@@ -102,6 +112,10 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   char *json = sf_atmosphere_to_json(atm);
   if (!json) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the atmosphere's JSON");
   sf_table_params_make(&set->params, atm, o->kind, &o->res);
+  if (o->has_domain && sf_table_params_restrict(&set->params, &o->domain, err) != SF_OK) {
+    free(json);
+    return SF_ERR_INPUT;
+  }
   const sf_table_params *p = &set->params;
 
   /* descriptions and keys; multiple scattering depends on the orders */
@@ -111,7 +125,7 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   int n = 0, status = SF_OK;
   status |= sf_params_transmittance_desc(p, atm, &desc[n], err);
   set->tables[n++] = &set->transmittance;
-  for (int i = 0; i < atm->n_constituents && status == SF_OK; ++i) {
+  for (int i = 0; i < atm->n_constituents && status == SF_OK && !o->transmittance_only; ++i) {
     if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
     char name[SF_TABLE_NAME_LEN];
     status |= sf_single_table_name(&atm->constituents[i], name, err);
@@ -120,10 +134,12 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     set->tables[n++] = &set->single[set->n_single++];
   }
   int i_multiple = n;
-  if (status == SF_OK) status |= sf_params_scattering_desc(p, atm, "multiple", &desc[n], err);
-  set->tables[n++] = &set->multiple;
-  if (status == SF_OK) status |= sf_params_irradiance_desc(p, atm, &desc[n], err);
-  set->tables[n++] = &set->irradiance;
+  if (!o->transmittance_only) {
+    if (status == SF_OK) status |= sf_params_scattering_desc(p, atm, "multiple", &desc[n], err);
+    set->tables[n++] = &set->multiple;
+    if (status == SF_OK) status |= sf_params_irradiance_desc(p, atm, &desc[n], err);
+    set->tables[n++] = &set->irradiance;
+  }
   set->n_tables = n;
   if (status != SF_OK) {
     free(json);
@@ -162,7 +178,8 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     sf_table internal_single[SF_MAX_CONSTITUENTS];
     memset(internal_single, 0, sizeof internal_single);
     const sf_table *singles = set->single;
-    int own = p->kind != SF_PARAM_BRUNETON || internal.res.scattering_mu != p->res.scattering_mu;
+    int own = p->kind != SF_PARAM_BRUNETON || internal.res.scattering_mu != p->res.scattering_mu ||
+              p->restricted;
     if (own && set->n_single > 0 && o->orders >= 2) {
       for (int k = 0; k < set->n_single && status == SF_OK; ++k) {
         sf_table_desc d;

@@ -33,12 +33,20 @@ typedef struct sf_table_set_options {
   int orders;               /* highest scattering order, >= 1 */
   double stop_fraction;     /* see sf_multiple_options; 0: none */
   const char *cache_dir;    /* NULL: compute in memory, store nothing */
+  /* A scene's domain (SPEC §5): with has_domain the scattering tables cover
+   * only it (sf_table_params_restrict); their axes say so and the cache key
+   * includes it through them. */
+  int has_domain;
+  sf_table_domain domain;
+  int transmittance_only;   /* 1: only the transmittance table (a scene that
+                               asks for transmittance alone) */
   sf_precompute_options run;
   void (*note)(void *ctx, const char *message);   /* may be NULL */
   void *note_ctx;
 } sf_table_set_options;
 
-/* kind bruneton, default resolution, 4 orders, no stop, no cache. */
+/* kind bruneton, default resolution, 4 orders, no stop, no cache, the full
+ * domain, every table. */
 void sf_table_set_options_default(sf_table_set_options *o);
 
 enum { SF_TABLE_SET_MAX_TABLES = SF_MAX_CONSTITUENTS + 3 };
@@ -52,7 +60,8 @@ typedef struct sf_table_set {
   sf_table multiple;
   sf_table irradiance;
   /* Every table in a fixed order (transmittance, singles, multiple,
-   * irradiance), whether it came from the cache, and its file (cache only). */
+   * irradiance; transmittance alone with transmittance_only), whether it
+   * came from the cache, and its file (cache only). */
   int n_tables;
   sf_table *tables[SF_TABLE_SET_MAX_TABLES];
   int from_cache[SF_TABLE_SET_MAX_TABLES];
@@ -65,7 +74,7 @@ typedef struct sf_table_set {
  * that errs high), for rejecting absurd resolutions before any work. */
 size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_options *o);
 
-/* Checks the options (resolution, orders, constituent names, memory):
+/* Checks the options (resolution, orders, constituent names, domain, memory):
  * SF_ERR_INPUT with a message otherwise. Does nothing else. */
 int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, sf_error *err);
 

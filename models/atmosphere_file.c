@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "models/phase.h"
+#include "models/spectral_recipes_json.h"
 #include "util/json_read.h"
 
 #define MAX_FILE_BYTES ((size_t)64 << 20)
@@ -56,6 +57,24 @@ static int read_name(const sf_json_ctx *c, const cJSON *v, const char *path, siz
   if (len >= capacity)
     return sf_json_fail(c, path, "name too long (%zu characters, at most %zu)", len, capacity - 1);
   memcpy(out, v->valuestring, len + 1);
+  return 0;
+}
+
+/* Coefficients or sun irradiance: numbers as above, or in spectral mode a
+ * recipe object deriving them from the shipped tables
+ * (models/spectral_recipes.h); owner: the constituent (density read). */
+static int read_values_or_recipe(const sf_json_ctx *c, const cJSON *v, const char *path,
+                                 const sf_atmosphere *atm, const sf_constituent *owner,
+                                 sf_recipe_target target, double *out) {
+  if (!cJSON_IsObject(v)) return read_channel_values(c, v, path, atm->n_channels, out);
+  if (sf_read_recipe(c, v, path, atm, owner, target, out)) return SF_ERR_INPUT;
+  /* A recipe's parameters can each be finite and still overflow (an
+   * Angstrom exponent of 3500 makes (440/550)^-3500 infinite): the derived
+   * values must pass the same check as values written out. */
+  for (int k = 0; k < atm->n_channels; ++k)
+    if (!isfinite(out[k]) || out[k] < 0.0)
+      return sf_json_fail(c, path, "the recipe gives %g at %s nm (channel %d); values must be finite and >= 0",
+                          out[k], atm->channel_names[k], k);
   return 0;
 }
 
@@ -239,8 +258,9 @@ static int read_density(const sf_json_ctx *c, const cJSON *v, const char *path, 
 
 /* ---- constituents ----------------------------------------------------- */
 
-static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, int n_channels,
+static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, const sf_atmosphere *atm,
                             sf_constituent *out) {
+  int n_channels = atm->n_channels;
   char path[SF_JSON_PATH_LEN];
   constituent_path(path, sizeof path, r, NULL);
   if (!cJSON_IsObject(r->merged)) return sf_json_fail(c, path, "expected an object, got %s", sf_json_type_name(r->merged));
@@ -254,11 +274,16 @@ static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, int 
     }
   constituent_path(path, sizeof path, r, "name");
   if (read_name(c, sf_json_get(r->merged, "name"), path, sizeof out->name, 0, out->name)) return SF_ERR_INPUT;
+  /* the density first: a recipe (ozone from a column) integrates it */
+  constituent_path(path, sizeof path, r, "density");
+  if (read_density(c, sf_json_get(r->merged, "density"), path, out)) return SF_ERR_INPUT;
   constituent_path(path, sizeof path, r, "scattering");
-  if (read_channel_values(c, sf_json_get(r->merged, "scattering"), path, n_channels, out->scattering))
+  if (read_values_or_recipe(c, sf_json_get(r->merged, "scattering"), path, atm, out,
+                            SF_RECIPE_FOR_COEFFICIENT, out->scattering))
     return SF_ERR_INPUT;
   constituent_path(path, sizeof path, r, "absorption");
-  if (read_channel_values(c, sf_json_get(r->merged, "absorption"), path, n_channels, out->absorption))
+  if (read_values_or_recipe(c, sf_json_get(r->merged, "absorption"), path, atm, out,
+                            SF_RECIPE_FOR_COEFFICIENT, out->absorption))
     return SF_ERR_INPUT;
   constituent_path(path, sizeof path, r, "phase");
   const cJSON *phase = sf_json_get(r->merged, "phase");
@@ -269,8 +294,7 @@ static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, int 
   } else {
     out->phase.kind = SF_PHASE_NONE;
   }
-  constituent_path(path, sizeof path, r, "density");
-  return read_density(c, sf_json_get(r->merged, "density"), path, out);
+  return 0;
 }
 
 /* The user's constituent list must be objects with distinct valid names
@@ -345,7 +369,7 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
     return SF_ERR_INPUT;
   top_path(path, sizeof path, t, "sun_irradiance");
   if ((v = sf_json_get(t->merged, "sun_irradiance")) != NULL) {
-    if (read_channel_values(c, v, path, atm->n_channels, atm->sun_irradiance)) return SF_ERR_INPUT;
+    if (read_values_or_recipe(c, v, path, atm, NULL, SF_RECIPE_FOR_SUN, atm->sun_irradiance)) return SF_ERR_INPUT;
   } else {
     for (int ch = 0; ch < atm->n_channels; ++ch) atm->sun_irradiance[ch] = 1.0; /* SPEC §3 */
   }
@@ -378,7 +402,7 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
                      ? find_by_name(user_list, name->valuestring, &ref.user_index)
                      : NULL;
     }
-    if (read_constituent(c, &ref, atm->n_channels, &atm->constituents[i])) return SF_ERR_INPUT;
+    if (read_constituent(c, &ref, atm, &atm->constituents[i])) return SF_ERR_INPUT;
   }
   atm->n_constituents = n;
   return 0;

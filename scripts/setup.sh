@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages skyfit needs (if missing) and builds it into
-# build/. Used by both README commands.
+# build/. Used by both README commands. (chromium renders report.html in a
+# test: tests/cli_report_html.sh.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(build-essential cmake pkg-config libnlopt-dev libceres-dev libopenexr-dev libcjson-dev)
+packages=(build-essential cmake pkg-config libnlopt-dev libceres-dev libopenexr-dev libcjson-dev clang libclang-rt-14-dev libomp-dev libpng-dev chromium glslang-tools libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -66,6 +66,61 @@ for kind in bruneton leenman; do
   check "$kind: damaged table recomputed identically" "cmp -s '$victim' '$tmp/saved.exr'"
 done
 
+# --scene (SPEC §5): the scene's domain restricts the scattering tables
+# (visible in tables.json and the EXR axes); transmittance-only scenes get
+# only the transmittance table; empty domains, bad scene files and
+# --scene with --atmosphere exit 2 and write nothing.
+cat >"$tmp/ground.json" <<'JSON'
+{"name": "ground-day", "viewer_altitude_km": [0, 2], "view": "above_horizon", "sun_elevation_deg": [0, 90]}
+JSON
+"$BIN" sample --scene "$tmp/ground.json" --out "$tmp/scene" --resolution $small --quiet 2>"$tmp/err"
+check "--scene ground-day: exit $? $(cat "$tmp/err")" "[ -s '$tmp/scene/tables.json' ]"
+axes=$(python3 - "$tmp/scene/tables.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+ax = {a["name"]: a for t in d["tables"] if t["quantity"] == "multiple" for a in t["axes"]}
+print(d["domain"]["h_max_km"], ax["h_km"]["min"], ax["h_km"]["max"], ax["mu_s"]["min"], ax["mu_s"]["max"],
+      ax["mu"]["mapping"], len(d["tables"]))
+PY
+)
+check "--scene ground-day: h in [0, 2], mu_s in [0, 1], sky half only, 5 tables ($axes)" \
+      "[ '$axes' = '2 0 2 0 1 bruneton_mu_top 5' ]"
+full_key=$(ls "$tmp/bruneton-1"/multiple-*.exr | xargs -n1 basename)
+scene_key=$(ls "$tmp/scene"/multiple-*.exr | xargs -n1 basename)
+check "--scene: the cache key includes the domain ($full_key vs $scene_key)" "[ '$full_key' != '$scene_key' ]"
+"$BIN" sample --scene "$tmp/ground.json" --out "$tmp/scene" --resolution $small 2>"$tmp/err"
+check "--scene rerun loads everything: $(tail -1 "$tmp/err")" "grep -q '0 computed, 5 from the cache' '$tmp/err'"
+printf '{"viewer_altitude_km": [0, 15], "quantities": ["transmittance"]}\n' >"$tmp/tonly.json"
+"$BIN" sample --scene "$tmp/tonly.json" --out "$tmp/tonly" --resolution $small --quiet 2>"$tmp/err"
+n=$(ls "$tmp/tonly"/*.exr 2>/dev/null | wc -l)
+check "--scene transmittance only: exit $?, $n table(s), transmittance alone" \
+      "[ $n -eq 1 ] && ls '$tmp/tonly'/transmittance-*.exr >/dev/null"
+printf '{"viewer_altitude_km": [10, 5]}\n' >"$tmp/empty_h.json"
+printf '{"sun_elevation_deg": [30, -5]}\n' >"$tmp/empty_sun.json"
+printf '{"viewer_altitude_km": [0, 5], "view": "sideways"}\n' >"$tmp/bad_view.json"
+printf '{"viewer_altitude_km": [0, 5],' >"$tmp/truncated.json"
+printf '{"atmosphere": "no_such_atmosphere.json"}\n' >"$tmp/no_atm.json"
+for scene in empty_h empty_sun bad_view truncated no_atm missing; do
+  "$BIN" sample --scene "$tmp/$scene.json" --out "$tmp/bad" --resolution $small --quiet 2>"$tmp/err"
+  rc=$?
+  check "--scene $scene: exit $rc, message: $(cat "$tmp/err")" \
+        "[ $rc -eq 2 ] && grep -q '$scene' '$tmp/err' && [ ! -e '$tmp/bad' ]"
+done
+check "empty domain message says so" "\"$BIN\" sample --scene '$tmp/empty_h.json' --out '$tmp/bad' 2>&1 | grep -q 'empty domain'"
+"$BIN" sample --scene "$tmp/ground.json" --atmosphere "$tmp/broken.json" --out "$tmp/bad" --quiet 2>"$tmp/err"
+rc=$?
+check "--scene with --atmosphere: exit $rc, message: $(cat "$tmp/err")" "[ $rc -eq 2 ] && [ ! -e '$tmp/bad' ]"
+mkdir -p "$tmp/readonly"
+chmod a-w "$tmp/readonly"
+if [ "$(id -u)" != 0 ]; then
+  "$BIN" sample --out "$tmp/readonly/out" --resolution $small --quiet 2>"$tmp/err"
+  rc=$?
+  check "unwritable parent folder: exit $rc, message: $(cat "$tmp/err")" "[ $rc -eq 2 ] && [ ! -e '$tmp/readonly/out' ]"
+  "$BIN" sample --out "$tmp/readonly" --resolution $small --quiet 2>"$tmp/err"
+  rc=$?
+  check "unwritable output folder: exit $rc, message: $(cat "$tmp/err")" "[ $rc -eq 2 ] && [ -z \"\$(ls -A '$tmp/readonly')\" ]"
+fi
+
 # skyfit eval multiple_scattering / sky_radiance from the tables (when the
 # eval command routes these quantities to cli/cmd_eval_tables.c)
 if printf 'h_km,mu,mu_s,nu\n' | "$BIN" eval sky_radiance --tables "$tmp/bruneton-1" --resolution $small \

@@ -708,6 +708,62 @@ static void test_sky_lookup(void) {
   sf_table_set_free(&set);
 }
 
+/* A scene's domain (SPEC §5): the restricted tables' axes end where the
+ * domain does (closed forms: h = 2 km at the last h sample, mu_s = 0 at the
+ * first, sky-half rays only), and at the entries they share with the
+ * full-domain tables of the same resolution (h = 0, mu_s = 1, zenith, every
+ * nu) they hold the same single and multiple scattering, although the
+ * restricted multiple scattering comes from a separate final gather. */
+static void test_restricted_domain(void) {
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  sf_table_set full, part;
+  sf_table_set_options o;
+  sf_table_set_options_default(&o);
+  small_resolution(&o.res, "64x16,8x16x8x4");
+  o.orders = 3;
+  o.run.n_threads = 2;
+  sf_error err = {0};
+  int ok = sf_table_set_make(&full, &atm, &o, &err) == SF_OK;
+  o.has_domain = 1;
+  o.domain = (sf_table_domain){0.0, 2.0, -0.03, 0.0, 1.0, 1};
+  ok = ok && sf_table_set_make(&part, &atm, &o, &err) == SF_OK;
+  CHECK(ok);
+  if (!ok) {
+    printf("%s\n", err.message);
+    return;
+  }
+  double last[4] = {0, 0, 0, 7}, first[4] = {0, 15, 0, 0};
+  sf_scattering_coord c_last, c_first;
+  sf_params_scattering_coord(&part.params, last, &c_last);
+  sf_params_scattering_coord(&part.params, first, &c_first);
+  CHECK_REL(c_last.h, 2.0, 1e-12);
+  CHECK_ABS(c_first.mu_s, 0.0, 1e-12);
+  CHECK_ABS(c_first.mu, sf_horizon_mu(atm.bottom_radius_km, atm.bottom_radius_km), 1e-9);
+  CHECK(!c_first.hits_ground);
+  CHECK(strcmp(part.multiple.desc.axes[1].mapping, "bruneton_mu_top") == 0);
+  CHECK(part.multiple.desc.axes[3].max == 2.0 && part.multiple.desc.axes[0].min == 0.0);
+  double worst_single = 0.0, worst_multiple = 0.0;
+  for (int i_n = 0; i_n < 4; ++i_n) {
+    int in_full[4] = {7, 8, i_n, 0}, in_part[4] = {7, 0, i_n, 0};
+    for (int k = 0; k < full.n_single; ++k)
+      for (int ch = 0; ch < 3; ++ch) {
+        double a = sf_table_at(&full.single[k], in_full)[ch], b = sf_table_at(&part.single[k], in_part)[ch];
+        worst_single = fmax(worst_single, fabs(a - b) / fabs(a));
+      }
+    for (int ch = 0; ch < 3; ++ch) {
+      double a = sf_table_at(&full.multiple, in_full)[ch], b = sf_table_at(&part.multiple, in_part)[ch];
+      worst_multiple = fmax(worst_multiple, fabs(a - b) / fabs(a));
+    }
+  }
+  printf("restricted vs full domain at shared entries: single max rel %.3g, multiple max rel %.3g\n",
+         worst_single, worst_multiple);
+  CHECK(worst_single < 1e-6);
+  CHECK(worst_multiple < 1e-4);
+  sf_table_set_free(&full);
+  sf_table_set_free(&part);
+}
+
 int main(void) {
   test_round_trips();
   test_transmittance();
@@ -720,5 +776,6 @@ int main(void) {
   test_threads_and_cache();
   test_bad_resolutions();
   test_sky_lookup();
+  test_restricted_domain();
   return check_summary();
 }

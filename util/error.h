@@ -11,6 +11,8 @@ typedef struct sf_error {
 } sf_error;
 
 /* Records status and a printf-style message unless an error is already set.
+ * The message is one line: control bytes in it (a newline in a quoted key or
+ * field) are stored as escapes (\n, \t, \x01).
  * Returns status so callers can write `return sf_fail(err, ...)`. */
 int sf_fail(sf_error *err, enum sf_status status, const char *fmt, ...)
 #if defined(__GNUC__)

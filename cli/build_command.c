@@ -1,0 +1,177 @@
+#include "cli/build_command.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/progress_bar.h"
+#include "fit/build_pipeline.h"
+#include "models/scene_file.h"
+
+static void usage(FILE *out, const char *command, int emit) {
+  fprintf(out,
+          "usage: %s [SCENE.json] [--out DIR] [options]\n"
+          "\n"
+          "%s"
+          "Samples the reference tables for the scene's atmosphere (cached in DIR/cache), %s\n"
+          "measures every model against the reference over the scene's domain (RMSE, max abs, mean\n"
+          "relative error; cost in ns per evaluation and as a ratio to the 16-step naive raymarch),\n"
+          "renders the standard views of seed 000 §11.4 and writes DIR/report.html, report.md,\n"
+          "metrics.json, views/*.png and views/*-error.exr. Without SCENE.json: the built-in\n"
+          "atmosphere and scene (ground to space, sun -10..90 deg, RGB).\n"
+          "\n"
+          "options:\n"
+          "  --out DIR            output folder (default skyfit-out), created if missing\n"
+          "  --resolution T,S     table sample counts (default 256x64,32x128x32x8)\n"
+          "  --views WxH          size of the standard views (default 192x108)\n"
+          "  --no-views           skip the standard views\n"
+          "  --samples N          in-domain samples for the errors (default 20000)\n"
+          "  --timing-points N    inputs per timing run (default 1000000)\n"
+          "  --repetitions N      timing runs, the median is reported (default 5)\n"
+          "  --seed N             seed of the samples and fits (default 1)\n"
+          "  --quick              smaller fits (for tests)\n"
+          "  --threads N          worker threads (default: all cores)\n"
+          "  --quiet              no progress or notes\n"
+          "  --help               this text\n",
+          command,
+          emit ? "The whole pipeline (SPEC §5, §11): sample, fit, select, emit, report.\n"
+               : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
+          emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
+               : "builds\nthe candidates, ");
+}
+
+static void print_note(void *ctx, const char *message) {
+  sf_progress_bar *bar = ctx;
+  if (!bar) return;
+  sf_progress_bar_finish(bar);
+  fprintf(stderr, "%s\n", message);
+}
+
+static int parse_count(const char *command, const char *opt, const char *text, long lo, long hi, long *out) {
+  char *end;
+  long v = strtol(text, &end, 10);
+  if (*text == '\0' || *end != '\0' || v < lo || v > hi) {
+    fprintf(stderr, "%s: %s: expected an integer in %ld..%ld, got '%s'\n", command, opt, lo, hi, text);
+    return -1;
+  }
+  *out = v;
+  return 0;
+}
+
+int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command) {
+  sf_build_options o;
+  sf_build_options_default(&o);
+  o.emit = emit;
+  o.out_dir = "skyfit-out";
+  const char *scene_path = NULL;
+  int quiet = 0;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    long n;
+    sf_error perr = {0};
+    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+      usage(stdout, command, emit);
+      return 0;
+    } else if (!strcmp(a, "--quiet")) {
+      quiet = 1;
+    } else if (!strcmp(a, "--quick")) {
+      o.quick = 1;
+    } else if (!strcmp(a, "--no-views")) {
+      o.report.render_views = 0;
+    } else if (!strcmp(a, "--out") && v) {
+      o.out_dir = argv[++i];
+    } else if (!strcmp(a, "--resolution") && v) {
+      if (sf_table_resolution_parse(argv[++i], &o.tables.res, &perr) != SF_OK) {
+        fprintf(stderr, "%s: --resolution: %s\n", command, perr.message);
+        return 2;
+      }
+    } else if (!strcmp(a, "--views") && v) {
+      int w, h;
+      char extra;
+      ++i;
+      if (sscanf(v, "%dx%d%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 8192 || h > 8192) {
+        fprintf(stderr, "%s: --views: expected WxH (1..8192 each), got '%s'\n", command, v);
+        return 2;
+      }
+      o.report.view_width = w;
+      o.report.view_height = h;
+    } else if (!strcmp(a, "--samples") && v) {
+      if (parse_count(command, a, argv[++i], 1, 100000000, &n)) return 2;
+      o.report.domain_samples = (size_t)n;
+    } else if (!strcmp(a, "--timing-points") && v) {
+      if (parse_count(command, a, argv[++i], 1, 100000000, &n)) return 2;
+      o.report.timing_points = (size_t)n;
+    } else if (!strcmp(a, "--repetitions") && v) {
+      if (parse_count(command, a, argv[++i], 1, 1000, &n)) return 2;
+      o.report.timing_repetitions = (int)n;
+    } else if (!strcmp(a, "--seed") && v) {
+      if (parse_count(command, a, argv[++i], 0, 2147483647L, &n)) return 2;
+      o.report.seed = (unsigned long long)n;
+    } else if (!strcmp(a, "--threads") && v) {
+      if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
+      o.report.run.n_threads = (int)n;
+      o.tables.run.n_threads = (int)n;
+    } else if (a[0] != '-' && !scene_path) {
+      scene_path = a;
+    } else {
+      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", command, a);
+      return 2;
+    }
+  }
+  sf_scene *scene = malloc(sizeof *scene);
+  if (!scene) {
+    fprintf(stderr, "%s: out of memory\n", command);
+    return 1;
+  }
+  sf_error err = {0};
+  if (scene_path) {
+    if (sf_scene_load_file(scene_path, scene, &err) != SF_OK) {
+      fprintf(stderr, "%s: %s\n", command, err.message);
+      free(scene);
+      return err.status == SF_ERR_INTERNAL ? 1 : 2;
+    }
+  } else {
+    sf_scene_default(scene);
+  }
+  sf_scene_domain domain;
+  if (sf_scene_get_domain(scene, &domain, &err) != SF_OK) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    free(scene);
+    return 2;
+  }
+  sf_progress_bar bar;
+  sf_progress_bar_init(&bar, stderr, !quiet);
+  o.tables.run.progress = sf_progress_bar_update;
+  o.tables.run.progress_ctx = &bar;
+  o.report.run.progress = sf_progress_bar_update;
+  o.report.run.progress_ctx = &bar;
+  if (!quiet) {
+    o.note = print_note;
+    o.note_ctx = &bar;
+  }
+  sf_build_result res;
+  int status = sf_build_run(scene, &o, &res, &err);
+  sf_progress_bar_finish(&bar);
+  if (status != SF_OK) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    free(scene);
+    return status == SF_ERR_INPUT ? 2 : 1;
+  }
+  printf("%s: scene '%s': tables %d/%d from the cache (%.1f s), candidates %.1f s, report %.1f s, total %.1f s\n",
+         command, scene->name, res.tables_from_cache, res.tables_total, res.seconds_tables, res.seconds_fit,
+         res.seconds_report, res.seconds_total);
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    if (!res.asked[q]) continue;
+    if (res.chosen[q][0])
+      printf("%s: %s: chose %s%s\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q), res.chosen[q],
+             res.meets_budget[q] ? " (meets the budget)" : " (NO model meets the budget: best available)");
+    else
+      printf("%s: %s: no model available\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q));
+  }
+  if (res.header_c[0]) printf("%s: headers: %s %s\n", command, res.header_c, res.header_glsl);
+  else if (emit) printf("%s: headers: none emitted (see the report)\n", command);
+  printf("%s: report: %s\n", command, res.report_html);
+  free(scene);
+  return 0;
+}

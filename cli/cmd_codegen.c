@@ -1,0 +1,225 @@
+/* skyfit codegen: GLSL and C headers for fitted models (weights files) and
+ * the analytic baselines of SPEC §7.6 (SPEC §9). Everything is read and
+ * rendered before anything is written; both files are written atomically. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/commands.h"
+#include "codegen/baseline_part.h"
+#include "codegen/codegen_file.h"
+#include "codegen/fitted_part.h"
+#include "models/atmosphere_file.h"
+#include "models/scene_file.h"
+#include "models/weights_file.h"
+
+#define MAX_INPUTS 16
+
+typedef struct codegen_options {
+  const char *weights[MAX_INPUTS];
+  int n_weights;
+  const char *atmosphere_path, *scene_path, *baselines, *out_dir, *name;
+  int naive_steps, want_c, want_glsl, quiet;
+} codegen_options;
+
+static void codegen_usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor]\n"
+          "                      --lang glsl|c|both --out DIR [options]\n"
+          "\n"
+          "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
+          "for, functions skyfit_<model>_<quantity>(...) with the same names and signatures\n"
+          "in both languages, its constants, and a header comment naming the atmosphere,\n"
+          "its hash, the domain and the measured error. Only what is asked is emitted.\n"
+          "\n"
+          "options:\n"
+          "  --weights FILE     a fitted model's weights file (SPEC §8); repeatable\n"
+          "  --baselines LIST   analytic transmittance baselines (SPEC §7.6), comma-separated:\n"
+          "                     naive (N-step raymarch), chapman (Schuler), taylor (Galaj)\n"
+          "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
+          "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
+          "                     built-in Earth)\n"
+          "  --scene FILE       scene: the baselines' atmosphere and the domain their error\n"
+          "                     is measured on (default: the built-in scene)\n"
+          "  --lang L           glsl, c, both or glsl,c (required)\n"
+          "  --out DIR          output folder (required; must exist)\n"
+          "  --name NAME        file name without extension (default skyfit)\n"
+          "  --quiet            no summary on stderr\n"
+          "  --help             this text\n",
+          SF_BASELINE_DEFAULT_STEPS);
+}
+
+static int parse_lang(const char *s, codegen_options *o) {
+  if (strcmp(s, "glsl") == 0) o->want_glsl = 1;
+  else if (strcmp(s, "c") == 0) o->want_c = 1;
+  else if (strcmp(s, "both") == 0 || strcmp(s, "glsl,c") == 0 || strcmp(s, "c,glsl") == 0)
+    o->want_c = o->want_glsl = 1;
+  else return -1;
+  return 0;
+}
+
+static int parse_options(int argc, char **argv, codegen_options *o) {
+  memset(o, 0, sizeof *o);
+  o->naive_steps = SF_BASELINE_DEFAULT_STEPS;
+  o->name = "skyfit";
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+    int takes = strcmp(a, "--weights") == 0 || strcmp(a, "--atmosphere") == 0 ||
+                strcmp(a, "--scene") == 0 || strcmp(a, "--baselines") == 0 ||
+                strcmp(a, "--naive-steps") == 0 || strcmp(a, "--lang") == 0 ||
+                strcmp(a, "--out") == 0 || strcmp(a, "--name") == 0;
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) return 1;
+    if (strcmp(a, "--quiet") == 0) {
+      o->quiet = 1;
+      continue;
+    }
+    if (!takes) {
+      fprintf(stderr, "skyfit codegen: unknown option '%s' (see --help)\n", a);
+      return 2;
+    }
+    if (!next) {
+      fprintf(stderr, "skyfit codegen: %s needs a value\n", a);
+      return 2;
+    }
+    ++i;
+    if (strcmp(a, "--weights") == 0) {
+      if (o->n_weights == MAX_INPUTS) {
+        fprintf(stderr, "skyfit codegen: at most %d weights files\n", MAX_INPUTS);
+        return 2;
+      }
+      o->weights[o->n_weights++] = next;
+    } else if (strcmp(a, "--atmosphere") == 0) o->atmosphere_path = next;
+    else if (strcmp(a, "--scene") == 0) o->scene_path = next;
+    else if (strcmp(a, "--baselines") == 0) o->baselines = next;
+    else if (strcmp(a, "--out") == 0) o->out_dir = next;
+    else if (strcmp(a, "--name") == 0) o->name = next;
+    else if (strcmp(a, "--naive-steps") == 0) {
+      char *end;
+      long n = strtol(next, &end, 10);
+      if (*end || n < 1 || n > 4096) {
+        fprintf(stderr, "skyfit codegen: --naive-steps: expected 1..4096, got '%s'\n", next);
+        return 2;
+      }
+      o->naive_steps = (int)n;
+    } else if (parse_lang(next, o) != 0) {
+      fprintf(stderr, "skyfit codegen: --lang: expected glsl, c or both, got '%s'\n", next);
+      return 2;
+    }
+  }
+  if (!o->want_c && !o->want_glsl) {
+    fprintf(stderr, "skyfit codegen: --lang is required (glsl, c or both)\n");
+    return 2;
+  }
+  if (!o->out_dir) {
+    fprintf(stderr, "skyfit codegen: --out DIR is required\n");
+    return 2;
+  }
+  if (!o->n_weights && !o->baselines) {
+    fprintf(stderr, "skyfit codegen: nothing to emit: give --weights and/or --baselines\n");
+    return 2;
+  }
+  for (const char *c = o->name; *c; ++c)
+    if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') ||
+          *c == '_' || *c == '-')) {
+      fprintf(stderr, "skyfit codegen: --name: letters, digits, '_' and '-' only, got '%s'\n",
+              o->name);
+      return 2;
+    }
+  return 0;
+}
+
+typedef struct codegen_job {
+  sf_scene scene;                  /* large: heap */
+  sf_scene_domain domain;
+  sf_baseline baselines[3];
+  int n_baselines;
+  sf_weights weights[MAX_INPUTS];
+  sf_fitted_model *fitted[MAX_INPUTS];
+  int n_weights;
+  sf_codegen_part parts[MAX_INPUTS + 3];
+  int n_parts;
+} codegen_job;
+
+static int load_scene(const codegen_options *o, codegen_job *job, sf_error *err) {
+  if (o->scene_path) {
+    if (sf_scene_load_file(o->scene_path, &job->scene, err) != SF_OK) return err->status;
+  } else {
+    sf_scene_default(&job->scene);
+  }
+  if (o->atmosphere_path &&
+      sf_atmosphere_load_file(o->atmosphere_path, &job->scene.atmosphere, err) != SF_OK)
+    return err->status;
+  return sf_scene_get_domain(&job->scene, &job->domain, err);
+}
+
+static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *err) {
+  char list[256];
+  snprintf(list, sizeof list, "%s", o->baselines);
+  for (char *save = NULL, *item = strtok_r(list, ",", &save); item;
+       item = strtok_r(NULL, ",", &save)) {
+    int kind = sf_baseline_kind_parse(item);
+    if (kind < 0)
+      return sf_fail(err, SF_ERR_INPUT,
+                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor)", item);
+    for (int k = 0; k < job->n_baselines; ++k)
+      if ((int)job->baselines[k].kind == kind)
+        return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
+    sf_baseline *b = &job->baselines[job->n_baselines++];
+    b->kind = (sf_baseline_kind)kind;
+    b->steps = o->naive_steps;
+    b->atmosphere = &job->scene.atmosphere;
+    if (sf_baseline_part(b, &job->domain, &job->parts[job->n_parts], err) != SF_OK)
+      return err->status;
+    ++job->n_parts;
+  }
+  return SF_OK;
+}
+
+static int run(const codegen_options *o, codegen_job *job, sf_error *err) {
+  if (o->baselines) {
+    if (load_scene(o, job, err) != SF_OK) return err->status;
+    if (add_baselines(o, job, err) != SF_OK) return err->status;
+  }
+  for (int i = 0; i < o->n_weights; ++i) {
+    if (sf_weights_load_file(o->weights[i], NULL, &job->weights[i], err) != SF_OK)
+      return err->status;
+    job->n_weights = i + 1;
+    if (sf_fitted_part(&job->weights[i], &job->fitted[i], &job->parts[job->n_parts], err) != SF_OK)
+      return err->status;
+    ++job->n_parts;
+  }
+  sf_fitted_link(job->fitted, job->parts + job->n_baselines, job->n_weights);
+  return sf_codegen_write(job->parts, job->n_parts, o->want_c, o->want_glsl, o->out_dir, o->name,
+                          err);
+}
+
+int sf_cmd_codegen(int argc, char **argv) {
+  codegen_options o;
+  int parsed = parse_options(argc, argv, &o);
+  if (parsed == 1) {
+    codegen_usage(stdout);
+    return 0;
+  }
+  if (parsed != 0) return parsed;
+  codegen_job *job = calloc(1, sizeof *job);
+  if (!job) {
+    fprintf(stderr, "skyfit codegen: out of memory\n");
+    return 1;
+  }
+  sf_error err;
+  sf_error_clear(&err);
+  int status = run(&o, job, &err);
+  if (status != SF_OK) fprintf(stderr, "skyfit codegen: %s\n", err.message);
+  else if (!o.quiet)
+    for (int p = 0; p < job->n_parts; ++p)
+      fprintf(stderr, "skyfit codegen: %s %s -> %s/%s%s%s\n", job->parts[p].name,
+              job->parts[p].quantity, o.out_dir, o.name,
+              o.want_c ? ".h" : "", o.want_glsl ? (o.want_c ? " .glsl" : ".glsl") : "");
+  for (int i = 0; i < job->n_weights; ++i) {
+    sf_fitted_free(job->fitted[i]);
+    sf_weights_free(&job->weights[i]);
+  }
+  free(job);
+  return status;
+}

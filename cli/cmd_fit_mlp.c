@@ -1,0 +1,445 @@
+/* skyfit fit mlp-transmittance | mlp-scattering | mlp: the neural sky
+ * (SPEC §7.4-7.5, seed 000 §9.6) trained in C with hand-written Adam, and a
+ * plain trainer on any CSV for comparisons with other trainers. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cmd_fit_mlp_options.h"
+#include "cli/fit_commands.h"
+#include "cli/table_options.h"
+#include "data/sky_lookup.h"
+#include "fit/dataset_sky.h"
+#include "fit/mlp_sky_metrics.h"
+#include "models/atmosphere_file.h"
+#include "models/mlp_sky.h"
+#include "models/scene_file.h"
+
+static void sky_usage(FILE *out, int scattering) {
+  fprintf(out,
+          "usage: skyfit fit %s --out W.json [options]\n"
+          "\n"
+          "%s\n"
+          "The data are the reference tables' grid points inside the scene's domain.\n"
+          "\n"
+          "options:\n"
+          "  --scene S.json          scene (SPEC §5; default: the built-in scene)\n"
+          "  --tables DIR            table cache folder (skyfit sample); default: computed in memory\n"
+          "%s"
+          "  --dump-dataset F.csv    write the normalised data set (inputs, then targets) and stop\n"
+          "                          unless --out is given too\n",
+          scattering ? "mlp-scattering" : "mlp-transmittance",
+          scattering ? "Trains the scattering network: (sqrt h, mu, mu_s, nu) normalised -> scattered light\n"
+                       "along the ray, exp(-x) outputs (models/mlp_sky.h). Defaults: --layers 4,8,8,9\n"
+                       "--target separate --loss rel --epochs 60 --batch 1024."
+                     : "Trains the transmittance network: (sqrt h, mu) normalised -> transmittance per channel\n"
+                       "of the ray to the top boundary, exp(-x) output; rays hitting the ground are evaluated\n"
+                       "reversed (eq. 43). Defaults: --layers 2,4,3 --loss mse --epochs 400 --batch 256.",
+          scattering ? "  --target T              separate (single per constituent without phase, then\n"
+                       "                          multiple; default) or radiance (phase included, as the seed)\n"
+                     : "");
+  fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
+  sf_mlp_cli_help(out);
+}
+
+typedef struct sky_job {
+  int scattering;
+  const char *scene_path, *tables_dir, *dump_path;
+  sf_mlp_target target;
+  sf_mlp_cli mlp;
+  sf_table_cli tables;
+} sky_job;
+
+static void print_note(void *ctx, const char *message) {
+  (void)ctx;
+  fprintf(stderr, "skyfit fit: %s\n", message);
+}
+
+static cJSON *error_json(const sf_mlp_error *e, const sf_atmosphere *atm) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON *rmse = cJSON_AddObjectToObject(o, "rmse");
+  cJSON *max_abs = cJSON_AddObjectToObject(o, "max_abs");
+  for (int c = 0; c < e->n_channels; ++c) {
+    cJSON_AddNumberToObject(rmse, atm->channel_names[c], e->rmse[c]);
+    cJSON_AddNumberToObject(max_abs, atm->channel_names[c], e->max_abs[c]);
+  }
+  cJSON_AddNumberToObject(o, "rmse_all", e->rmse_all);
+  cJSON_AddNumberToObject(o, "max_abs_all", e->max_abs_all);
+  cJSON_AddNumberToObject(o, "mean_reference", e->mean_abs_reference);
+  cJSON_AddNumberToObject(o, "points", (double)e->n);
+  return o;
+}
+
+static int run_sky(int argc, char **argv, int scattering) {
+  const char *command = scattering ? "skyfit fit mlp-scattering" : "skyfit fit mlp-transmittance";
+  sky_job job;
+  memset(&job, 0, sizeof job);
+  job.scattering = scattering;
+  job.target = scattering ? SF_MLP_TARGET_SEPARATE : SF_MLP_TARGET_TRANSMITTANCE_TOP;
+  sf_mlp_cli_default(&job.mlp);
+  sf_table_cli_default(&job.tables);
+  sf_train_options *t = &job.mlp.train;
+  t->shape.hidden = SF_ACT_SIGMOID;
+  t->shape.output = SF_ACT_EXP_NEG;
+  t->loss = scattering ? SF_LOSS_REL : SF_LOSS_MSE;
+  t->epochs = scattering ? 60 : 400;
+  t->batch = scattering ? 1024 : 256;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      sky_usage(stdout, scattering);
+      return 0;
+    }
+    int r = sf_mlp_cli_option(&job.mlp, command, argc, argv, &i);
+    if (r == 0) r = sf_table_cli_option(&job.tables, command, argc, argv, &i);
+    if (r < 0) return 2;
+    if (r > 0) continue;
+    int has_value = i + 1 < argc;
+    if ((strcmp(a, "--scene") == 0 || strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
+         (scattering && strcmp(a, "--target") == 0)) && !has_value) {
+      fprintf(stderr, "%s: %s needs a value\n", command, a);
+      return 2;
+    }
+    if (strcmp(a, "--scene") == 0) job.scene_path = argv[++i];
+    else if (strcmp(a, "--tables") == 0) job.tables_dir = argv[++i];
+    else if (strcmp(a, "--dump-dataset") == 0) job.dump_path = argv[++i];
+    else if (scattering && strcmp(a, "--target") == 0) {
+      const char *v = argv[++i];
+      if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
+        fprintf(stderr, "%s: --target: expected separate or radiance, got '%s'\n", command, v);
+        return 2;
+      }
+    } else {
+      fprintf(stderr, "%s: unknown option '%s' (see --help)\n", command, a);
+      return 2;
+    }
+  }
+  if (!job.mlp.out && !job.dump_path && !job.mlp.write_init) {
+    fprintf(stderr, "%s: --out W.json (or --dump-dataset / --write-init) is required\n", command);
+    return 2;
+  }
+  sf_error err = {0};
+  sf_scene *scene = malloc(sizeof *scene);
+  sf_atmosphere *atm = malloc(sizeof *atm);
+  if (!scene || !atm) {
+    free(scene);
+    free(atm);
+    return 1;
+  }
+  int status = 0;
+  sf_table_set set;
+  memset(&set, 0, sizeof set);
+  sf_dataset data, train, val;
+  memset(&data, 0, sizeof data);
+  memset(&train, 0, sizeof train);
+  memset(&val, 0, sizeof val);
+  sf_mlp_sky model;
+  memset(&model, 0, sizeof model);
+  double *init = NULL;
+  cJSON *doc = NULL;
+  if (job.scene_path) {
+    if (sf_scene_load_file(job.scene_path, scene, &err)) goto fail;
+  } else {
+    sf_scene_default(scene);
+  }
+  *atm = scene->atmosphere;
+  if (job.tables.atmosphere_path && sf_atmosphere_load_file(job.tables.atmosphere_path, atm, &err)) goto fail;
+  scene->atmosphere = *atm;
+  sf_scene_domain dom;
+  if (sf_scene_get_domain(scene, &dom, &err)) goto fail;
+
+  /* network shape */
+  int nch = atm->n_channels;
+  int n_single_guess = 0;
+  for (int k = 0; k < atm->n_constituents; ++k) n_single_guess += sf_constituent_scatters(&atm->constituents[k], nch);
+  if (job.mlp.layers) {
+    if (sf_mlp_shape_parse_layers(job.mlp.layers, &t->shape, &err)) goto fail;
+  } else {
+    int n_out = !scattering ? nch : (job.target == SF_MLP_TARGET_SEPARATE ? (n_single_guess + 1) * nch : nch);
+    char text[64];
+    if (scattering) snprintf(text, sizeof text, "4,8,8,%d", n_out);
+    else snprintf(text, sizeof text, "2,4,%d", n_out);
+    sf_mlp_shape_parse_layers(text, &t->shape, &err);
+  }
+  if (job.mlp.write_init) {
+    status = sf_mlp_cli_write_init(command, job.mlp.write_init, &t->shape, t->seed);
+    goto done;
+  }
+
+  /* tables */
+  sf_table_set_options *so = &job.tables.set;
+  so->kind = SF_PARAM_BRUNETON;
+  so->cache_dir = job.tables_dir;
+  if (t->n_threads > 0) so->run.n_threads = t->n_threads;
+  sf_progress_bar bar;
+  sf_progress_bar_init(&bar, stderr, !job.mlp.quiet);
+  so->run.progress = sf_progress_bar_update;
+  so->run.progress_ctx = &bar;
+  so->note = job.mlp.quiet ? NULL : print_note;
+  if (sf_table_set_check(atm, so, &err) || sf_table_set_make(&set, atm, so, &err)) goto fail;
+  sf_progress_bar_finish(&bar);
+
+  int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
+  if (scattering ? sf_dataset_scattering(&set, atm, &dom, job.target, &data, &n_single, constituent, &err)
+                 : sf_dataset_transmittance(&set, atm, &dom, &data, &err))
+    goto fail;
+  if (job.dump_path) {
+    if (sf_dataset_write_csv(&data, job.dump_path, &err)) goto fail;
+    if (!job.mlp.quiet)
+      fprintf(stderr, "%s: wrote %ld samples (%d inputs, %d targets) to %s\n", command, data.n, data.n_in,
+              data.n_out, job.dump_path);
+    if (!job.mlp.out) goto done;
+  }
+  if (sf_dataset_split(&data, job.mlp.validation_fraction, t->seed, &train, &val, &err)) goto fail;
+
+  int np = sf_mlp_param_count(&t->shape);
+  if (job.mlp.init_weights) {
+    init = malloc((size_t)np * sizeof(double));
+    if (!init) goto fail;
+    if ((status = sf_mlp_cli_read_init(command, job.mlp.init_weights, &t->shape, init))) goto done;
+    t->init_params = init;
+  }
+  char checkpoint[4200];
+  snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", job.mlp.out);
+  t->checkpoint_path = job.mlp.checkpoint ? job.mlp.checkpoint : checkpoint;
+  t->interrupt = sf_mlp_catch_interrupt();
+  sf_mlp_progress progress;
+  sf_mlp_progress_init(&progress, job.mlp.quiet);
+  t->progress = sf_mlp_progress_update;
+  t->progress_ctx = &progress;
+  sf_train_result result;
+  int train_status = sf_mlp_train(&train, &val, t, &result, &err);
+  sf_mlp_progress_finish(&progress);
+  if (train_status) goto fail;
+  if (result.interrupted) {
+    fprintf(stderr, "%s: interrupted after %d epochs; checkpoint %s; continue with --resume\n", command,
+            result.epochs_run, t->checkpoint_path);
+    status = 130;
+    goto done;
+  }
+  double offset[4], scale[4];
+  for (int k = 0; k < data.n_in; ++k) {
+    offset[k] = data.input_offset[k];
+    scale[k] = data.input_scale[k];
+  }
+  if (sf_mlp_sky_make(&model, &result.net, job.target, atm, offset, scale, n_single, constituent, &err)) goto fail;
+
+  /* weights file */
+  doc = sf_weights_new(scattering ? "mlp-scattering" : "mlp-transmittance",
+                       scattering ? "sky_radiance" : "transmittance", atm, &dom);
+  if (!doc) goto fail;
+  for (int k = 0; k < data.n_in; ++k) sf_weights_add_input(doc, data.names[k], offset[k], scale[k]);
+  cJSON *training = sf_weights_training(doc);
+  cJSON_AddStringToObject(training, "target", sf_mlp_target_name(job.target));
+  if (job.target == SF_MLP_TARGET_SEPARATE) {
+    cJSON *comps = cJSON_AddArrayToObject(training, "components");
+    for (int k = 0; k < n_single; ++k)
+      cJSON_AddItemToArray(comps, cJSON_CreateString(atm->constituents[constituent[k]].name));
+    cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
+  }
+  if (sf_mlp_add_to_weights(doc, &model.net)) goto fail;
+  cJSON_AddNumberToObject(training, "seed", (double)t->seed);
+  cJSON_AddNumberToObject(training, "epochs", t->epochs);
+  cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
+  cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(t->loss));
+  cJSON_AddNumberToObject(training, "loss_floor", t->loss_floor);
+  cJSON_AddNumberToObject(training, "batch", (double)t->batch);
+  cJSON_AddNumberToObject(training, "lr", t->adam.lr);
+  cJSON_AddNumberToObject(training, "lr_decay_per_epoch", t->adam.lr_decay_per_epoch);
+  cJSON_AddNumberToObject(training, "restarts", t->restarts);
+  cJSON_AddNumberToObject(training, "patience", t->patience);
+  cJSON_AddNumberToObject(training, "best_restart", result.best_restart);
+  cJSON_AddNumberToObject(training, "best_epoch", result.best_epoch);
+  cJSON_AddNumberToObject(training, "training_samples", (double)train.n);
+  cJSON_AddNumberToObject(training, "validation_samples", (double)val.n);
+  cJSON *metrics = sf_weights_metrics(doc);
+  cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
+  if (val.n > 0) cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
+  sf_mlp_error e;
+  if (val.n > 0) {
+    sf_mlp_error_validation(&model, &val, &e);
+    cJSON_AddItemToObject(metrics, "validation", error_json(&e, atm));
+    cJSON_AddNumberToObject(metrics, "rmse", e.rmse_all);
+    cJSON_AddNumberToObject(metrics, "max_abs", e.max_abs_all);
+  }
+  if (!scattering) {
+    sf_mlp_error_transmittance(&model, atm, &dom, 20000, t->seed + 1, 0, &e);
+    cJSON_AddItemToObject(metrics, "full_ray_random", error_json(&e, atm));
+    sf_mlp_error_transmittance(&model, atm, &dom, 20000, t->seed + 1, 1, &e);
+    cJSON_AddItemToObject(metrics, "full_ray_random_float32", error_json(&e, atm));
+  } else {
+    sf_sky_tables sky;
+    sf_sky_tables_of_set(&sky, atm, &set);
+    static const struct { const char *name; double deg; } suns[] = {{"noon", 90.0}, {"sunrise", 6.0}, {"dawn", -6.0}};
+    for (int k = 0; k < 3; ++k) {
+      double mu_s = sin(suns[k].deg * 3.14159265358979323846 / 180.0);
+      if (mu_s < dom.mu_s_min - 1e-12 || mu_s > dom.mu_s_max + 1e-12) continue;
+      sf_mlp_error_radiance(&model, &sky, &dom, suns[k].deg, 20000, t->seed + 1, &e);
+      char key[32];
+      snprintf(key, sizeof key, "radiance_%s", suns[k].name);
+      cJSON_AddItemToObject(metrics, key, error_json(&e, atm));
+    }
+  }
+  /* Timing stays out of the file: the same run must write the same bytes. */
+  if (sf_weights_write(doc, job.mlp.out, &err)) goto fail;
+  if (!job.mlp.quiet) {
+    char *text = cJSON_Print(metrics);
+    if (text)
+      fprintf(stderr, "%s: wrote %s (%.4g s per epoch); metrics: %s\n", command, job.mlp.out,
+              result.seconds_per_epoch, text);
+    free(text);
+  }
+  goto done;
+fail:
+  if (err.status == SF_OK) sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
+  fprintf(stderr, "%s: %s\n", command, err.message);
+  status = err.status;
+done:
+  cJSON_Delete(doc);
+  sf_mlp_sky_free(&model);
+  sf_dataset_free(&data);
+  sf_dataset_free(&train);
+  sf_dataset_free(&val);
+  sf_table_set_free(&set);
+  free(init);
+  free(scene);
+  free(atm);
+  return status;
+}
+
+int sf_cmd_fit_mlp_transmittance(int argc, char **argv) { return run_sky(argc, argv, 0); }
+int sf_cmd_fit_mlp_scattering(int argc, char **argv) { return run_sky(argc, argv, 1); }
+
+static void plain_usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit fit mlp --data F.csv --inputs N [options]\n"
+          "\n"
+          "Trains a network on any CSV (header row; the first N columns are inputs, the rest\n"
+          "targets), e.g. one written by --dump-dataset, and prints the final training loss\n"
+          "(over the whole set) and seconds per epoch as JSON on stdout. No validation split\n"
+          "unless --validation is given. Defaults: --hidden sigmoid --output exp_neg --loss mse\n"
+          "--batch 1024 --epochs 10.\n"
+          "\n"
+          "  --data F.csv, --inputs N  the data (required)\n");
+  sf_mlp_cli_help(out);
+}
+
+int sf_cmd_fit_mlp(int argc, char **argv) {
+  const char *command = "skyfit fit mlp";
+  sf_mlp_cli o;
+  sf_mlp_cli_default(&o);
+  o.validation_fraction = 0.0;
+  sf_train_options *t = &o.train;
+  t->shape.hidden = SF_ACT_SIGMOID;
+  t->shape.output = SF_ACT_EXP_NEG;
+  t->epochs = 10;
+  const char *data_path = NULL;
+  long n_inputs = 0;
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      plain_usage(stdout);
+      return 0;
+    }
+    int r = sf_mlp_cli_option(&o, command, argc, argv, &i);
+    if (r < 0) return 2;
+    if (r > 0) continue;
+    if ((strcmp(a, "--data") == 0 || strcmp(a, "--inputs") == 0) && i + 1 >= argc) {
+      fprintf(stderr, "%s: %s needs a value\n", command, a);
+      return 2;
+    }
+    if (strcmp(a, "--data") == 0) data_path = argv[++i];
+    else if (strcmp(a, "--inputs") == 0) {
+      char *end;
+      n_inputs = strtol(argv[++i], &end, 10);
+      if (*end != '\0' || n_inputs < 1 || n_inputs >= SF_DATASET_MAX_COLUMNS) {
+        fprintf(stderr, "%s: --inputs: expected a whole number >= 1, got '%s'\n", command, argv[i]);
+        return 2;
+      }
+    } else {
+      fprintf(stderr, "%s: unknown option '%s' (see --help)\n", command, a);
+      return 2;
+    }
+  }
+  if (!data_path || n_inputs < 1 || !o.layers) {
+    fprintf(stderr, "%s: --data, --inputs and --layers are required\n", command);
+    return 2;
+  }
+  sf_error err = {0};
+  if (sf_mlp_shape_parse_layers(o.layers, &t->shape, &err)) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    return 2;
+  }
+  if (o.write_init) return sf_mlp_cli_write_init(command, o.write_init, &t->shape, t->seed);
+  sf_dataset data, train, val;
+  memset(&train, 0, sizeof train);
+  memset(&val, 0, sizeof val);
+  if (sf_dataset_read_csv(data_path, (int)n_inputs, &data, &err)) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    return err.status;
+  }
+  int status = 0;
+  double *init = NULL;
+  cJSON *doc = NULL;
+  sf_train_result result;
+  memset(&result, 0, sizeof result);
+  if (sf_dataset_split(&data, o.validation_fraction, t->seed, &train, &val, &err)) goto fail;
+  if (o.init_weights) {
+    init = malloc((size_t)sf_mlp_param_count(&t->shape) * sizeof(double));
+    if (!init) goto fail;
+    if ((status = sf_mlp_cli_read_init(command, o.init_weights, &t->shape, init))) goto done;
+    t->init_params = init;
+  }
+  char checkpoint[4200];
+  if (o.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", o.out);
+  t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
+  t->interrupt = sf_mlp_catch_interrupt();
+  sf_mlp_progress progress;
+  sf_mlp_progress_init(&progress, o.quiet);
+  t->progress = sf_mlp_progress_update;
+  t->progress_ctx = &progress;
+  int train_status = sf_mlp_train(&train, &val, t, &result, &err);
+  sf_mlp_progress_finish(&progress);
+  if (train_status) goto fail;
+  if (result.interrupted) {
+    fprintf(stderr, "%s: interrupted after %d epochs%s%s\n", command, result.epochs_run,
+            t->checkpoint_path ? "; checkpoint " : "", t->checkpoint_path ? t->checkpoint_path : "");
+    status = 130;
+    goto done;
+  }
+  /* The final training MSE over the whole training set, whatever the loss. */
+  sf_mlp_loss mse = {SF_LOSS_MSE, NULL};
+  double train_mse = sf_mlp_dataset_loss(&t->shape, result.net.params, &mse, &train, t->n_threads);
+  if (o.out) {
+    sf_atmosphere atm;
+    sf_atmosphere_default(&atm);
+    sf_scene_domain dom = {0, 0, -1, 1, -1, 1};
+    doc = sf_weights_new("mlp", "values", &atm, &dom);
+    if (!doc) goto fail;
+    for (int k = 0; k < data.n_in; ++k) sf_weights_add_input(doc, data.names[k], 0.0, 1.0);
+    if (sf_mlp_add_to_weights(doc, &result.net)) goto fail;
+    cJSON_AddNumberToObject(sf_weights_training(doc), "seed", (double)t->seed);
+    cJSON_AddNumberToObject(sf_weights_training(doc), "epochs", t->epochs);
+    cJSON_AddStringToObject(sf_weights_training(doc), "loss", sf_mlp_loss_name(t->loss));
+    cJSON_AddNumberToObject(sf_weights_metrics(doc), "train_mse", train_mse);
+    if (sf_weights_write(doc, o.out, &err)) goto fail;
+  }
+  printf("{\"final_train_mse\": %.9g, \"final_train_loss\": %.9g, \"seconds_per_epoch\": %.6g, "
+         "\"cpu_seconds_per_epoch\": %.6g, \"epochs\": %d, \"samples\": %ld, \"batch\": %ld, \"threads\": %d}\n",
+         train_mse, result.train_loss, result.seconds_per_epoch, result.cpu_seconds_per_epoch, result.epochs_run,
+         train.n, t->batch, t->n_threads);
+  goto done;
+fail:
+  if (err.status == SF_OK) sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
+  fprintf(stderr, "%s: %s\n", command, err.message);
+  status = err.status;
+done:
+  cJSON_Delete(doc);
+  sf_mlp_free(&result.net);
+  free(init);
+  sf_dataset_free(&data);
+  sf_dataset_free(&train);
+  sf_dataset_free(&val);
+  return status;
+}

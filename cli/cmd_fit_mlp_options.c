@@ -1,0 +1,239 @@
+#include "cli/cmd_fit_mlp_options.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "models/atmosphere_file.h"
+#include "models/weights_file.h"
+
+void sf_mlp_cli_default(sf_mlp_cli *o) {
+  memset(o, 0, sizeof *o);
+  sf_train_options_default(&o->train);
+  o->validation_fraction = 0.1;
+}
+
+static int parse_long(const char *text, long lo, long hi, long *out) {
+  char *end;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  if (end == text || *end != '\0' || errno == ERANGE || v < lo || v > hi) return -1;
+  *out = v;
+  return 0;
+}
+
+static int parse_double(const char *text, double lo, double hi, double *out) {
+  char *end;
+  errno = 0;
+  double v = strtod(text, &end);
+  if (end == text || *end != '\0' || !isfinite(v) || v < lo || v > hi) return -1;
+  *out = v;
+  return 0;
+}
+
+int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv, int *i) {
+  const char *a = argv[*i];
+  if (strcmp(a, "--quiet") == 0) {
+    o->quiet = 1;
+    return 1;
+  }
+  if (strcmp(a, "--resume") == 0) {
+    o->train.resume = 1;
+    return 1;
+  }
+  static const char *const with_value[] = {"--layers", "--hidden", "--output", "--loss", "--loss-floor",
+                                           "--epochs", "--batch", "--lr", "--lr-decay", "--restarts",
+                                           "--patience", "--validation", "--seed", "--threads", "--out",
+                                           "--checkpoint", "--init-weights", "--write-init",
+                                           "--stop-after-epochs", NULL};
+  int known = 0;
+  for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
+  if (!known) return 0;
+  if (*i + 1 >= argc) {
+    fprintf(stderr, "%s: %s needs a value\n", command, a);
+    return -1;
+  }
+  const char *v = argv[++*i];
+  long n;
+  double x;
+  sf_train_options *t = &o->train;
+  if (strcmp(a, "--layers") == 0) o->layers = v;
+  else if (strcmp(a, "--out") == 0) o->out = v;
+  else if (strcmp(a, "--checkpoint") == 0) o->checkpoint = v;
+  else if (strcmp(a, "--init-weights") == 0) o->init_weights = v;
+  else if (strcmp(a, "--write-init") == 0) o->write_init = v;
+  else if (strcmp(a, "--hidden") == 0 || strcmp(a, "--output") == 0) {
+    if (sf_mlp_activation_parse(v, strcmp(a, "--hidden") == 0 ? &t->shape.hidden : &t->shape.output)) {
+      fprintf(stderr, "%s: %s: expected sigmoid, tanh, relu, linear, exp_neg or exp_neg_exp, got '%s'\n", command, a, v);
+      return -1;
+    }
+  } else if (strcmp(a, "--loss") == 0) {
+    if (sf_mlp_loss_parse(v, &t->loss)) {
+      fprintf(stderr, "%s: --loss: expected mse, rel or log, got '%s'\n", command, v);
+      return -1;
+    }
+  } else if (strcmp(a, "--loss-floor") == 0 || strcmp(a, "--lr") == 0 || strcmp(a, "--lr-decay") == 0 ||
+             strcmp(a, "--validation") == 0) {
+    int is_frac = strcmp(a, "--validation") == 0;
+    if (parse_double(v, is_frac ? 0.0 : 1e-300, is_frac ? 0.9 : (strcmp(a, "--lr-decay") == 0 ? 1.0 : 1e3), &x)) {
+      fprintf(stderr, "%s: %s: expected a %s, got '%s'\n", command, a,
+              is_frac ? "fraction in [0, 0.9]" : "positive number", v);
+      return -1;
+    }
+    if (strcmp(a, "--loss-floor") == 0) t->loss_floor = x;
+    else if (strcmp(a, "--lr") == 0) t->adam.lr = x;
+    else if (strcmp(a, "--lr-decay") == 0) t->adam.lr_decay_per_epoch = x;
+    else o->validation_fraction = x;
+  } else if (strcmp(a, "--seed") == 0) {
+    char *end;
+    errno = 0;
+    unsigned long long s = strtoull(v, &end, 10);
+    if (end == v || *end != '\0' || errno == ERANGE || v[0] == '-') {
+      fprintf(stderr, "%s: --seed: expected a whole number >= 0, got '%s'\n", command, v);
+      return -1;
+    }
+    t->seed = (uint64_t)s;
+  } else {
+    long lo = strcmp(a, "--batch") == 0 || strcmp(a, "--patience") == 0 ? 0 : 1;
+    if (parse_long(v, lo, 1000000000L, &n)) {
+      fprintf(stderr, "%s: %s: expected a whole number >= %ld, got '%s'\n", command, a, lo, v);
+      return -1;
+    }
+    if (strcmp(a, "--epochs") == 0) t->epochs = (int)n;
+    else if (strcmp(a, "--batch") == 0) t->batch = n;
+    else if (strcmp(a, "--restarts") == 0) t->restarts = (int)n;
+    else if (strcmp(a, "--patience") == 0) t->patience = (int)n;
+    else if (strcmp(a, "--threads") == 0) t->n_threads = (int)n;
+    else t->stop_after_epochs = (int)n;
+  }
+  return 1;
+}
+
+void sf_mlp_cli_help(FILE *out) {
+  fprintf(out,
+          "training options:\n"
+          "  --layers A,B,...        layer sizes, inputs first, outputs last\n"
+          "  --hidden ACT            hidden activation: sigmoid, tanh, relu, linear\n"
+          "  --output ACT            output activation: exp_neg (e^-x), exp_neg_exp (e^-e^-x), sigmoid, linear\n"
+          "  --loss mse|rel|log      loss (rel/log: floor F * max|target| per output)\n"
+          "  --loss-floor F          default 1e-4\n"
+          "  --epochs N              epochs per restart\n"
+          "  --batch N               mini-batch size (0: the whole training set)\n"
+          "  --lr X, --lr-decay D    Adam learning rate (default 0.01), x D per epoch (default 1)\n"
+          "  --restarts N            independent restarts; the best validation loss is kept\n"
+          "  --patience N            early stopping after N epochs without a better validation loss\n"
+          "  --validation F          held-out fraction (default 0.1)\n"
+          "  --seed S                seed of initialisation, split and shuffling (default 1)\n"
+          "  --threads N             worker threads; results do not depend on it\n"
+          "  --out W.json            weights file (SPEC §8)\n"
+          "  --checkpoint FILE       Ctrl-C saves here (default W.json.checkpoint)\n"
+          "  --resume                continue from the checkpoint to the uninterrupted result\n"
+          "  --init-weights W.json   start restart 0 from this network (same layers)\n"
+          "  --write-init W.json     write the seeded initial network and stop\n"
+          "  --stop-after-epochs K   behave as if interrupted after K epochs (tests)\n"
+          "  --quiet                 no progress line\n");
+}
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void sf_mlp_progress_init(sf_mlp_progress *p, int quiet) {
+  sf_progress_bar_init(&p->bar, stderr, !quiet);
+  p->start = now_seconds();
+  p->last = 0.0;
+}
+
+void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
+                            double validation_loss) {
+  sf_mlp_progress *p = ctx;
+  if (!p->bar.enabled) return;
+  double t = now_seconds();
+  if (t - p->last < 0.1 && epoch < n_epochs) return;
+  p->last = t;
+  double done = ((double)restart * n_epochs + epoch) / ((double)n_restarts * n_epochs);
+  double elapsed = t - p->start;
+  fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g  validation %.4g  ETA %.0f s   ", restart + 1,
+          n_restarts, epoch, n_epochs, train_loss, validation_loss,
+          done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
+  fflush(stderr);
+  p->bar.drawn = 1;
+}
+
+void sf_mlp_progress_finish(sf_mlp_progress *p) { sf_progress_bar_finish(&p->bar); }
+
+/* The one piece of process-wide state: a signal handler can reach nothing else. */
+static volatile sig_atomic_t interrupted_flag = 0;
+
+static void on_interrupt(int sig) {
+  (void)sig;
+  interrupted_flag = 1;
+}
+
+const volatile sig_atomic_t *sf_mlp_catch_interrupt(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  return &interrupted_flag;
+}
+
+int sf_mlp_cli_read_init(const char *command, const char *path, const sf_mlp_shape *shape, double *params) {
+  sf_weights w;
+  sf_error err = {0};
+  if (sf_weights_load_file(path, NULL, &w, &err)) {
+    fprintf(stderr, "%s: --init-weights: %s\n", command, err.message);
+    return err.status ? err.status : 2;
+  }
+  sf_mlp net;
+  int status = sf_mlp_from_weights(&w, &net, &err);
+  sf_weights_free(&w);
+  if (status) {
+    fprintf(stderr, "%s: --init-weights: %s\n", command, err.message);
+    return status;
+  }
+  int same = net.shape.n_layers == shape->n_layers;
+  for (int l = 0; same && l <= shape->n_layers; ++l) same = net.shape.sizes[l] == shape->sizes[l];
+  if (!same) {
+    fprintf(stderr, "%s: --init-weights: %s: its layers differ from --layers\n", command, path);
+    sf_mlp_free(&net);
+    return 2;
+  }
+  memcpy(params, net.params, (size_t)net.n_params * sizeof(double));
+  sf_mlp_free(&net);
+  return 0;
+}
+
+int sf_mlp_cli_write_init(const char *command, const char *path, const sf_mlp_shape *shape, uint64_t seed) {
+  sf_mlp net;
+  if (sf_mlp_init(&net, shape)) return 1;
+  sf_mlp_init_xavier(shape, seed, 0, net.params);
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  sf_scene_domain dom = {0, 0, -1, 1, -1, 1};
+  cJSON *doc = sf_weights_new("mlp", "values", &atm, &dom);
+  for (int k = 0; k < shape->sizes[0]; ++k) {
+    char name[16];
+    snprintf(name, sizeof name, "x%d", k);
+    sf_weights_add_input(doc, name, 0.0, 1.0);
+  }
+  sf_error err = {0};
+  int status = 0;
+  if (!doc || sf_mlp_add_to_weights(doc, &net)) status = 1;
+  else {
+    cJSON_AddNumberToObject(sf_weights_training(doc), "seed", (double)seed);
+    cJSON_AddStringToObject(sf_weights_training(doc), "note", "initial network (Xavier-uniform, restart 0)");
+    if (sf_weights_write(doc, path, &err)) {
+      fprintf(stderr, "%s: --write-init: %s\n", command, err.message);
+      status = err.status ? err.status : 1;
+    }
+  }
+  cJSON_Delete(doc);
+  sf_mlp_free(&net);
+  return status;
+}

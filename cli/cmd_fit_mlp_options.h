@@ -1,0 +1,50 @@
+/* The options, progress line and Ctrl-C handling shared by `skyfit fit
+ * mlp-transmittance | mlp-scattering | mlp` (SPEC §7.4-7.5, §11). */
+#ifndef SKYFIT_CLI_CMD_FIT_MLP_OPTIONS_H
+#define SKYFIT_CLI_CMD_FIT_MLP_OPTIONS_H
+
+#include <signal.h>
+#include <stdio.h>
+
+#include "cli/progress_bar.h"
+#include "fit/train.h"
+
+typedef struct sf_mlp_cli {
+  sf_train_options train;
+  const char *layers;          /* NULL: the command's default */
+  double validation_fraction;
+  const char *out;             /* weights file */
+  const char *checkpoint;      /* NULL: OUT.checkpoint */
+  const char *init_weights;    /* initial network (a weights file) */
+  const char *write_init;      /* write the seeded initial network and stop */
+  int quiet;
+} sf_mlp_cli;
+
+void sf_mlp_cli_default(sf_mlp_cli *o);
+/* Consumes one shared option at argv[*i] (and its value): 1; not one: 0;
+ * bad value: -1 after printing "<command>: <problem>". */
+int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv, int *i);
+void sf_mlp_cli_help(FILE *out);
+
+/* The progress line on a terminal: restart, epoch, train and validation
+ * loss, ETA. */
+typedef struct sf_mlp_progress {
+  sf_progress_bar bar;
+  double start, last;
+} sf_mlp_progress;
+void sf_mlp_progress_init(sf_mlp_progress *p, int quiet);
+void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
+                            double validation_loss);
+void sf_mlp_progress_finish(sf_mlp_progress *p);
+
+/* Installs a SIGINT handler that sets the returned flag (training then
+ * stops after the epoch and writes its checkpoint). */
+const volatile sig_atomic_t *sf_mlp_catch_interrupt(void);
+
+/* Reads the initial network for --init-weights into params (n values), or
+ * writes the seeded initial network of restart 0 for --write-init.
+ * Returns an exit code (0 ok). */
+int sf_mlp_cli_read_init(const char *command, const char *path, const sf_mlp_shape *shape, double *params);
+int sf_mlp_cli_write_init(const char *command, const char *path, const sf_mlp_shape *shape, uint64_t seed);
+
+#endif

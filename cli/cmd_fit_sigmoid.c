@@ -1,0 +1,184 @@
+/* skyfit fit sigmoid: the sigmoid-polynomial transmittance (SPEC §7.1, seed
+ * 000 §9.5) per constituent and channel over a scene's (h, mu) domain,
+ * fitted (fit/fit_sigmoid.h) to the exact reference optical depth. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli/fit_commands.h"
+#include "cli/progress_bar.h"
+#include "fit/fit_sigmoid.h"
+#include "models/atmosphere_file.h"
+#include "models/scene_file.h"
+#include "models/weights_file.h"
+
+#define COMMAND "skyfit fit sigmoid"
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: skyfit fit sigmoid [--scene S.json | --atmosphere A.json] --out W.json [options]\n"
+          "       skyfit fit sigmoid --check W.json\n"
+          "\n"
+          "Fits T = 1/(1 + exp(-a1 - a2 h - a3 cos(theta) - a4 cos^2(theta))) per constituent and\n"
+          "channel to the transmittance of the ray from (h, mu) to the ground or the top, over the\n"
+          "scene's (h, mu) domain (default: the built-in scene). The reference is the exact optical\n"
+          "depth (adaptive quadrature) on a grid over the domain, not a table, so no interpolation\n"
+          "error enters; --tables is therefore not used by this model. Writes the weights file\n"
+          "(SPEC §8) with RMSE, max error and where it is worst.\n"
+          "\n"
+          "options:\n"
+          "  --out W.json            weights file to write (atomically)\n"
+          "  --scene S.json          scene (SPEC §5): atmosphere and (h, mu) domain\n"
+          "  --atmosphere A.json     atmosphere (with the built-in scene's domain)\n"
+          "  --grid NHxNMU           reference grid (default 48x96)\n"
+          "  --check W.json          validate a sigmoid weights file; exit 2 if invalid\n"
+          "  --quiet                 no progress or summary\n"
+          "  --help                  this text\n");
+}
+
+static int check_weights(const char *path) {
+  sf_sigmoid_model *m = malloc(sizeof *m);
+  sf_error err = {0};
+  if (!m) return 1;
+  int rc = sf_sigmoid_model_load(path, m, NULL, &err);
+  if (rc == SF_OK) printf("%s: valid sigmoid weights, %d constituents x %d channels\n", path,
+                          m->n_constituents, m->n_channels);
+  else fprintf(stderr, "%s: %s\n", COMMAND, err.message);
+  free(m);
+  return rc;
+}
+
+int sf_cmd_fit_sigmoid(int argc, char **argv) {
+  const char *out = NULL, *scene_path = NULL, *atm_path = NULL, *check = NULL;
+  int quiet = 0;
+  sf_sigmoid_fit_options opt;
+  sf_sigmoid_fit_options_default(&opt);
+  for (int i = 1; i < argc; ++i) {
+    const char *a = argv[i];
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      usage(stdout);
+      return 0;
+    } else if (strcmp(a, "--quiet") == 0) {
+      quiet = 1;
+    } else if (strcmp(a, "--tables") == 0) {
+      fprintf(stderr, "%s: --tables: the sigmoid fit uses the exact optical depth, not tables\n", COMMAND);
+      return 2;
+    } else if (!v) {
+      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
+      return 2;
+    } else if (strcmp(a, "--out") == 0) {
+      out = argv[++i];
+    } else if (strcmp(a, "--scene") == 0) {
+      scene_path = argv[++i];
+    } else if (strcmp(a, "--atmosphere") == 0) {
+      atm_path = argv[++i];
+    } else if (strcmp(a, "--check") == 0) {
+      check = argv[++i];
+    } else if (strcmp(a, "--grid") == 0) {
+      if (sscanf(argv[++i], "%dx%d", &opt.n_h, &opt.n_mu) != 2 || opt.n_h < 2 || opt.n_mu < 2 ||
+          opt.n_h > 2000 || opt.n_mu > 2000) {
+        fprintf(stderr, "%s: --grid: expected NHxNMU with 2..2000 each, got '%s'\n", COMMAND, argv[i]);
+        return 2;
+      }
+    } else {
+      fprintf(stderr, "%s: unknown option '%s'; see --help\n", COMMAND, a);
+      return 2;
+    }
+  }
+  if (check) return check_weights(check);
+  if (!out) {
+    fprintf(stderr, "%s: --out W.json is required; see --help\n", COMMAND);
+    return 2;
+  }
+  if (scene_path && atm_path) {
+    fprintf(stderr, "%s: --atmosphere and --scene: give one (the scene names its atmosphere)\n", COMMAND);
+    return 2;
+  }
+  sf_error err = {0};
+  sf_scene *scene = malloc(sizeof *scene);
+  sf_sigmoid_model *model = malloc(sizeof *model);
+  sf_sigmoid_fit_report *rep = malloc(sizeof *rep);
+  int status = (scene && model && rep) ? SF_OK : sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
+  if (status == SF_OK) {
+    if (scene_path) status = sf_scene_load_file(scene_path, scene, &err);
+    else {
+      sf_scene_default(scene);
+      if (atm_path) status = sf_atmosphere_load_file(atm_path, &scene->atmosphere, &err);
+    }
+  }
+  sf_scene_domain domain;
+  if (status == SF_OK) status = sf_scene_get_domain(scene, &domain, &err);
+  sf_progress_bar bar;
+  sf_progress_bar_init(&bar, stderr, !quiet);
+  opt.progress = sf_progress_bar_update;
+  opt.progress_ctx = &bar;
+  if (status == SF_OK) status = sf_fit_sigmoid(&scene->atmosphere, &domain, &opt, model, rep, &err);
+  sf_progress_bar_finish(&bar);
+  const sf_atmosphere *atm = &scene->atmosphere;
+  if (status == SF_OK) {
+    cJSON *doc = sf_weights_new("sigmoid", "transmittance", atm, &domain);
+    int nc = model->n_constituents, nk = model->n_channels;
+    double *a = malloc(sizeof *a * (size_t)(nc * nk * 4));
+    if (!doc || !a) {
+      status = sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
+    } else {
+      for (int c = 0; c < nc; ++c)
+        for (int k = 0; k < nk; ++k)
+          for (int j = 0; j < 4; ++j) a[(c * nk + k) * 4 + j] = model->a[c][k][j];
+      int shape[3] = {nc, nk, 4};
+      sf_weights_add_input(doc, "h_km", 0.0, 1.0);
+      sf_weights_add_input(doc, "mu", 0.0, 1.0);
+      sf_weights_add_param(doc, "a", 3, shape, a);
+      cJSON *mt = sf_weights_metrics(doc);
+      cJSON_AddNumberToObject(mt, "rmse", rep->rmse);
+      cJSON_AddNumberToObject(mt, "max_abs", rep->max_abs);
+      cJSON_AddNumberToObject(mt, "worst_h_km", rep->worst_h_km);
+      cJSON_AddNumberToObject(mt, "worst_mu", rep->worst_mu);
+      cJSON_AddStringToObject(mt, "worst_channel", atm->channel_names[rep->worst_channel]);
+      cJSON_AddNumberToObject(mt, "points", rep->n_points);
+      cJSON *per = cJSON_AddObjectToObject(mt, "per_constituent");
+      for (int c = 0; c < nc; ++c) {
+        cJSON *cj = cJSON_AddObjectToObject(per, atm->constituents[c].name);
+        for (int k = 0; k < nk; ++k) {
+          const sf_sigmoid_fit_entry *e = &rep->entry[c][k];
+          cJSON *kj = cJSON_AddObjectToObject(cj, atm->channel_names[k]);
+          cJSON_AddNumberToObject(kj, "rmse", e->rmse);
+          cJSON_AddNumberToObject(kj, "max_abs", e->max_abs);
+          cJSON_AddNumberToObject(kj, "worst_h_km", e->worst_h_km);
+          cJSON_AddNumberToObject(kj, "worst_mu", e->worst_mu);
+        }
+      }
+      cJSON *tr = sf_weights_training(doc);
+      cJSON_AddStringToObject(tr, "loss", "least squares on T");
+      cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
+      cJSON_AddStringToObject(tr, "start", "weighted logit linear least squares");
+      cJSON_AddStringToObject(tr, "reference", "exact optical depth (models/optical_depth.h)");
+      cJSON_AddNumberToObject(tr, "grid_h", opt.n_h);
+      cJSON_AddNumberToObject(tr, "grid_mu", opt.n_mu);
+      status = sf_weights_write(doc, out, &err);
+    }
+    free(a);
+    cJSON_Delete(doc);
+  }
+  if (status == SF_OK && !quiet) {
+    for (int c = 0; c < model->n_constituents; ++c)
+      for (int k = 0; k < model->n_channels; ++k) {
+        const sf_sigmoid_fit_entry *e = &rep->entry[c][k];
+        fprintf(stderr, "%s: %s %s: rmse %.4g, max %.4g at h %.4g km mu %.4g (cost %.3g -> %.3g, %d iterations)\n",
+                COMMAND, atm->constituents[c].name, atm->channel_names[k], e->rmse, e->max_abs,
+                e->worst_h_km, e->worst_mu, e->start_cost, e->final_cost, e->iterations);
+      }
+    fprintf(stderr, "%s: total transmittance rmse %.4g, max %.4g at h %.4g km mu %.4g channel %s; wrote %s (%.2f s)\n",
+            COMMAND, rep->rmse, rep->max_abs, rep->worst_h_km, rep->worst_mu,
+            atm->channel_names[rep->worst_channel], out, rep->seconds);
+  }
+  if (status != SF_OK) fprintf(stderr, "%s: %s\n", COMMAND, err.message);
+  free(scene);
+  free(model);
+  free(rep);
+  return status;
+}

@@ -1,0 +1,78 @@
+# skyfit_generate(TARGET <target> SCENE <scene.json> OUTPUT_DIR <dir>
+#                 LANG <glsl|c>... [NAME <base>] [BASELINES <list>])
+#
+# Adds a build step that writes <dir>/<base>.glsl and/or <dir>/<base>.h
+# (base defaults to "skyfit") from the scene file (SPEC §5, §9), makes
+# <target> depend on it and puts <dir> on its include path. The step runs
+# again when the scene file, the atmosphere file it names, or the skyfit
+# tool changes, and not otherwise. Editing which atmosphere the scene names
+# re-runs CMake's configure (the scene is a configure dependency), which
+# picks up the new atmosphere file as a dependency.
+include_guard(GLOBAL)
+
+# Reads the scene's "atmosphere" path (relative to the scene's folder);
+# empty when the scene uses the built-in atmosphere.
+function(_skyfit_scene_atmosphere scene out_var)
+  file(READ "${scene}" _json)
+  string(JSON _atmosphere ERROR_VARIABLE _missing GET "${_json}" atmosphere)
+  if(_missing OR _atmosphere STREQUAL "")
+    set(${out_var} "" PARENT_SCOPE)
+    return()
+  endif()
+  get_filename_component(_dir "${scene}" DIRECTORY)
+  get_filename_component(_path "${_atmosphere}" ABSOLUTE BASE_DIR "${_dir}")
+  set(${out_var} "${_path}" PARENT_SCOPE)
+endfunction()
+
+function(skyfit_generate)
+  cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME" "LANG;BASELINES" ${ARGN})
+  foreach(required TARGET SCENE OUTPUT_DIR LANG)
+    if(NOT SG_${required})
+      message(FATAL_ERROR "skyfit_generate: ${required} is required")
+    endif()
+  endforeach()
+  if(NOT SG_NAME)
+    set(SG_NAME skyfit)
+  endif()
+  if(NOT SG_BASELINES)
+    set(SG_BASELINES naive chapman taylor)
+  endif()
+  get_filename_component(scene "${SG_SCENE}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  get_filename_component(out_dir "${SG_OUTPUT_DIR}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_BINARY_DIR}")
+  if(NOT EXISTS "${scene}")
+    message(FATAL_ERROR "skyfit_generate: scene file ${scene} does not exist")
+  endif()
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${scene}")
+  _skyfit_scene_atmosphere("${scene}" atmosphere)
+
+  set(outputs)
+  set(langs)
+  foreach(lang ${SG_LANG})
+    if(lang STREQUAL "glsl")
+      list(APPEND outputs "${out_dir}/${SG_NAME}.glsl")
+    elseif(lang STREQUAL "c")
+      list(APPEND outputs "${out_dir}/${SG_NAME}.h")
+    else()
+      message(FATAL_ERROR "skyfit_generate: LANG must be glsl and/or c, got '${lang}'")
+    endif()
+    list(APPEND langs ${lang})
+  endforeach()
+  string(REPLACE ";" "," lang_arg "${langs}")
+  string(REPLACE ";" "," baselines_arg "${SG_BASELINES}")
+
+  # The one command that turns the scene into headers. To run the whole
+  # pipeline instead, replace this line by
+  #   set(command skyfit::skyfit build "${scene}" --out "${out_dir}" --quiet)
+  set(command skyfit::skyfit codegen --scene "${scene}" --baselines ${baselines_arg} --lang ${lang_arg} --out "${out_dir}" --name ${SG_NAME} --quiet)
+
+  add_custom_command(
+    OUTPUT ${outputs}
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${out_dir}"
+    COMMAND ${command}
+    DEPENDS "${scene}" ${atmosphere} "$<TARGET_FILE:skyfit::skyfit>"
+    COMMENT "skyfit: generating ${SG_NAME} headers from ${scene}"
+    VERBATIM)
+  add_custom_target(${SG_TARGET}_skyfit_headers DEPENDS ${outputs})
+  add_dependencies(${SG_TARGET} ${SG_TARGET}_skyfit_headers)
+  target_include_directories(${SG_TARGET} PRIVATE "${out_dir}")
+endfunction()

@@ -1,0 +1,75 @@
+/* The analytic optical-depth baselines of SPEC §7.6 as emitted transmittance
+ * models: functions of the atmosphere alone, no weights file.
+ *  - naive:   N-step midpoint raymarch of every constituent's density
+ *             (models/optical_depth_raymarch.h, SF_RAYMARCH_MIDPOINT);
+ *  - chapman: Schuler's Chapman approximation, seed 000 eq. 22-25
+ *             (models/optical_depth_chapman.h);
+ *  - taylor:  Gałaj's Taylor transmittance, seed 002 eq. 17, a = b = 0.45
+ *             (models/optical_depth_taylor.h).
+ * Chapman and Taylor exist only for exponential constituents; any other
+ * (the ozone tent) is the constant shell of seed 000 §10.5 / eq. 59 with
+ * the exact chord through it (models/optical_depth_flat.h), so the emitted
+ * transmittance includes every constituent.
+ *
+ * Each baseline `name` emits, in both languages (N = number of channels):
+ *   vecN skyfit_<name>_transmittance(float h_km, float mu)
+ *       the ray from the viewer to the ground or out of the atmosphere
+ *       (a viewer above the top starts where the ray enters; 1 if never);
+ *   vecN skyfit_<name>_transmittance_segment(float h_km, float mu, float t_km)
+ *       the first t_km of that ray;
+ *   vecN skyfit_<name>_transmittance_between(float h_km, float mu, float t0, float t1)
+ *       the part [t0, t1] of it (the two above call it). */
+#ifndef SKYFIT_CODEGEN_BASELINES_H
+#define SKYFIT_CODEGEN_BASELINES_H
+
+#include <stddef.h>
+
+#include "codegen/code_writer.h"
+#include "models/atmosphere.h"
+#include "models/scene_file.h"
+#include "util/error.h"
+
+typedef enum sf_baseline_kind {
+  SF_BASELINE_NAIVE = 0,
+  SF_BASELINE_CHAPMAN,
+  SF_BASELINE_TAYLOR
+} sf_baseline_kind;
+
+#define SF_BASELINE_DEFAULT_STEPS 16
+
+typedef struct sf_baseline {
+  sf_baseline_kind kind;
+  int steps;                      /* naive only, >= 1 */
+  const sf_atmosphere *atmosphere;
+} sf_baseline;
+
+/* "naive", "chapman", "taylor" -> kind; -1 for anything else. */
+int sf_baseline_kind_parse(const char *name);
+const char *sf_baseline_kind_name(sf_baseline_kind kind);
+/* One line saying what the model is, for the emitted header comment. */
+void sf_baseline_describe(const sf_baseline *b, char *out, size_t n);
+
+/* Checks that the baseline can be emitted for its atmosphere (1-4
+ * channels, steps >= 1); SF_ERR_INPUT naming the problem otherwise. */
+int sf_baseline_check(const sf_baseline *b, sf_error *err);
+
+/* Writes the three functions above into w (which records the helpers and
+ * vector types they use). */
+void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b);
+
+/* The same model in double precision through models/ (what the emitted
+ * float code approximates): density integral (km) of every constituent
+ * over [t0, t1] along the ray from radius r, and the transmittance per
+ * channel. t1 may be INFINITY (the whole ray). */
+void sf_baseline_depth(const sf_baseline *b, double r, double mu, double t0, double t1,
+                       double *depth);
+void sf_baseline_transmittance(const sf_baseline *b, double h_km, double mu, double t0,
+                               double t1, double *transmittance);
+
+/* Transmittance error of the (double) baseline against the reference
+ * (models/optical_depth.h) over domain: a 16 x 48 grid in (h, mu), every
+ * channel; RMSE (seed 000 eq. 61) and the largest absolute error. */
+void sf_baseline_measure(const sf_baseline *b, const sf_scene_domain *domain, double *rmse,
+                         double *max_abs);
+
+#endif

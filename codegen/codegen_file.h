@@ -1,0 +1,41 @@
+/* One emitted file (SPEC §9): the header comment naming, for every model in
+ * it, the atmosphere, its hash, the domain and the measured error; the
+ * vector types and shared helpers the models use (and only those); then
+ * each model's functions. The same parts give the C header and the GLSL
+ * file, with the same function names and signatures. The text depends on
+ * nothing but the parts: identical input, byte-identical output. */
+#ifndef SKYFIT_CODEGEN_CODEGEN_FILE_H
+#define SKYFIT_CODEGEN_CODEGEN_FILE_H
+
+#include "codegen/code_writer.h"
+#include "models/scene_file.h"
+#include "util/error.h"
+
+#define SF_CODEGEN_TEXT_LEN 512
+
+typedef struct sf_codegen_part {
+  char name[64];                      /* function prefix: skyfit_<name>_... */
+  char quantity[64];                  /* "transmittance", "sky_radiance", ... */
+  char summary[SF_CODEGEN_TEXT_LEN];  /* what the model is, one line */
+  char atmosphere_name[96];
+  char atmosphere_hash[17];
+  sf_scene_domain domain;
+  char error[SF_CODEGEN_TEXT_LEN];    /* the measured error, one line */
+  /* Writes the model's functions into w. */
+  void (*emit)(sf_code_writer *w, const void *model);
+  const void *model;
+} sf_codegen_part;
+
+/* The whole file BASE.h (C) or BASE.glsl in lang; *text is malloc'd
+ * (caller frees). The include guard is SKYFIT_GENERATED_<BASE>_H / _GLSL
+ * (BASE upper-cased, other characters as '_'). SF_ERR_INPUT when a model cannot be written
+ * (a non-finite constant) or two parts share a name. */
+int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
+                      const char *base, char **text, sf_error *err);
+
+/* Writes DIR/BASE.h and/or DIR/BASE.glsl atomically (both rendered before
+ * either is written; nothing written on failure). */
+int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,
+                     const char *dir, const char *base, sf_error *err);
+
+#endif

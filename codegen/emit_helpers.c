@@ -1,0 +1,254 @@
+#include "codegen/emit_helpers.h"
+
+unsigned sf_helpers_closure(unsigned needed) {
+  if (needed & SF_HELPER_TAYLOR_PIECE) needed |= SF_HELPER_EXPM1;
+  if (needed & SF_HELPER_SHELL_CHORD) needed |= SF_HELPER_SPHERE_HITS;
+  if (needed & SF_HELPER_AIR_CLIP) needed |= SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT;
+  if (needed & SF_HELPER_RAY_ENTER) needed |= SF_HELPER_RAY_SPHERE;
+  return needed;
+}
+
+static void guard_open(sf_code_writer *w, const char *name) {
+  sf_cw_emit(w, "#ifndef SKYFIT_HELPER_%s\n#define SKYFIT_HELPER_%s\n", name, name);
+}
+
+static void guard_close(sf_code_writer *w) { sf_cw_emit(w, "#endif\n\n"); }
+
+static void sphere_hits(sf_code_writer *w) {
+  guard_open(w, "SPHERE_HITS");
+  sf_cw_emit(w,
+      "/* Distances (near, far) along the ray (r, mu) to the sphere of radius R;\n"
+      " * near > far when the line misses it. R_minus_r is passed separately\n"
+      " * (from altitudes, exact) because in float32 R - r loses the viewer's\n"
+      " * altitude near the sphere. Discriminant (R - r)(R + r) + (r mu)^2, small\n"
+      " * root c / q (SPEC §10; models/ray_geometry_impl.inc). */\n"
+      "@fn @vec2 skyfit_sphere_hits(float r, float mu, float R, float R_minus_r) {\n"
+      "  float disc = R_minus_r * (R + r) + (r * mu) * (r * mu);\n"
+      "  if (disc < 0.0f) return @vec2(1.0f, -1.0f);\n"
+      "  float root = @sqrt(disc);\n"
+      "  float q = -(r * mu + (mu >= 0.0f ? root : -root));\n"
+      "  float b = q != 0.0f ? -R_minus_r * (r + R) / q : 0.0f;\n"
+      "  return q < b ? @vec2(q, b) : @vec2(b, q);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void air_clip(sf_code_writer *w) {
+  guard_open(w, "AIR_CLIP");
+  sf_cw_emit(w,
+      "/* [t0, t1] along the ray from altitude h (above the sphere `bottom`)\n"
+      " * with zenith cosine mu, restricted to the air: inside the top sphere\n"
+      " * (altitude `thickness`) and before the ground (models/air_segment.c).\n"
+      " * Returns (a, b, altitude at a, altitude at b); empty: b <= a. An end on\n"
+      " * the top or the ground gets that altitude exactly. */\n"
+      "@fn @vec4 skyfit_air_clip(float bottom, float thickness, float h, float mu, float t0, float t1) {\n"
+      "  float r = bottom + h;\n"
+      "  @vec2 s = skyfit_sphere_hits(r, mu, bottom + thickness, thickness - h);\n"
+      "  if (!(t1 > t0) || s.x > s.y) return @vec4(t0, t0, h, h);\n"
+      "  float a = t0, b = t1, ha = -1.0f, hb = -1.0f;\n"
+      "  if (s.x > a) { a = s.x; ha = thickness; }\n"
+      "  if (s.y < b) { b = s.y; hb = thickness; }\n"
+      "  @vec2 g = skyfit_sphere_hits(r, mu, bottom, -h);\n"
+      "  if (g.x < g.y) {\n"
+      "    if (a <= g.x) {\n"
+      "      if (g.x < b) { b = g.x; hb = 0.0f; }\n"
+      "    } else if (a < g.y) {\n"
+      "      a = g.y;\n"
+      "      ha = 0.0f;\n"
+      "    }\n"
+      "  }\n"
+      "  if (!(b > a)) return @vec4(a, a, h, h);\n"
+      "  if (ha < 0.0f) ha = skyfit_altitude_at(bottom, h, mu, a);\n"
+      "  if (hb < 0.0f) hb = skyfit_altitude_at(bottom, h, mu, b);\n"
+      "  return @vec4(a, b, ha, hb);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void altitude_at(sf_code_writer *w) {
+  guard_open(w, "ALTITUDE_AT");
+  sf_cw_emit(w,
+      "/* Altitude at distance t along the ray from altitude h (radius\n"
+      " * bottom + h) with zenith cosine mu, as (h (r + bottom) + t (t + 2 r mu))\n"
+      " * / (radius + bottom): no cancellation against the planet radius. */\n"
+      "@fn float skyfit_altitude_at(float bottom, float h, float mu, float t) {\n"
+      "  float r = bottom + h;\n"
+      "  float along = t * (t + 2.0f * r * mu);\n"
+      "  float r2 = r * r + along;\n"
+      "  float radius = r2 > 0.0f ? @sqrt(r2) : 0.0f;\n"
+      "  return (h * (r + bottom) + along) / (radius + bottom);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void shell_chord(sf_code_writer *w) {
+  guard_open(w, "SHELL_CHORD");
+  sf_cw_emit(w,
+      "/* Length of [t0, t1] along the ray from altitude h between the\n"
+      " * altitudes lo < hi (seed 000 §10.5, eq. 59: a shell of density 1). */\n"
+      "@fn float skyfit_shell_chord(float bottom, float lo, float hi, float h, float mu, float t0, float t1) {\n"
+      "  float r = bottom + h;\n"
+      "  @vec2 outer = skyfit_sphere_hits(r, mu, bottom + hi, hi - h);\n"
+      "  @vec2 inner = skyfit_sphere_hits(r, mu, bottom + lo, lo - h);\n"
+      "  float a = @max(t0, outer.x), b = @min(t1, outer.y);\n"
+      "  float chord = outer.x <= outer.y && b > a ? b - a : 0.0f;\n"
+      "  a = @max(t0, inner.x);\n"
+      "  b = @min(t1, inner.y);\n"
+      "  if (inner.x <= inner.y && b > a) chord -= b - a;\n"
+      "  return chord > 0.0f ? chord : 0.0f;\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void expm1_helper(sf_code_writer *w) {
+  guard_open(w, "EXPM1");
+  sf_cw_emit(w,
+      "/* exp(x) - 1 without cancellation near 0 (GLSL has no expm1): a\n"
+      " * degree-6 Taylor polynomial below |x| = 0.1 (relative error < 3e-10),\n"
+      " * exp(x) - 1 above (relative error < 2 ulp / 0.1). */\n"
+      "@fn float skyfit_expm1(float x) {\n"
+      "  if (@abs(x) < 0.1f)\n"
+      "    return x * (1.0f + x * (0.5f + x * (%F + x * (%F + x * (%F + x * %F)))));\n"
+      "  return @exp(x) - 1.0f;\n"
+      "}\n",
+      1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0, 1.0 / 720.0);
+  guard_close(w);
+}
+
+static void chapman_up(sf_code_writer *w) {
+  guard_open(w, "CHAPMAN_UP");
+  sf_cw_emit(w,
+      "/* seed 000 eq. 24-25 (Schuler 2012): tau_Ch of exp(-h/H) from the point at\n"
+      " * altitude h, radius `radius`, along upward zenith cosine cos_up >= 0 to\n"
+      " * infinity, in units of H: exp(-h/H) c / (1 + c cos_up), c = sqrt(radius/H). */\n"
+      "@fn float skyfit_chapman_up(float H, float h, float radius, float cos_up) {\n"
+      "  float c = @sqrt(radius / H);\n"
+      "  return @exp(-h / H) * c / (1.0f + c * cos_up);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void taylor_piece(sf_code_writer *w) {
+  guard_open(w, "TAYLOR_PIECE");
+  sf_cw_emit(w,
+      "/* seed 002 eq. 17 between distances u_lo <= u_hi from the line's closest\n"
+      " * approach: H / h' exp(-h~(u_lo)/H) (1 - exp(-rise/H)), with h~ the\n"
+      " * expansion of the altitude of order 1 + a about tau_b. line = (tau_b,\n"
+      " * h(tau_b), h'(tau_b), a h''(tau_b) / 2); d = the line's distance from\n"
+      " * the centre. A piece that would overflow float32 is the exact bound\n"
+      " * length * density at u_lo where the double one overflows too (exponent\n"
+      " * past 709.78), else the largest float (its transmittance is 0 either\n"
+      " * way). */\n"
+      "@fn float skyfit_taylor_piece(@vec4 line, float d, float bottom, float H, float u_lo, float u_hi) {\n"
+      "  float len = u_hi - u_lo;\n"
+      "  if (!(len > 0.0f)) return 0.0f;\n"
+      "  if (!(line.z > 0.0f)) return len * @exp(-line.y / H);\n"
+      "  float x = u_lo - line.x;\n"
+      "  float h_lo = (line.w * x + line.z) * x + line.y;\n"
+      "  float rise = len * (line.z + line.w * (u_lo + u_hi - 2.0f * line.x));\n"
+      "  float ratio = H / line.z, f = -skyfit_expm1(-rise / H);\n"
+      "  float e = -h_lo / H;\n"
+      "  if (e > 80.0f) {\n"
+      "    /* as the double reference: (H / h') exp(e) first, then times f */\n"
+      "    float log_first = e + @log(ratio), log_piece = log_first + @log(f);\n"
+      "    if (log_first > 709.78f || log_piece > 709.78f) {\n"
+      "      float h_true = ((d - bottom) * (d + bottom) + u_lo * u_lo) / (@sqrt(d * d + u_lo * u_lo) + bottom);\n"
+      "      return len * @exp(-h_true / H);\n"
+      "    }\n"
+      "    if (log_piece > 88.0f) return 3.4e38f;\n"
+      "    return @exp(log_piece);\n"
+      "  }\n"
+      "  float piece = ratio * @exp(e) * f;\n"
+      "  return piece > 0.0f ? piece : 0.0f;\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void sigmoid(sf_code_writer *w) {
+  guard_open(w, "SIGMOID");
+  sf_cw_emit(w,
+      "/* 1 / (1 + exp(-x)), written so that neither branch overflows. */\n"
+      "@fn float skyfit_sigmoid(float x) {\n"
+      "  if (x >= 0.0f) return 1.0f / (1.0f + @exp(-x));\n"
+      "  float e = @exp(x);\n"
+      "  return e / (1.0f + e);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void ray_sphere(sf_code_writer *w) {
+  guard_open(w, "RAY_SPHERE");
+  sf_cw_emit(w,
+      "/* Distances (near, far) along the ray (r, mu) to the sphere of radius R\n"
+      " * (models/ray_geometry_impl.inc in float, as the models' float path):\n"
+      " * discriminant (R - r)(R + r) + (r mu)^2, small root c / q; (1, -1) when\n"
+      " * the line misses, so near <= far says it does not. */\n"
+      "@fn @vec2 skyfit_ray_sphere(float r, float mu, float R) {\n"
+      "  float disc = (R - r) * (R + r) + (r * mu) * (r * mu);\n"
+      "  if (disc < 0.0f) return @vec2(1.0f, -1.0f);\n"
+      "  float root = @sqrt(disc);\n"
+      "  float q = -(r * mu + (mu >= 0.0f ? root : -root));\n"
+      "  float c = (r - R) * (r + R);\n"
+      "  float b = q != 0.0f ? c / q : 0.0f;\n"
+      "  return q < b ? @vec2(q, b) : @vec2(b, q);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void ray_enter(sf_code_writer *w) {
+  guard_open(w, "RAY_ENTER");
+  sf_cw_emit(w,
+      "/* A viewer above the top radius Rt moved to where its ray enters the\n"
+      " * atmosphere (seed 000 §9.6.3): (h, mu, mu_s, distance travelled); the\n"
+      " * distance is -1 when the ray never enters (a ray that only touches\n"
+      " * the top has no path inside). Viewers inside are returned as they are.\n"
+      " * h_top = Rt - R. */\n"
+      "@fn @vec4 skyfit_ray_enter(float R, float Rt, float h_top, float h, float mu, float mu_s, float nu) {\n"
+      "  float r = R + h;\n"
+      "  if (r <= Rt) return @vec4(h, mu, mu_s, 0.0f);\n"
+      "  @vec2 s = skyfit_ray_sphere(r, mu, Rt);\n"
+      "  if (!(s.y > 0.0f) || !(s.y > s.x)) return @vec4(h, mu, mu_s, -1.0f);\n"
+      "  float t = s.x > 0.0f ? s.x : 0.0f;\n"
+      "  float m = (r * mu + t) / Rt, ms = (r * mu_s + t * nu) / Rt;\n"
+      "  return @vec4(h_top, @min(@max(m, -1.0f), 1.0f), @min(@max(ms, -1.0f), 1.0f), t);\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void radius_at(sf_code_writer *w) {
+  guard_open(w, "RADIUS_AT");
+  sf_cw_emit(w,
+      "/* Radius at distance t along the ray (r, mu), never negative. */\n"
+      "@fn float skyfit_radius_at(float r, float mu, float t) {\n"
+      "  float r2 = r * r + t * (t + 2.0f * r * mu);\n"
+      "  return r2 > 0.0f ? @sqrt(r2) : 0.0f;\n"
+      "}\n");
+  guard_close(w);
+}
+
+static void clamp_nu(sf_code_writer *w) {
+  guard_open(w, "CLAMP_NU");
+  sf_cw_emit(w,
+      "/* nu clamped into the range mu and mu_s allow (SPEC §3). */\n"
+      "@fn float skyfit_clamp_nu(float mu, float mu_s, float nu) {\n"
+      "  float spread = @sqrt(@max(0.0f, (1.0f - mu * mu) * (1.0f - mu_s * mu_s)));\n"
+      "  return @min(@max(nu, mu * mu_s - spread), mu * mu_s + spread);\n"
+      "}\n");
+  guard_close(w);
+}
+
+void sf_emit_helpers(sf_code_writer *w, unsigned needed) {
+  needed = sf_helpers_closure(needed);
+  if (needed & SF_HELPER_SPHERE_HITS) sphere_hits(w);
+  if (needed & SF_HELPER_ALTITUDE_AT) altitude_at(w);
+  if (needed & SF_HELPER_AIR_CLIP) air_clip(w);
+  if (needed & SF_HELPER_SHELL_CHORD) shell_chord(w);
+  if (needed & SF_HELPER_EXPM1) expm1_helper(w);
+  if (needed & SF_HELPER_CHAPMAN_UP) chapman_up(w);
+  if (needed & SF_HELPER_TAYLOR_PIECE) taylor_piece(w);
+  if (needed & SF_HELPER_SIGMOID) sigmoid(w);
+  if (needed & SF_HELPER_RAY_SPHERE) ray_sphere(w);
+  if (needed & SF_HELPER_RAY_ENTER) ray_enter(w);
+  if (needed & SF_HELPER_RADIUS_AT) radius_at(w);
+  if (needed & SF_HELPER_CLAMP_NU) clamp_nu(w);
+}

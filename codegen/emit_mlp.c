@@ -1,0 +1,417 @@
+#include "codegen/emit_mlp.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "models/phase.h"
+#include "util/constants.h"
+
+#define MAX_CHUNKS ((SF_MLP_MAX_WIDTH + 1) / 2)
+
+static const char *const components[4] = {".x", ".y", ".z", ".w"};
+
+/* Member k of a value of n floats ("" for a plain float). */
+static const char *member(int n, int k) { return n == 1 ? "" : components[k]; }
+
+int sf_emit_mlp_check(const sf_mlp_sky *m, char *problem, size_t n) {
+  if (m->n_channels < 1 || m->n_channels > 4) {
+    snprintf(problem, n, "emitted code returns vec1-vec4, the network has %d channels", m->n_channels);
+    return -1;
+  }
+  for (int l = 0; l <= m->net.shape.n_layers; ++l)
+    if (m->net.shape.sizes[l] > 64) {
+      snprintf(problem, n, "layer %d has %d units; emitted networks have at most 64 per layer", l,
+               m->net.shape.sizes[l]);
+      return -1;
+    }
+  return 0;
+}
+
+/* Splits n units into pieces of at most 4: `by` units each when by > 0
+ * (the separate target's per-channel blocks), else as evenly as possible
+ * (8 -> 4 4, 9 -> 3 3 3, 5 -> 3 2). Returns the number of pieces. */
+static int chunk_sizes(int n, int by, int *sizes) {
+  if (by > 0) {
+    int k = 0;
+    for (int left = n; left > 0; left -= by) sizes[k++] = left < by ? left : by;
+    return k;
+  }
+  int k = (n + 3) / 4;
+  for (int i = 0; i < k; ++i) sizes[i] = n / k + (i < n % k ? 1 : 0);
+  return k;
+}
+
+/* The float type of n values in GLSL. */
+static void glsl_type(int n, char *out, size_t size) {
+  if (n == 1) snprintf(out, size, "float");
+  else snprintf(out, size, "vec%d", n);
+}
+
+/* f(value) for the activation, value a float (C) or float/vector (GLSL).
+ * The clamps keep exp finite (SPEC §10); they change nothing above 1e-35. */
+static void emit_activation(sf_code_writer *w, sf_mlp_activation a, const char *value) {
+  int glsl = w->lang == SF_CODE_GLSL;
+  switch (a) {
+    case SF_ACT_SIGMOID: sf_cw_emit(w, "1.0f / (1.0f + @exp(-@max(%s, -87.0f)))", value); break;
+    case SF_ACT_TANH:
+      sf_cw_emit(w, "%s(@min(@max(%s, -20.0f), 20.0f))", glsl ? "tanh" : "tanhf", value);
+      break;
+    case SF_ACT_RELU: sf_cw_emit(w, "@max(%s, 0.0f)", value); break;
+    case SF_ACT_LINEAR: sf_cw_emit(w, "%s", value); break;
+    case SF_ACT_EXP_NEG: sf_cw_emit(w, "@exp(-@max(%s, -80.0f))", value); break;
+    case SF_ACT_EXP_NEG_EXP: sf_cw_emit(w, "@exp(-@exp(-@max(%s, -80.0f)))", value); break;
+  }
+}
+
+/* The network's outputs, named by out_name(k) afterwards: C "o[k]", GLSL
+ * the last layer's pieces. The inputs are floats x0 .. x(n-1). out_act:
+ * the last layer's activation. by: output piece size (0: even). */
+typedef struct net_outputs {
+  int n_chunks, sizes[MAX_CHUNKS];
+  int last;     /* layer index of the output pieces (GLSL names) */
+} net_outputs;
+
+static void out_name(const sf_code_writer *w, const net_outputs *o, int k, char *out, size_t n) {
+  if (w->lang == SF_CODE_C) {
+    snprintf(out, n, "o[%d]", k);
+    return;
+  }
+  int c = 0;
+  while (k >= o->sizes[c]) k -= o->sizes[c++];
+  snprintf(out, n, "a%d_%d%s", o->last, c, member(o->sizes[c], k));
+}
+
+static void emit_network_c(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act) {
+  const sf_mlp_shape *s = &net->shape;
+  int widest = 1;
+  for (int l = 0; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
+  /* one flat array, models/mlp.h order: W0 row-major, b0, W1, b1, ... */
+  sf_cw_emit(w, "  static const float p[%d] = {", net->n_params);
+  for (int i = 0; i < net->n_params; ++i) {
+    if (i % 4 == 0) sf_cw_emit(w, "\n      ");
+    sf_cw_emit(w, "%F", (double)net->params[i]);
+    if (i + 1 < net->n_params) sf_cw_raw(w, i % 4 == 3 ? "," : ", ");
+  }
+  sf_cw_emit(w, "};\n  float a[%d], o[%d];\n", widest, widest);
+  for (int k = 0; k < s->sizes[0]; ++k) sf_cw_emit(w, "  a[%d] = x%d;\n", k, k);
+  int offset = 0;
+  for (int l = 0; l < s->n_layers; ++l) {
+    int n_in = s->sizes[l], n_out = s->sizes[l + 1];
+    int last = l + 1 == s->n_layers;
+    sf_cw_emit(w,
+               "  for (int i = 0; i < %d; ++i) {  /* layer %d: %d -> %d */\n"
+               "    float z = p[%d + i];\n"
+               "    for (int j = 0; j < %d; ++j) z += p[%d + i * %d + j] * a[j];\n"
+               "    o[i] = ",
+               n_out, l, n_in, n_out, offset + n_out * n_in, n_in, offset, n_in);
+    emit_activation(w, last ? out_act : s->hidden, "z");
+    sf_cw_emit(w, ";\n  }\n");
+    if (!last) sf_cw_emit(w, "  for (int i = 0; i < %d; ++i) a[i] = o[i];\n", n_out);
+    offset += n_out * (n_in + 1);
+  }
+}
+
+static void emit_network_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act,
+                              int out_by, net_outputs *o) {
+  const sf_mlp_shape *s = &net->shape;
+  int in_sizes[MAX_CHUNKS], out_sizes[MAX_CHUNKS];
+  int n_in_chunks = chunk_sizes(s->sizes[0], 0, in_sizes);
+  char type[16];
+  for (int c = 0, k = 0; c < n_in_chunks; ++c) {
+    glsl_type(in_sizes[c], type, sizeof type);
+    sf_cw_emit(w, "  %s a0_%d = %s(", type, c, type);
+    for (int i = 0; i < in_sizes[c]; ++i, ++k) sf_cw_emit(w, i ? ", x%d" : "x%d", k);
+    sf_cw_emit(w, ");\n");
+  }
+  int offset = 0;
+  for (int l = 0; l < s->n_layers; ++l) {
+    int n_in = s->sizes[l], n_out = s->sizes[l + 1];
+    int last = l + 1 == s->n_layers;
+    int n_out_chunks = chunk_sizes(n_out, last ? out_by : 0, out_sizes);
+    const float *W = net->params + offset, *b = W + n_out * n_in;
+    sf_cw_emit(w, "  /* layer %d: %d -> %d */\n", l, n_in, n_out);
+    for (int oc = 0, row0 = 0; oc < n_out_chunks; row0 += out_sizes[oc++]) {
+      int R = out_sizes[oc];
+      glsl_type(R, type, sizeof type);
+      sf_cw_emit(w, "  const %s b%d_%d = %s(", type, l, oc, type);
+      for (int i = 0; i < R; ++i) sf_cw_emit(w, i ? ", %F" : "%F", (double)b[row0 + i]);
+      sf_cw_emit(w, ");\n");
+      for (int ic = 0, col0 = 0; ic < n_in_chunks; col0 += in_sizes[ic++]) {
+        int C = in_sizes[ic];
+        char block[16];
+        if (R > 1 && C > 1) {
+          if (R == C) snprintf(block, sizeof block, "mat%d", C);
+          else snprintf(block, sizeof block, "mat%dx%d", C, R);
+        } else glsl_type(R > 1 ? R : C, block, sizeof block);
+        sf_cw_emit(w, "  const %s W%d_%d_%d = %s(", block, l, oc, ic, block);
+        /* column-major: for each input (column), the outputs (rows) */
+        for (int j = 0; j < C; ++j)
+          for (int i = 0; i < R; ++i)
+            sf_cw_emit(w, (i || j) ? ", %F" : "%F", (double)W[(row0 + i) * n_in + col0 + j]);
+        sf_cw_emit(w, ");\n");
+      }
+      char sum[2048];
+      int k = snprintf(sum, sizeof sum, "b%d_%d", l, oc);
+      for (int ic = 0; ic < n_in_chunks; ++ic) {
+        int C = in_sizes[ic];
+        if (R == 1 && C > 1)
+          k += snprintf(sum + k, sizeof sum - (size_t)k, " + dot(W%d_%d_%d, a%d_%d)", l, oc, ic, l, ic);
+        else
+          k += snprintf(sum + k, sizeof sum - (size_t)k, " + W%d_%d_%d * a%d_%d", l, oc, ic, l, ic);
+      }
+      sf_cw_emit(w, "  %s a%d_%d = ", type, l + 1, oc);
+      char wrapped[2100];
+      snprintf(wrapped, sizeof wrapped, "(%s)", sum);
+      emit_activation(w, last ? out_act : s->hidden, wrapped);
+      sf_cw_emit(w, ";\n");
+    }
+    memcpy(in_sizes, out_sizes, sizeof in_sizes);
+    n_in_chunks = n_out_chunks;
+    offset += n_out * (n_in + 1);
+  }
+  o->n_chunks = n_in_chunks;
+  memcpy(o->sizes, in_sizes, sizeof o->sizes);
+  o->last = s->n_layers;
+}
+
+static void emit_network(sf_code_writer *w, const sf_mlp_sky *m, sf_mlp_activation out_act, int out_by,
+                         net_outputs *o) {
+  memset(o, 0, sizeof *o);
+  if (w->lang == SF_CODE_C) emit_network_c(w, &m->net_f, out_act);
+  else emit_network_glsl(w, &m->net_f, out_act, out_by, o);
+}
+
+/* float x = (value - offset) * scale, as the model's float path. */
+static void emit_input(sf_code_writer *w, const sf_mlp_sky *m, int k, const char *value) {
+  sf_cw_emit(w, "  float x%d = (%E - %F) * %F;\n", k, value, (double)m->offset_f[k], (double)m->scale_f[k]);
+}
+
+/* "vecN(v, v, ...)" */
+static void splat(char *out, size_t size, int n, const char *v) {
+  int k = n == 1 ? snprintf(out, size, "(%s", v) : snprintf(out, size, "@vec%d(%s", n, v);
+  for (int i = 1; i < n; ++i) k += snprintf(out + k, size - (size_t)k, ", %s", v);
+  snprintf(out + k, size - (size_t)k, ")");
+}
+
+static int depth_mode(const sf_mlp_sky *t) {
+  return t->net.shape.output == SF_ACT_EXP_NEG || t->net.shape.output == SF_ACT_EXP_NEG_EXP;
+}
+
+/* Radii as the float path has them (models/mlp_sky_impl.inc). */
+typedef struct radii {
+  double R, Rt, h_enter, h_top;
+} radii;
+
+static radii radii_of(const sf_mlp_sky *m) {
+  radii r;
+  float R = (float)m->bottom_radius_km, Rt = (float)m->top_radius_km;
+  r.R = R;
+  r.Rt = Rt;
+  r.h_enter = (double)(Rt - R);
+  r.h_top = (double)(float)(m->top_radius_km - m->bottom_radius_km);
+  return r;
+}
+
+void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
+  int n = t->n_channels, depth = depth_mode(t);
+  radii g = radii_of(t);
+  char ones[64];
+  splat(ones, sizeof ones, n, "1.0f");
+  sf_cw_emit(w,
+             "/* mlp transmittance (seed 000 §9.6.1): network %d", t->net.shape.sizes[0]);
+  for (int l = 1; l <= t->net.shape.n_layers; ++l) sf_cw_emit(w, "-%d", t->net.shape.sizes[l]);
+  sf_cw_emit(w, ", %s hidden, %s output; inputs sqrt(h), mu; %s. */\n",
+             sf_mlp_activation_name(t->net.shape.hidden), sf_mlp_activation_name(t->net.shape.output),
+             depth ? "the network gives the optical depth to the top, tau_top = -log T_top"
+                   : "the network gives T_top");
+  /* the raw network */
+  sf_cw_emit(w, "@fn %V skyfit_mlp_transmittance_net(float h_km, float mu) {\n", n);
+  emit_input(w, t, 0, "@sqrt(@max(h_km, 0.0f))");
+  emit_input(w, t, 1, "@min(@max(mu, -1.0f), 1.0f)");
+  net_outputs o;
+  sf_mlp_activation out_act = depth ? SF_ACT_LINEAR : t->net.shape.output;
+  emit_network(w, t, out_act, 0, &o);
+  sf_cw_emit(w, "  return %C", n);
+  for (int c = 0; c < n; ++c) {
+    char name[32];
+    out_name(w, &o, c, name, sizeof name);
+    if (c) sf_cw_emit(w, ", ");
+    if (t->net.shape.output == SF_ACT_EXP_NEG_EXP) sf_cw_emit(w, "@exp(-@max(%s, -80.0f))", name);
+    else sf_cw_emit(w, "%s", name);
+  }
+  sf_cw_emit(w, ");\n}\n\n");
+
+  /* T_top(a) / T_top(b), eq. 43 */
+  sf_cw_emit(w,
+             "@fn %V skyfit_mlp_transmittance_ratio(float h_a, float mu_a, float h_b, float mu_b) {\n"
+             "  %V a = skyfit_mlp_transmittance_net(h_a, mu_a);\n"
+             "  %V b = skyfit_mlp_transmittance_net(h_b, mu_b);\n"
+             "  return %C",
+             n, n, n, n);
+  for (int c = 0; c < n; ++c) {
+    const char *m = member(n, c);
+    if (c) sf_cw_emit(w, ",\n              ");
+    if (depth) sf_cw_emit(w, "@exp(-@max(a%s - b%s, 0.0f))", m, m);
+    else sf_cw_emit(w, "@min(@max(a%s / @max(b%s, 1e-30f), 0.0f), 1.0f)", m, m);
+  }
+  sf_cw_emit(w, ");\n}\n\n");
+
+  sf_cw_emit(w,
+             "@fn %V skyfit_mlp_transmittance_top(float h_km, float mu) {\n"
+             "  %V a = skyfit_mlp_transmittance_net(h_km, mu);\n"
+             "  return %C",
+             n, n, n);
+  for (int c = 0; c < n; ++c) {
+    const char *m = member(n, c);
+    if (c) sf_cw_emit(w, ", ");
+    if (depth) sf_cw_emit(w, "@exp(-@max(a%s, 0.0f))", m);
+    else sf_cw_emit(w, "@min(@max(a%s, 0.0f), 1.0f)", m);
+  }
+  sf_cw_emit(w, ");\n}\n\n");
+
+  sf_cw_emit(w,
+             "/* to the ground or the top; ground-hitting rays reversed (eq. 43, seed 000 §9.6.3) */\n"
+             "@fn %V skyfit_mlp_transmittance(float h_km, float mu) {\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, mu, 0.0f, 0.0f);\n"
+             "  if (e.w < 0.0f) return %E;\n"
+             "  float h = e.x, m = e.y;\n"
+             "  float r = %F + h;\n"
+             "  @vec2 g = skyfit_ray_sphere(r, m, %F);\n"
+             "  if (!(m < 0.0f && g.x <= g.y)) return skyfit_mlp_transmittance_top(h, m);\n"
+             "  float d = g.x > 0.0f ? g.x : 0.0f;\n"
+             "  float mu_g = @min(@max((r * m + d) / %F, -1.0f), 1.0f);\n"
+             "  return skyfit_mlp_transmittance_ratio(0.0f, -mu_g, h, -m);\n"
+             "}\n\n",
+             n, g.R, g.Rt, g.h_enter, ones, g.R, g.R, g.R);
+  sf_cw_emit(w,
+             "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground) */\n"
+             "@fn %V skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km) {\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, mu, 0.0f, 0.0f);\n"
+             "  float d = t_km - e.w;\n"
+             "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
+             "  float h = e.x, m = e.y;\n"
+             "  float r = %F + h;\n"
+             "  float r_d = skyfit_radius_at(r, m, d);\n"
+             "  float mu_d = @min(@max((r * m + d) / @max(r_d, 1e-6f), -1.0f), 1.0f);\n"
+             "  float h_d = @min(@max(r_d - %F, 0.0f), %F);\n"
+             "  @vec2 g = skyfit_ray_sphere(r, m, %F);\n"
+             "  if (m < 0.0f && g.x <= g.y) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
+             "  return skyfit_mlp_transmittance_ratio(h, m, h_d, mu_d);\n"
+             "}\n\n",
+             n, g.R, g.Rt, g.h_enter, ones, g.R, g.R, g.h_top, g.R);
+  sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_RAY_SPHERE | SF_HELPER_RADIUS_AT);
+}
+
+/* float p<k> = phase of constituent block k at nu (models/phase.c). */
+static void emit_phase(sf_code_writer *w, int k, const sf_phase *p) {
+  const double pi = SF_PI;
+  switch (p->kind) {
+    case SF_PHASE_RAYLEIGH:
+      sf_cw_emit(w, "  float p%d = %F * (1.0f + nu * nu);  /* rayleigh */\n", k, 3.0 / (16.0 * pi));
+      return;
+    case SF_PHASE_HENYEY_GREENSTEIN: {
+      double g = p->g;
+      sf_cw_emit(w, "  float q%d = %F - %F * nu;\n  float p%d = %F / (q%d * @sqrt(q%d));  /* henyey_greenstein */\n",
+                 k, 1.0 + g * g, 2.0 * g, k, (1.0 - g * g) / (4.0 * pi), k, k);
+      return;
+    }
+    case SF_PHASE_CORNETTE_SHANKS: {
+      double g = p->g;
+      sf_cw_emit(w,
+                 "  float q%d = %F - %F * nu;\n"
+                 "  float p%d = %F * (1.0f + nu * nu) / (q%d * @sqrt(q%d));  /* cornette_shanks */\n",
+                 k, 1.0 + g * g, 2.0 * g, k, 3.0 / (8.0 * pi) * (1.0 - g * g) / (2.0 + g * g), k, k);
+      return;
+    }
+    case SF_PHASE_DOUBLE_HENYEY_GREENSTEIN: {
+      double g1 = p->g1, g2 = p->g2, f = p->f;
+      sf_cw_emit(w,
+                 "  float q%d = %F - %F * nu, r%d = %F - %F * nu;\n"
+                 "  float p%d = %F / (q%d * @sqrt(q%d)) + %F / (r%d * @sqrt(r%d));  /* double HG */\n",
+                 k, 1.0 + g1 * g1, 2.0 * g1, k, 1.0 + g2 * g2, 2.0 * g2, k,
+                 (1.0 - f) * (1.0 - g1 * g1) / (4.0 * pi), k, k, f * (1.0 - g2 * g2) / (4.0 * pi), k, k);
+      return;
+    }
+    case SF_PHASE_ISOTROPIC:
+      sf_cw_emit(w, "  float p%d = %F;  /* isotropic */\n", k, 1.0 / (4.0 * pi));
+      return;
+    case SF_PHASE_NONE: break;
+  }
+  sf_cw_emit(w, "  float p%d = 0.0f;\n", k);
+}
+
+void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp_sky *t) {
+  int n = s->n_channels;
+  radii g = radii_of(s);
+  char zeros[64];
+  splat(zeros, sizeof zeros, n, "0.0f");
+  sf_cw_emit(w, "/* mlp sky radiance (seed 000 §9.6.2): network %d", s->net.shape.sizes[0]);
+  for (int l = 1; l <= s->net.shape.n_layers; ++l) sf_cw_emit(w, "-%d", s->net.shape.sizes[l]);
+  sf_cw_emit(w, ", %s hidden, %s output, target %s; inputs sqrt(h), mu, mu_s, nu. Sun irradiance 1. */\n",
+             sf_mlp_activation_name(s->net.shape.hidden), sf_mlp_activation_name(s->net.shape.output),
+             sf_mlp_target_name(s->target));
+  sf_cw_emit(w, "@fn %V skyfit_mlp_sky_radiance_inside(float h_km, float mu, float mu_s, float nu) {\n", n);
+  emit_input(w, s, 0, "@sqrt(@max(h_km, 0.0f))");
+  emit_input(w, s, 1, "mu");
+  emit_input(w, s, 2, "mu_s");
+  emit_input(w, s, 3, "nu");
+  net_outputs o;
+  int separate = s->target == SF_MLP_TARGET_SEPARATE;
+  emit_network(w, s, s->net.shape.output, separate ? n : 0, &o);
+  if (separate)
+    for (int k = 0; k < s->n_single; ++k) emit_phase(w, k, &s->phases[k]);
+  sf_cw_emit(w, "  return %C", n);
+  for (int c = 0; c < n; ++c) {
+    char name[32];
+    if (c) sf_cw_emit(w, ",\n              ");
+    out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
+    sf_cw_emit(w, "%s", name);
+    for (int k = 0; separate && k < s->n_single; ++k) {
+      out_name(w, &o, k * n + c, name, sizeof name);
+      sf_cw_emit(w, " + p%d * %s", k, name);
+    }
+  }
+  sf_cw_emit(w, ");\n}\n\n");
+
+  sf_cw_emit(w,
+             "/* the whole ray; a viewer in space first moved to where its ray enters */\n"
+             "@fn %V skyfit_mlp_sky_radiance(float h_km, float mu, float mu_s, float nu) {\n"
+             "  float m = @min(@max(mu, -1.0f), 1.0f), ms = @min(@max(mu_s, -1.0f), 1.0f);\n"
+             "  float c = skyfit_clamp_nu(m, ms, nu);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, m, ms, c);\n"
+             "  if (e.w < 0.0f) return %E;\n"
+             "  return skyfit_mlp_sky_radiance_inside(e.x, e.y, e.z, c);\n"
+             "}\n\n",
+             n, g.R, g.Rt, g.h_enter, zeros);
+  sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_CLAMP_NU);
+  if (!t) return;
+  sf_cw_emit(w,
+             "/* the first t_km of the ray (aerial perspective), eq. 44 */\n"
+             "@fn %V skyfit_mlp_sky_radiance_segment(float h_km, float mu, float mu_s, float nu, float t_km) {\n"
+             "  float m = @min(@max(mu, -1.0f), 1.0f), ms = @min(@max(mu_s, -1.0f), 1.0f);\n"
+             "  float c = skyfit_clamp_nu(m, ms, nu);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, m, ms, c);\n"
+             "  float d = t_km - e.w;\n"
+             "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
+             "  float h = e.x;\n"
+             "  m = e.y;\n"
+             "  ms = e.z;\n"
+             "  float r = %F + h;\n"
+             "  float r_d = skyfit_radius_at(r, m, d);\n"
+             "  float inv_r_d = 1.0f / @max(r_d, 1e-6f);\n"
+             "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
+             "  float mu_s_d = @min(@max((r * ms + d * c) * inv_r_d, -1.0f), 1.0f);\n"
+             "  float h_d = @min(@max(r_d - %F, 0.0f), %F);\n"
+             "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c);\n"
+             "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c);\n"
+             "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
+             "  return %C",
+             n, g.R, g.Rt, g.h_enter, zeros, g.R, g.R, g.h_top, n, n, n, n);
+  for (int c = 0; c < n; ++c) {
+    const char *m = member(n, c);
+    if (c) sf_cw_emit(w, ",\n              ");
+    sf_cw_emit(w, "@max(lv%s - tr%s * lp%s, 0.0f)", m, m, m);
+  }
+  sf_cw_emit(w, ");\n}\n\n");
+  sf_cw_need(w, SF_HELPER_RADIUS_AT);
+}

@@ -1,0 +1,34 @@
+/* The sigmoid-polynomial transmittance (SPEC §7.1, seed 000 §9.5,
+ * models/sigmoid_transmittance.h) as emitted code, N = channels:
+ *   vecN skyfit_sigmoid_transmittance(float h_km, float mu)
+ *       prod_c 1 / (1 + exp(-(a1 + a2 h + a3 mu + a4 mu^2))) per channel,
+ *       the constants as one const array a[c][k][4]; a viewer above the top
+ *       first moved to where its ray enters (1 if it never does);
+ *   vecN skyfit_sigmoid_transmittance_segment(float h_km, float mu, float t_km)
+ *       the first t_km of that ray: the model gives the transmittance from
+ *       any point of the ray to the ray's end (the same ground point or top
+ *       exit), so T(viewer -> t) = T(h, mu) / T(h_t, mu_t), computed as
+ *       exp(min(0, log T(h, mu) - log T(h_t, mu_t))) with
+ *       log T = -sum softplus(-x) (no division of tiny numbers, SPEC §10);
+ *       t at or beyond the ray's end gives the whole ray. */
+#ifndef SKYFIT_CODEGEN_EMIT_SIGMOID_H
+#define SKYFIT_CODEGEN_EMIT_SIGMOID_H
+
+#include "codegen/code_writer.h"
+#include "models/sigmoid_transmittance.h"
+
+typedef struct sf_sigmoid_emit {
+  sf_sigmoid_model model;
+  double bottom_radius_km, top_radius_km;   /* of the weights file's atmosphere */
+} sf_sigmoid_emit;
+
+/* The functions above. */
+void sf_emit_sigmoid_ray(sf_code_writer *w, const sf_sigmoid_emit *m);
+
+/* The earlier form, kept for callers that know only the model
+ * (fit/candidate_sigmoid.c): skyfit_sigmoid_transmittance(h_km, mu) alone,
+ * the polynomial evaluated at h as given (no space viewers, no segment).
+ * Prefer sf_emit_sigmoid_ray. */
+void sf_emit_sigmoid(sf_code_writer *w, const sf_sigmoid_model *m);
+
+#endif

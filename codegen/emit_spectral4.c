@@ -1,0 +1,89 @@
+#include "codegen/emit_spectral4.h"
+
+#include <stdio.h>
+#include <string.h>
+
+int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error *err) {
+  memset(out, 0, sizeof *out);
+  int nc = w->atmosphere.n_constituents;
+  int s4[1] = {4}, s34[2] = {3, 4}, sc4[2] = {nc, 4};
+  double flat[SF_MAX_CONSTITUENTS * 4];
+  if (sf_weights_param(w, "wavelengths_nm", 1, s4, out->wavelengths_nm, 4, err) ||
+      sf_weights_param(w, "weights_nm", 1, s4, out->weights_nm, 4, err) ||
+      sf_weights_param(w, "to_xyz", 2, s34, &out->to_xyz[0][0], 12, err) ||
+      sf_weights_param(w, "to_linear_srgb", 2, s34, &out->to_linear_srgb[0][0], 12, err) ||
+      sf_weights_param(w, "sun_irradiance", 1, s4, out->sun_irradiance, 4, err) ||
+      sf_weights_param(w, "ground_albedo", 1, s4, out->ground_albedo, 4, err))
+    return err->status;
+  out->n_constituents = nc;
+  if (sf_weights_param(w, "scattering", 2, sc4, flat, nc * 4, err)) return err->status;
+  for (int c = 0; c < nc; ++c) memcpy(out->scattering[c], flat + 4 * c, sizeof out->scattering[c]);
+  if (sf_weights_param(w, "absorption", 2, sc4, flat, nc * 4, err)) return err->status;
+  for (int c = 0; c < nc; ++c) memcpy(out->absorption[c], flat + 4 * c, sizeof out->absorption[c]);
+  for (int c = 0; c < nc; ++c) snprintf(out->names[c], sizeof out->names[c], "%s", w->atmosphere.constituents[c].name);
+  return SF_OK;
+}
+
+static void emit_matrix_fn(sf_code_writer *w, const char *name, const double m[3][4]) {
+  sf_cw_emit(w, "@fn @vec3 skyfit_spectral4_%s(@vec4 radiance) {\n", name);
+  if (w->lang == SF_CODE_GLSL) {
+    sf_cw_emit(w, "  const mat4x3 M = mat4x3(");
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) sf_cw_emit(w, (i || j) ? ", %F" : "%F", m[i][j]);
+    sf_cw_emit(w, ");\n  return M * radiance;\n}\n\n");
+    return;
+  }
+  sf_cw_emit(w, "  static const float M[12] = {");
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) sf_cw_emit(w, (i || j) ? ", %F" : "%F", m[i][j]);
+  sf_cw_emit(w, "};\n  return @vec3(");
+  for (int i = 0; i < 3; ++i)
+    sf_cw_emit(w, "%sM[%d] * radiance.x + M[%d] * radiance.y + M[%d] * radiance.z + M[%d] * radiance.w",
+               i ? ",\n                     " : "", 4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 3);
+  sf_cw_emit(w, ");\n}\n\n");
+}
+
+static void emit_vec4_fn(sf_code_writer *w, const char *name, const double v[4]) {
+  sf_cw_emit(w, "@fn @vec4 skyfit_spectral4_%s(%s) {\n  return @vec4(%F, %F, %F, %F);\n}\n\n", name,
+             w->lang == SF_CODE_C ? "void" : "", v[0], v[1], v[2], v[3]);
+}
+
+static void emit_table_fn(sf_code_writer *w, const char *name, const sf_spectral4_emit *m,
+                          const double (*rows)[4]) {
+  int n = m->n_constituents;
+  double flat[SF_MAX_CONSTITUENTS * 4];
+  for (int c = 0; c < n; ++c) memcpy(flat + 4 * c, rows[c], sizeof rows[c]);
+  sf_cw_emit(w, "/* per constituent:");
+  for (int c = 0; c < n; ++c) {
+    char item[SF_NAME_LEN + 16];
+    int k = snprintf(item, sizeof item, " %d ", c);
+    for (const char *q = m->names[c]; *q && k + 1 < (int)sizeof item; ++q)
+      item[k++] = (*q == '*' || *q == '/' || *q == '%' || *q == '@') ? '_' : *q;
+    item[k] = '\0';
+    sf_cw_raw(w, item);
+  }
+  sf_cw_emit(w, " */\n@fn @vec4 skyfit_spectral4_%s(int constituent) {\n", name);
+  sf_cw_const_floats(w, "  ", "v", flat, 4 * n);
+  sf_cw_emit(w,
+             "  if (constituent < 0 || constituent >= %d) return @vec4(0.0f, 0.0f, 0.0f, 0.0f);\n"
+             "  int i = 4 * constituent;\n"
+             "  return @vec4(v[i], v[i + 1], v[i + 2], v[i + 3]);\n}\n\n",
+             n);
+}
+
+void sf_emit_spectral4(sf_code_writer *w, const sf_spectral4_emit *m) {
+  char line[512];
+  snprintf(line, sizeof line,
+           "/* spectral4: seed 003 §5.4, XYZ = sum_i w_i cmf(l_i) L(l_i) (eq. 5.12) at\n"
+           " * l = %.6g, %.6g, %.6g, %.6g nm, w = %.6g, %.6g, %.6g, %.6g nm. */\n",
+           m->wavelengths_nm[0], m->wavelengths_nm[1], m->wavelengths_nm[2], m->wavelengths_nm[3],
+           m->weights_nm[0], m->weights_nm[1], m->weights_nm[2], m->weights_nm[3]);
+  sf_cw_raw(w, line);
+  emit_matrix_fn(w, "to_linear_srgb", m->to_linear_srgb);
+  emit_matrix_fn(w, "to_xyz", m->to_xyz);
+  emit_vec4_fn(w, "wavelengths_nm", m->wavelengths_nm);
+  emit_vec4_fn(w, "sun_irradiance", m->sun_irradiance);
+  emit_vec4_fn(w, "ground_albedo", m->ground_albedo);
+  emit_table_fn(w, "scattering", m, (const double(*)[4])m->scattering);
+  emit_table_fn(w, "absorption", m, (const double(*)[4])m->absorption);
+}

@@ -1,0 +1,165 @@
+/* The fit-quality report (SPEC §12): what was measured for every candidate
+ * (fit/candidate.h) of a scene, the selection per quantity, and the writers
+ * of report.html (self-contained, inline SVG, PNG previews beside it),
+ * report.md and metrics.json, plus the views' PNG previews and EXR error
+ * maps (written by sf_report_evaluate).
+ *
+ * Measuring (sf_report_evaluate), per quantity the scene asks for:
+ *  - the reference's values on `domain_samples` seeded in-domain samples
+ *    (fit/candidate_metrics.h), and each candidate's errors against them
+ *    (a candidate valid on part of the domain only: on as many samples of
+ *    that part);
+ *  - each candidate's cost on `timing_points` in-domain inputs, median of
+ *    `timing_repetitions`, and its ratio to the naive 16-step raymarch timed
+ *    in the same run at the same precision (float32 or double);
+ *  - the standard views (models/views_standard.h; RGB atmospheres only):
+ *    sky radiance on the 12 views of seed 000 App. A/B at their exposures
+ *    with the sun at SF_VIEW_SUN_IRRADIANCE x the atmosphere's, and
+ *    transmittance on the 5 views of App. C/D; per view and model the RMSE
+ *    of the exposed linear values (seed 000 eq. 61, all pixels and
+ *    channels), the mean ΔE2000 of the displayed colours (exposure, tone
+ *    map 1 - exp(-x), CIELAB: models/color_space.h, models/ciede2000.h),
+ *    a tonemapped PNG and an EXR map of |model - reference| per channel.
+ * Selecting (sf_report_select): per quantity, among the candidates that may
+ * ship (baselines and fitted models) and that are valid over the whole
+ * domain, the cheapest (median ns) whose budget metric — transmittance:
+ * RMSE; sky radiance: relative RMSE — meets the scene's budget; if none
+ * does, the one with the smallest error, flagged as not meeting it. */
+#ifndef SKYFIT_CODEGEN_REPORT_H
+#define SKYFIT_CODEGEN_REPORT_H
+
+#include <stddef.h>
+
+#include "data/precompute_options.h"
+#include "fit/candidate.h"
+#include "fit/candidate_metrics.h"
+#include "models/scene_file.h"
+#include "util/error.h"
+
+#define SF_REPORT_MAX_VIEWS 12
+#define SF_REPORT_PATH_LEN 4096
+
+typedef struct sf_report_view {
+  char name[32];
+  int rendered;              /* 0: the model is not valid for this view */
+  double rmse, mean_delta_e;
+  char png[128], error_exr[128];   /* file names in the report folder */
+} sf_report_view;
+
+typedef struct sf_report_model {
+  const sf_candidate *candidate;   /* borrowed */
+  int has_errors;
+  sf_error_metrics errors;
+  size_t non_finite;
+  int valid_over_domain;           /* the candidate's valid box contains the scene's */
+  /* A candidate valid on part of the domain only (Hosek: ground, sun up)
+   * is measured on that part (errors_domain = its valid box within the
+   * scene's), so its figures say how good it is where it applies. */
+  int errors_over_valid_part;
+  sf_scene_domain errors_domain;
+  int has_cost;
+  sf_cost cost;
+  double cost_ratio_naive16;       /* ns / naive16's ns at the same precision */
+  int n_views;
+  sf_report_view views[SF_REPORT_MAX_VIEWS];
+  double budget_metric;            /* RMSE or relative RMSE, per quantity */
+  int meets_budget, selectable, selected;
+} sf_report_model;
+
+typedef struct sf_report_selection {
+  int asked;                       /* the scene asks for this quantity */
+  int model;                       /* index into models, -1 none */
+  int meets_budget;
+  double budget;
+  const char *metric;              /* "rmse" or "rel_rmse" */
+  char reason[1536];
+  char emitted_c[SF_REPORT_PATH_LEN], emitted_glsl[SF_REPORT_PATH_LEN];
+  char emit_note[512];             /* why nothing was emitted, if so */
+} sf_report_selection;
+
+typedef struct sf_report_options {
+  size_t domain_samples;           /* default 20000 */
+  size_t timing_points;            /* default 1000000 (SPEC §12) */
+  int timing_repetitions;          /* default 5 */
+  int view_width, view_height;     /* default 192 x 108 */
+  int render_views;                /* default 1 */
+  unsigned long long seed;         /* default 1 */
+  const char *cost_cache_dir;      /* timings cached here (fit/candidate_cache.h); NULL: always time */
+  sf_precompute_options run;       /* threads and progress */
+} sf_report_options;
+
+void sf_report_options_default(sf_report_options *o);
+
+/* The 4-wavelength colour model of a spectral4 scene (SPEC §7.3, seed 003
+ * §5.4; fit/spectral4_run.h): what the build fitted and its colour error
+ * against the full spectrum, next to plain RGB at 680/550/440 nm and 4
+ * uniform wavelengths. Filled by fit/build_pipeline_spectral4.h. */
+#define SF_REPORT_COLOR_METHODS 3
+typedef struct sf_report_spectral4 {
+  int present;
+  int from_cache;
+  char weights_path[SF_REPORT_PATH_LEN];
+  double lambda_nm[4], weight_nm[4];
+  double loss, rgb_loss, uniform_loss;       /* eq. 5.13 on the training samples */
+  int has_aerosols;
+  char method[SF_REPORT_COLOR_METHODS][32];  /* "spectral4", "rgb_680_550_440", "uniform4" */
+  /* [0] without aerosols (the fit's own atmosphere), [1] with them */
+  double mean_de[2][SF_REPORT_COLOR_METHODS], p99_de[2][SF_REPORT_COLOR_METHODS],
+      max_de[2][SF_REPORT_COLOR_METHODS];
+  double samples[2][SF_REPORT_COLOR_METHODS];
+} sf_report_spectral4;
+
+typedef struct sf_report {
+  char scene_name[96];
+  char atmosphere_name[96];
+  char atmosphere_hash[17];
+  sf_scene_domain domain;
+  unsigned quantities;             /* SF_QUANTITY_* of the scene */
+  int n_channels;
+  sf_report_options options;
+  char out_dir[SF_REPORT_PATH_LEN];
+  int n_models;
+  sf_report_model *models;
+  int reference[SF_CANDIDATE_N_QUANTITIES];   /* index of each quantity's reference, -1 */
+  double naive16_ns_f32, naive16_ns_f64;      /* the cost unit, this run */
+  sf_report_selection selection[SF_CANDIDATE_N_QUANTITIES];
+  int views_rendered;
+  char views_note[512];
+  double seconds_total;                       /* filled by the caller (build) */
+  sf_report_spectral4 spectral4;              /* filled by the caller (build) */
+} sf_report;
+
+/* Measures every candidate of list (which must hold the reference of each
+ * quantity the scene asks for, role SF_ROLE_REFERENCE) and writes the view
+ * images into out_dir. The report borrows the candidates. */
+int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate_list *list,
+                       const sf_report_options *opt, const char *out_dir, sf_error *err);
+void sf_report_free(sf_report *rep);
+
+/* Fills rep->selection (and each model's meets_budget / selected). */
+void sf_report_select(sf_report *rep, const sf_scene *scene);
+
+/* out_dir/metrics.json, report.md, report.html (atomically). */
+int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err);
+int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *err);
+int sf_report_write_html(const sf_report *rep, const char *path, sf_error *err);
+int sf_report_write_all(const sf_report *rep, sf_error *err);
+
+/* seed 000 App. B (RMSE of the sky-radiance views) and App. D (RMSE of the
+ * transmittance views), typed from the paper. Returns the number of
+ * columns; rows follow sf_standard_radiance_views /
+ * sf_standard_transmittance_views; value[row][col]. */
+typedef struct sf_paper_table {
+  int n_columns, n_rows;
+  const char *const *columns;
+  const char *const *rows;
+  const double *values;            /* n_rows * n_columns */
+} sf_paper_table;
+void sf_paper_appendix_b(sf_paper_table *t);
+void sf_paper_appendix_d(sf_paper_table *t);
+
+/* The Pareto front of (cost, error) points: on_front[i] = 1 when no other
+ * point is at most as costly and at most as wrong with one strictly less. */
+void sf_pareto_front(int n, const double *cost, const double *error, int *on_front);
+
+#endif

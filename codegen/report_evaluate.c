@@ -1,0 +1,426 @@
+/* sf_report_evaluate: errors over the domain, cost, and the standard views
+ * (see codegen/report.h). */
+#include "codegen/report.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "data/parallel_rows.h"
+#include "fit/candidate_cache.h"
+#include "fit/candidate_builtin.h"
+#include "models/atmosphere_file.h"
+#include "models/ciede2000.h"
+#include "models/color_space.h"
+#include "models/views_standard.h"
+#include "util/atomic_file.h"
+#include "util/exr_image.h"
+#include "util/make_folders.h"
+#include "util/png_write.h"
+
+void sf_report_options_default(sf_report_options *o) {
+  memset(o, 0, sizeof *o);
+  o->domain_samples = 20000;
+  o->timing_points = 1000000;
+  o->timing_repetitions = 5;
+  o->view_width = SF_VIEW_DEFAULT_WIDTH;
+  o->view_height = SF_VIEW_DEFAULT_HEIGHT;
+  o->render_views = 1;
+  o->seed = 1;
+}
+
+static void progress(const sf_report_options *o, const char *stage, double f) {
+  if (o->run.progress) o->run.progress(o->run.progress_ctx, stage, f);
+}
+
+static int contains_domain(const sf_scene_domain *valid, const sf_scene_domain *d) {
+  const double e = 1e-9;
+  return valid->h_min_km <= d->h_min_km + e && valid->h_max_km >= d->h_max_km - e &&
+         valid->mu_min <= d->mu_min + e && valid->mu_max >= d->mu_max - e &&
+         valid->mu_s_min <= d->mu_s_min + e && valid->mu_s_max >= d->mu_s_max - e;
+}
+
+/* ---- errors over the domain ---- */
+
+/* The part of the scene's domain where c is valid; 0 if empty. */
+static int valid_part(const sf_scene_domain *d, const sf_scene_domain *v, sf_scene_domain *out) {
+  out->h_min_km = fmax(d->h_min_km, v->h_min_km);
+  out->h_max_km = fmin(d->h_max_km, v->h_max_km);
+  out->mu_min = fmax(d->mu_min, v->mu_min);
+  out->mu_max = fmin(d->mu_max, v->mu_max);
+  out->mu_s_min = fmax(d->mu_s_min, v->mu_s_min);
+  out->mu_s_max = fmin(d->mu_s_max, v->mu_s_max);
+  return out->h_min_km <= out->h_max_km && out->mu_min <= out->mu_max && out->mu_s_min <= out->mu_s_max;
+}
+
+/* The errors of the candidates of quantity q that are measured on box d
+ * (partial = 0: those valid over the whole domain, on the domain itself;
+ * partial = 1: candidate only, on its valid part). */
+static int errors_on(sf_report *rep, const sf_candidate_list *list, sf_candidate_quantity q, const sf_scene_domain *d,
+                     int only, const sf_report_options *o, sf_error *err) {
+  const sf_candidate *ref = &list->items[rep->reference[q]];
+  sf_domain_samples s;
+  if (sf_domain_samples_make(d, q, o->domain_samples, o->seed, &s, err) != SF_OK) return err->status;
+  size_t nv = s.n * (size_t)ref->n_channels;
+  double *truth = malloc(sizeof(double) * nv), *model = malloc(sizeof(double) * nv);
+  if (!truth || !model) {
+    free(truth); free(model); sf_domain_samples_free(&s);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  sf_candidate_values(ref, &s, truth, &o->run);
+  int status = SF_OK;
+  for (int i = 0; i < rep->n_models; ++i) {
+    sf_report_model *m = &rep->models[i];
+    const sf_candidate *c = m->candidate;
+    if (c->quantity != q || c->role == SF_ROLE_REFERENCE) continue;
+    if (only >= 0 ? i != only : m->errors_over_valid_part) continue;
+    progress(o, q == SF_CANDIDATE_TRANSMITTANCE ? "errors (transmittance)" : "errors (sky radiance)",
+             (double)i / rep->n_models);
+    if (c->n_channels != ref->n_channels) {
+      status = sf_fail(err, SF_ERR_INTERNAL, "%s has %d channels, the reference %d", c->name, c->n_channels,
+                       ref->n_channels);
+      break;
+    }
+    sf_candidate_values(c, &s, model, &o->run);
+    sf_error_metrics_compute(model, truth, nv, &m->errors, &m->non_finite);
+    m->errors_domain = *d;
+    m->has_errors = 1;
+  }
+  free(truth); free(model);
+  sf_domain_samples_free(&s);
+  return status;
+}
+
+static int measure_errors(sf_report *rep, const sf_candidate_list *list, sf_candidate_quantity q,
+                          const sf_report_options *o, sf_error *err) {
+  for (int i = 0; i < rep->n_models; ++i) {
+    sf_report_model *m = &rep->models[i];
+    if (m->candidate->quantity != q || m->candidate->role == SF_ROLE_REFERENCE || m->valid_over_domain) continue;
+    m->errors_over_valid_part = valid_part(&rep->domain, &m->candidate->valid, &m->errors_domain);
+  }
+  if (errors_on(rep, list, q, &rep->domain, -1, o, err) != SF_OK) return err->status;
+  for (int i = 0; i < rep->n_models; ++i) {
+    sf_report_model *m = &rep->models[i];
+    if (m->candidate->quantity != q || !m->errors_over_valid_part) continue;
+    sf_scene_domain part = m->errors_domain;
+    if (errors_on(rep, list, q, &part, i, o, err) != SF_OK) return err->status;
+  }
+  return SF_OK;
+}
+
+/* ---- cost ---- */
+
+/* The cost cache (fit/candidate_cache.h): a candidate's timing keyed by
+ * what it evaluates and how it is timed, so that a rerun with nothing
+ * changed reports the same figures without timing again. */
+static int cost_cache_path(const sf_report *rep, const sf_candidate *c, int precision_bits,
+                           const sf_report_options *o, char *path, size_t n, sf_error *err) {
+  path[0] = '\0';
+  if (!o->cost_cache_dir) return SF_OK;
+  sf_cache_key k;
+  k.text[0] = '\0';
+  sf_cache_key_add_text(&k, "code", SF_CANDIDATE_CODE_VERSION);
+  sf_cache_key_add_text(&k, "candidate", c->name);
+  sf_cache_key_add_text(&k, "quantity", sf_candidate_quantity_name(c->quantity));
+  sf_cache_key_add_text(&k, "label", c->label);
+  sf_cache_key_add_text(&k, "description", c->description);
+  sf_cache_key_add_text(&k, "atmosphere", rep->atmosphere_hash);
+  sf_cache_key_add_number(&k, "channels", c->n_channels);
+  sf_cache_key_add_number(&k, "params", (double)c->n_params);
+  sf_cache_key_add_number(&k, "bytes", (double)c->constant_bytes);
+  sf_cache_key_add_number(&k, "precision", precision_bits);
+  sf_cache_key_add_number(&k, "h_min", rep->domain.h_min_km);
+  sf_cache_key_add_number(&k, "h_max", rep->domain.h_max_km);
+  sf_cache_key_add_number(&k, "mu_min", rep->domain.mu_min);
+  sf_cache_key_add_number(&k, "mu_max", rep->domain.mu_max);
+  sf_cache_key_add_number(&k, "mu_s_min", rep->domain.mu_s_min);
+  sf_cache_key_add_number(&k, "mu_s_max", rep->domain.mu_s_max);
+  sf_cache_key_add_number(&k, "points", (double)o->timing_points);
+  sf_cache_key_add_number(&k, "repetitions", o->timing_repetitions);
+  sf_cache_key_add_number(&k, "seed", (double)o->seed);
+  return sf_cache_path(o->cost_cache_dir, "costs", c->name, &k, path, n, err);
+}
+
+static int cost_cache_read(const char *path, sf_cost *out) {
+  if (!sf_cache_exists(path)) return 0;
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  char text[1024];
+  size_t got = fread(text, 1, sizeof text - 1, f);
+  fclose(f);
+  text[got] = '\0';
+  cJSON *doc = cJSON_Parse(text);
+  static const char *const keys[] = {"ns_median", "ns_min", "ns_max", "repetitions", "n_points", "precision_bits"};
+  double v[6];
+  int ok = doc != NULL;
+  for (int i = 0; i < 6 && ok; ++i) {
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(doc, keys[i]);
+    ok = cJSON_IsNumber(item) && isfinite(item->valuedouble) && item->valuedouble >= 0.0;
+    if (ok) v[i] = item->valuedouble;
+  }
+  cJSON_Delete(doc);
+  if (!ok || !(v[0] > 0.0) || (v[5] != 32.0 && v[5] != 64.0)) return 0;   /* unusable: time again */
+  out->ns_median = v[0];
+  out->ns_min = v[1];
+  out->ns_max = v[2];
+  out->repetitions = (int)v[3];
+  out->n_points = (size_t)v[4];
+  out->precision_bits = (int)v[5];
+  return 1;
+}
+
+static int cost_cache_write(const char *path, const sf_cost *c, sf_error *err) {
+  if (!path[0]) return SF_OK;
+  sf_atomic_file f;
+  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
+  fprintf(f.stream,
+          "{\"ns_median\": %.17g, \"ns_min\": %.17g, \"ns_max\": %.17g, \"repetitions\": %d, "
+          "\"n_points\": %zu, \"precision_bits\": %d}\n",
+          c->ns_median, c->ns_min, c->ns_max, c->repetitions, c->n_points, c->precision_bits);
+  return sf_atomic_commit(&f, err);
+}
+
+/* Times c (or takes its cached timing). */
+static int cost_of(const sf_report *rep, const sf_candidate *c, const sf_domain_samples *s,
+                   const sf_report_options *o, sf_cost *out, sf_error *err) {
+  char path[4400];
+  if (cost_cache_path(rep, c, c->eval_f32 ? 32 : 64, o, path, sizeof path, err) != SF_OK) return err->status;
+  if (cost_cache_read(path, out)) return SF_OK;
+  if (sf_candidate_measure_cost(c, s, o->timing_repetitions, out, err) != SF_OK) return err->status;
+  return cost_cache_write(path, out, err);
+}
+
+static int measure_costs(sf_report *rep, const sf_report_options *o, sf_error *err) {
+  sf_domain_samples s[SF_CANDIDATE_N_QUANTITIES];
+  memset(s, 0, sizeof s);
+  int status = SF_OK;
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q)
+    status = sf_domain_samples_make(&rep->domain, (sf_candidate_quantity)q, o->timing_points, o->seed + 1, &s[q], err);
+  int naive = -1;
+  for (int i = 0; i < rep->n_models; ++i)
+    if (rep->models[i].candidate->quantity == SF_CANDIDATE_TRANSMITTANCE &&
+        strcmp(rep->models[i].candidate->name, "naive16") == 0)
+      naive = i;
+  if (status == SF_OK && naive >= 0) {
+    /* The unit at both precisions, so a candidate timed in double is
+     * compared with the naive raymarch timed in double. */
+    sf_candidate as_double = *rep->models[naive].candidate;
+    as_double.eval_f32 = NULL;
+    sf_cost c64;
+    status = cost_of(rep, &as_double, &s[SF_CANDIDATE_TRANSMITTANCE], o, &c64, err);
+    rep->naive16_ns_f64 = c64.ns_median;
+  }
+  for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
+    sf_report_model *m = &rep->models[i];
+    if (m->candidate->role == SF_ROLE_REFERENCE) continue;
+    progress(o, "timing (1 thread)", (double)i / rep->n_models);
+    status = cost_of(rep, m->candidate, &s[m->candidate->quantity], o, &m->cost, err);
+    m->has_cost = status == SF_OK;
+    if (i == naive) rep->naive16_ns_f32 = m->cost.ns_median;
+  }
+  for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
+    sf_report_model *m = &rep->models[i];
+    if (!m->has_cost) continue;
+    double unit = m->cost.precision_bits == 32 ? rep->naive16_ns_f32 : rep->naive16_ns_f64;
+    m->cost_ratio_naive16 = unit > 0.0 ? m->cost.ns_median / unit : 0.0;
+  }
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) sf_domain_samples_free(&s[q]);
+  return status;
+}
+
+/* ---- the standard views ---- */
+
+typedef struct render_job {
+  const sf_candidate *c;
+  const sf_view_camera *cam;
+  const sf_atmosphere *atm;
+  double scale;     /* exposure x sun irradiance (sky radiance), 1 (transmittance) */
+  float *pixels;
+} render_job;
+
+static void render_row(void *ctx, int thread, long row) {
+  (void)thread;
+  const render_job *j = ctx;
+  double in[4], out[SF_MAX_CHANNELS];
+  for (int i = 0; i < j->cam->width; ++i) {
+    sf_view_pixel_inputs(j->cam, j->atm, i, (int)row, in);
+    j->c->eval(j->c->ctx, in, out);
+    float *p = j->pixels + 3 * ((size_t)row * (size_t)j->cam->width + (size_t)i);
+    for (int k = 0; k < 3; ++k) p[k] = (float)(j->scale * out[k]);
+  }
+}
+
+static void render(const sf_candidate *c, const sf_view_camera *cam, const sf_atmosphere *atm, double scale,
+                   float *pixels, const sf_report_options *o) {
+  render_job job = {c, cam, atm, scale, pixels};
+  sf_precompute_options quiet = {.n_threads = o->run.n_threads};
+  sf_parallel_rows(cam->height, &quiet, NULL, render_row, &job);
+}
+
+static int write_png(const char *dir, const char *name, const float *pixels, int w, int h, int tonemap,
+                     sf_error *err) {
+  size_t n = (size_t)w * (size_t)h;
+  unsigned char *rgb = malloc(3 * n);
+  if (!rgb) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  sf_view_to_srgb8(pixels, n, tonemap, rgb);
+  char path[SF_REPORT_PATH_LEN + 160];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  int status = sf_png_write_rgb8(path, w, h, rgb, err);
+  free(rgb);
+  return status;
+}
+
+static int compare_view(sf_report_view *v, const float *model, const float *truth, int w, int h,
+                        const char *dir, float *scratch, sf_error *err) {
+  size_t n = (size_t)w * (size_t)h;
+  double sq = 0.0, de = 0.0;
+  for (size_t p = 0; p < n; ++p) {
+    double a[3], b[3], la[3], lb[3];
+    for (int k = 0; k < 3; ++k) {
+      double mv = isfinite(model[3 * p + k]) ? model[3 * p + k] : 0.0;
+      double e = mv - truth[3 * p + k];
+      sq += e * e;
+      scratch[3 * p + k] = (float)fabs(e);
+      a[k] = mv;
+      b[k] = truth[3 * p + k];
+    }
+    /* Values are already exposed: exposure 1 here. */
+    sf_display_lab(a, 1.0, la);
+    sf_display_lab(b, 1.0, lb);
+    de += sf_ciede2000(la, lb);
+  }
+  v->rmse = sqrt(sq / (3.0 * (double)n));   /* seed 000 eq. 61 */
+  v->mean_delta_e = de / (double)n;
+  char path[SF_REPORT_PATH_LEN + 160];
+  snprintf(path, sizeof path, "%s/%s", dir, v->error_exr);
+  static const char *const names[3] = {"R", "G", "B"};
+  return sf_exr_write_image(path, w, h, 3, names, scratch, err);
+}
+
+static int render_views(sf_report *rep, const sf_scene *scene, const sf_report_options *o, sf_error *err) {
+  const sf_atmosphere *atm = &scene->atmosphere;
+  int w = o->view_width, h = o->view_height;
+  size_t n = (size_t)w * (size_t)h;
+  char dir[SF_REPORT_PATH_LEN + 16];
+  snprintf(dir, sizeof dir, "%s/views", rep->out_dir);
+  if (sf_make_folders(dir, "report folder", err) != SF_OK) return err->status;
+  float *truth = malloc(sizeof(float) * 3 * n), *model = malloc(sizeof(float) * 3 * n),
+        *scratch = malloc(sizeof(float) * 3 * n);
+  if (!truth || !model || !scratch) {
+    free(truth); free(model); free(scratch);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory for %dx%d views", w, h);
+  }
+  int status = SF_OK;
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q) {
+    if (rep->reference[q] < 0) continue;
+    const sf_view_def *views;
+    int nv = q == SF_CANDIDATE_TRANSMITTANCE ? sf_standard_transmittance_views(&views)
+                                             : sf_standard_radiance_views(&views);
+    const char *qname = sf_candidate_quantity_name((sf_candidate_quantity)q);
+    for (int vi = 0; vi < nv && status == SF_OK; ++vi) {
+      progress(o, q == SF_CANDIDATE_TRANSMITTANCE ? "views (transmittance)" : "views (sky radiance)",
+               (double)vi / nv);
+      sf_view_camera cam;
+      sf_view_camera_make(&views[vi], atm, w, h, &cam);
+      double scale = q == SF_CANDIDATE_SKY_RADIANCE ? views[vi].exposure * SF_VIEW_SUN_IRRADIANCE : 1.0;
+      double in[4];
+      sf_view_pixel_inputs(&cam, atm, w / 2, h / 2, in);
+      double h_clamped = fmin(in[0], atm->top_radius_km - atm->bottom_radius_km);
+      /* The sky-radiance reference (the tables) covers the scene's domain
+       * only: a view whose viewer or sun lies outside it is not rendered. */
+      const double tol = 1e-6;
+      int outside = q == SF_CANDIDATE_SKY_RADIANCE &&
+                    (h_clamped < rep->domain.h_min_km - tol || h_clamped > rep->domain.h_max_km + tol ||
+                     in[2] < rep->domain.mu_s_min - tol || in[2] > rep->domain.mu_s_max + tol);
+      if (outside) {
+        size_t len = strlen(rep->views_note);
+        snprintf(rep->views_note + len, sizeof rep->views_note - len, "%s%s", len ? ", " : "Outside the scene's domain, not rendered: ",
+                 views[vi].name);
+      }
+      for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
+        sf_report_model *m = &rep->models[i];
+        const sf_candidate *c = m->candidate;
+        if ((int)c->quantity != q || m->n_views >= SF_REPORT_MAX_VIEWS) continue;
+        sf_report_view *v = &m->views[m->n_views++];
+        snprintf(v->name, sizeof v->name, "%s", views[vi].name);
+        /* Sun-dependent validity only matters for sky radiance. */
+        int valid = c->role == SF_ROLE_REFERENCE ||
+                    sf_candidate_valid_for(c, h_clamped, q == SF_CANDIDATE_SKY_RADIANCE ? in[2] : c->valid.mu_s_min);
+        if (!valid || outside) continue;
+        v->rendered = 1;
+        snprintf(v->png, sizeof v->png, "views/%s-%s-%s.png", qname, views[vi].name, c->name);
+        if (c->role != SF_ROLE_REFERENCE) continue;
+        render(c, &cam, atm, scale, truth, o);
+        status = write_png(rep->out_dir, v->png, truth, w, h, q == SF_CANDIDATE_SKY_RADIANCE, err);
+      }
+      /* Now that the reference image exists: every other model once. */
+      for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
+        sf_report_model *m = &rep->models[i];
+        const sf_candidate *c = m->candidate;
+        if ((int)c->quantity != q || c->role == SF_ROLE_REFERENCE) continue;
+        sf_report_view *v = &m->views[m->n_views - 1];
+        if (!v->rendered) continue;
+        render(c, &cam, atm, scale, model, o);
+        status = write_png(rep->out_dir, v->png, model, w, h, q == SF_CANDIDATE_SKY_RADIANCE, err);
+        if (status != SF_OK) break;
+        snprintf(v->error_exr, sizeof v->error_exr, "views/%s-%s-%s-error.exr", qname, views[vi].name, c->name);
+        status = compare_view(v, model, truth, w, h, rep->out_dir, scratch, err);
+      }
+    }
+  }
+  free(truth); free(model); free(scratch);
+  return status;
+}
+
+int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate_list *list,
+                       const sf_report_options *opt, const char *out_dir, sf_error *err) {
+  memset(rep, 0, sizeof *rep);
+  rep->options = *opt;
+  snprintf(rep->out_dir, sizeof rep->out_dir, "%s", out_dir);
+  snprintf(rep->scene_name, sizeof rep->scene_name, "%s", scene->name);
+  snprintf(rep->atmosphere_name, sizeof rep->atmosphere_name, "%s", scene->atmosphere.name);
+  sf_atmosphere_hash_hex(&scene->atmosphere, rep->atmosphere_hash);
+  rep->quantities = scene->quantities;
+  rep->n_channels = scene->atmosphere.n_channels;
+  if (sf_scene_get_domain(scene, &rep->domain, err) != SF_OK) return err->status;
+  rep->models = calloc((size_t)(list->count > 0 ? list->count : 1), sizeof *rep->models);
+  if (!rep->models) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  rep->n_models = list->count;
+  rep->reference[0] = rep->reference[1] = -1;
+  for (int i = 0; i < list->count; ++i) {
+    const sf_candidate *c = &list->items[i];
+    rep->models[i].candidate = c;
+    rep->models[i].valid_over_domain = contains_domain(&c->valid, &rep->domain);
+    if (c->role == SF_ROLE_REFERENCE) {
+      if (rep->reference[c->quantity] >= 0)
+        return sf_fail(err, SF_ERR_INTERNAL, "two references for %s", sf_candidate_quantity_name(c->quantity));
+      rep->reference[c->quantity] = i;
+    } else if (rep->reference[c->quantity] < 0) {
+      return sf_fail(err, SF_ERR_INTERNAL, "candidate %s is listed before its reference", c->name);
+    }
+  }
+  int status = SF_OK;
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q)
+    if (rep->reference[q] >= 0) status = measure_errors(rep, list, (sf_candidate_quantity)q, opt, err);
+  if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
+  if (status == SF_OK && opt->render_views) {
+    if (rep->n_channels == 3) {
+      status = render_views(rep, scene, opt, err);
+      rep->views_rendered = status == SF_OK;
+    } else {
+      snprintf(rep->views_note, sizeof rep->views_note,
+               "the standard views are rendered for RGB atmospheres only; this one has %d channels",
+               rep->n_channels);
+    }
+  }
+  return status;
+}
+
+void sf_report_free(sf_report *rep) {
+  free(rep->models);
+  rep->models = NULL;
+  rep->n_models = 0;
+}

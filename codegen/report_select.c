@@ -1,0 +1,108 @@
+/* sf_report_select: the cheapest candidate within the scene's budget, per
+ * quantity (SPEC §5), and the reasons in words. Cost is compared as the
+ * ratio to the naive 16-step raymarch at the same precision, so a model
+ * timed in double and one timed in float32 are put on one scale. */
+#include "codegen/report.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+static void append(char *buf, size_t n, const char *fmt, ...) {
+  size_t len = strlen(buf);
+  if (len + 1 >= n) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf + len, n - len, fmt, ap);
+  va_end(ap);
+}
+
+static const char *why_not_selectable(const sf_report_model *m) {
+  const sf_candidate *c = m->candidate;
+  if (c->role == SF_ROLE_REFERENCE) return "it is the reference";
+  if (c->role == SF_ROLE_LOOKUP) return "it needs the reference tables at run time";
+  if (!m->valid_over_domain) return "it is not valid over the whole scene domain";
+  if (!m->has_errors || m->errors.n_values == 0) return "it was not measured";
+  if (m->non_finite) return "it gave non-finite values";
+  if (!m->has_cost) return "its cost was not measured";
+  return NULL;
+}
+
+void sf_report_select(sf_report *rep, const sf_scene *scene) {
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    sf_report_selection *sel = &rep->selection[q];
+    memset(sel, 0, sizeof *sel);
+    sel->model = -1;
+    unsigned flag = q == SF_CANDIDATE_TRANSMITTANCE ? SF_QUANTITY_TRANSMITTANCE : SF_QUANTITY_SKY_RADIANCE;
+    sel->asked = (scene->quantities & flag) != 0;
+    sel->metric = q == SF_CANDIDATE_TRANSMITTANCE ? "rmse" : "rel_rmse";
+    sel->budget = q == SF_CANDIDATE_TRANSMITTANCE ? scene->transmittance_rmse_budget
+                                                  : scene->sky_radiance_rel_rmse_budget;
+    int best_within = -1, best_error = -1, n_meet = 0, n_selectable = 0;
+    for (int i = 0; i < rep->n_models; ++i) {
+      sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity != q) continue;
+      m->budget_metric = q == SF_CANDIDATE_TRANSMITTANCE ? m->errors.rmse : m->errors.rel_rmse;
+      m->selectable = why_not_selectable(m) == NULL;
+      m->meets_budget = m->has_errors && m->non_finite == 0 && m->budget_metric <= sel->budget;
+      m->selected = 0;
+      if (!m->selectable) continue;
+      ++n_selectable;
+      if (best_error < 0 || m->budget_metric < rep->models[best_error].budget_metric) best_error = i;
+      if (!m->meets_budget) continue;
+      ++n_meet;
+      if (best_within < 0 || m->cost_ratio_naive16 < rep->models[best_within].cost_ratio_naive16) best_within = i;
+    }
+    if (!sel->asked) {
+      snprintf(sel->reason, sizeof sel->reason, "The scene does not ask for %s; nothing is selected.",
+               sf_candidate_quantity_name((sf_candidate_quantity)q));
+      continue;
+    }
+    snprintf(sel->reason, sizeof sel->reason, "Budget: %s %s <= %.3g over the scene domain. ",
+             sf_candidate_quantity_name((sf_candidate_quantity)q),
+             q == SF_CANDIDATE_TRANSMITTANCE ? "RMSE" : "relative RMSE", sel->budget);
+    append(sel->reason, sizeof sel->reason, "%d candidate(s) may ship, %d meet the budget", n_selectable, n_meet);
+    int listed = 0;
+    for (int i = 0; i < rep->n_models; ++i) {
+      const sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity != q || !m->selectable || !m->meets_budget) continue;
+      append(sel->reason, sizeof sel->reason, "%s%s (%.3g, %.3gx naive-16)", listed++ ? ", " : ": ",
+             m->candidate->name, m->budget_metric, m->cost_ratio_naive16);
+    }
+    append(sel->reason, sizeof sel->reason, ". ");
+    if (best_within >= 0) {
+      sel->model = best_within;
+      sel->meets_budget = 1;
+      const sf_report_model *m = &rep->models[best_within];
+      append(sel->reason, sizeof sel->reason,
+             "Selected %s: the cheapest of those that meet it (%.3g ns per evaluation, %.3gx the naive "
+             "16-step raymarch; %s %.3g). ",
+             m->candidate->name, m->cost.ns_median, m->cost_ratio_naive16, sel->metric, m->budget_metric);
+    } else if (best_error >= 0) {
+      sel->model = best_error;
+      const sf_report_model *m = &rep->models[best_error];
+      append(sel->reason, sizeof sel->reason,
+             "NO MODEL MEETS THE BUDGET. Emitting the best available instead: %s, with the smallest error "
+             "(%s %.3g, %.3gx the budget; %.3gx naive-16 cost). ",
+             m->candidate->name, sel->metric, m->budget_metric, m->budget_metric / sel->budget,
+             m->cost_ratio_naive16);
+    } else {
+      append(sel->reason, sizeof sel->reason, "No candidate can ship for this quantity. ");
+    }
+    int others = 0;
+    for (int i = 0; i < rep->n_models; ++i) {
+      const sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity != q) continue;
+      const char *why = why_not_selectable(m);
+      if (why && m->candidate->role != SF_ROLE_REFERENCE)
+        append(sel->reason, sizeof sel->reason, "%s%s: %s", others++ ? "; " : "Not eligible: ",
+               m->candidate->name, why);
+    }
+    if (others) append(sel->reason, sizeof sel->reason, ".");
+    if (sel->model >= 0) {
+      sel->meets_budget = rep->models[sel->model].meets_budget;
+      rep->models[sel->model].selected = 1;
+    }
+  }
+}

@@ -1,0 +1,192 @@
+#include "fit/build_pipeline.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "codegen/codegen_file.h"
+#include "data/sky_lookup.h"
+#include "fit/build_pipeline_spectral4.h"
+#include "fit/candidate_fitted.h"
+#include "models/atmosphere_file.h"
+#include "util/make_folders.h"
+
+void sf_build_options_default(sf_build_options *o) {
+  memset(o, 0, sizeof *o);
+  sf_table_set_options_default(&o->tables);
+  sf_report_options_default(&o->report);
+  o->emit = 1;
+}
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* "dir/base.ext" -> dir, base. */
+static void split_output(const char *path, char *dir, size_t dn, char *base, size_t bn) {
+  const char *slash = strrchr(path, '/');
+  if (slash) snprintf(dir, dn, "%.*s", (int)(slash - path), path);
+  else snprintf(dir, dn, ".");
+  snprintf(base, bn, "%s", slash ? slash + 1 : path);
+  char *dot = strrchr(base, '.');
+  if (dot && dot != base) *dot = '\0';
+}
+
+static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
+                          sf_error *err) {
+  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES];
+  int n = 0;
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    sf_report_selection *s = &rep->selection[q];
+    if (!s->asked || s->model < 0) continue;
+    const sf_report_model *m = &rep->models[s->model];
+    const sf_candidate *c = m->candidate;
+    if (!c->emit) {
+      snprintf(s->emit_note, sizeof s->emit_note, "No code emitter exists for %s yet; nothing emitted for %s.",
+               c->name, sf_candidate_quantity_name((sf_candidate_quantity)q));
+      continue;
+    }
+    sf_codegen_part *p = &parts[n++];
+    memset(p, 0, sizeof *p);
+    snprintf(p->name, sizeof p->name, "%s", c->emit_name);
+    snprintf(p->quantity, sizeof p->quantity, "%s", sf_candidate_quantity_name((sf_candidate_quantity)q));
+    snprintf(p->summary, sizeof p->summary, "%s: %s", c->label, c->description);
+    snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
+    snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
+    p->domain = rep->domain;
+    snprintf(p->error, sizeof p->error, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
+             m->errors.rmse, m->errors.max_abs, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
+             m->meets_budget ? "" : " (does NOT meet the scene's budget)");
+    p->emit = c->emit;
+    p->model = c->emit_model;
+  }
+  /* Two networks both emit skyfit_mlp_* functions: one part holds both. */
+  sf_mlp_emit_pair pair;
+  if (n == 2 && strcmp(parts[0].name, "mlp") == 0 && strcmp(parts[1].name, "mlp") == 0) {
+    pair.transmittance = parts[0].model;
+    pair.scattering = parts[1].model;
+    parts[0].emit = sf_candidate_emit_mlp_pair;
+    parts[0].model = &pair;
+    snprintf(parts[0].quantity, sizeof parts[0].quantity, "transmittance, sky_radiance");
+    char summary[SF_CODEGEN_TEXT_LEN], error[SF_CODEGEN_TEXT_LEN];
+    snprintf(summary, sizeof summary, "%.250s | %.250s", parts[0].summary, parts[1].summary);
+    snprintf(error, sizeof error, "transmittance: %.230s | sky radiance: %.230s", parts[0].error, parts[1].error);
+    snprintf(parts[0].summary, sizeof parts[0].summary, "%s", summary);
+    snprintf(parts[0].error, sizeof parts[0].error, "%s", error);
+    n = 1;
+  }
+  if (n == 0) return SF_OK;
+  char dir_c[SF_REPORT_PATH_LEN], base_c[256], dir_g[SF_REPORT_PATH_LEN], base_g[256];
+  if (scene->output_c[0]) split_output(scene->output_c, dir_c, sizeof dir_c, base_c, sizeof base_c);
+  else { snprintf(dir_c, sizeof dir_c, "%s", o->out_dir); snprintf(base_c, sizeof base_c, "sky"); }
+  if (scene->output_glsl[0]) split_output(scene->output_glsl, dir_g, sizeof dir_g, base_g, sizeof base_g);
+  else { snprintf(dir_g, sizeof dir_g, "%s", o->out_dir); snprintf(base_g, sizeof base_g, "sky"); }
+  int status;
+  if (strcmp(dir_c, dir_g) == 0 && strcmp(base_c, base_g) == 0) {
+    status = sf_codegen_write(parts, n, 1, 1, dir_c, base_c, err);
+  } else {
+    status = sf_codegen_write(parts, n, 1, 0, dir_c, base_c, err);
+    if (status == SF_OK) status = sf_codegen_write(parts, n, 0, 1, dir_g, base_g, err);
+  }
+  if (status != SF_OK) return status;
+  snprintf(res->header_c, sizeof res->header_c, "%s/%s.h", dir_c, base_c);
+  snprintf(res->header_glsl, sizeof res->header_glsl, "%s/%s.glsl", dir_g, base_g);
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    sf_report_selection *s = &rep->selection[q];
+    if (!s->asked || s->model < 0 || !rep->models[s->model].candidate->emit) continue;
+    snprintf(s->emitted_c, sizeof s->emitted_c, "%s", res->header_c);
+    snprintf(s->emitted_glsl, sizeof s->emitted_glsl, "%s", res->header_glsl);
+  }
+  return SF_OK;
+}
+
+int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
+  memset(res, 0, sizeof *res);
+  double t_start = now();
+  sf_scene_domain domain;
+  if (sf_scene_get_domain(scene, &domain, err) != SF_OK) return err->status;
+  char cache[SF_REPORT_PATH_LEN + 16], work[SF_REPORT_PATH_LEN + 16];
+  snprintf(cache, sizeof cache, "%s/cache", o->out_dir);
+  snprintf(work, sizeof work, "%s/weights", o->out_dir);
+  if (sf_make_folders(o->out_dir, "--out", err) != SF_OK || sf_make_folders(cache, "--out", err) != SF_OK ||
+      sf_make_folders(work, "--out", err) != SF_OK)
+    return err->status;
+
+  sf_table_set_options topt = o->tables;
+  topt.cache_dir = cache;
+  /* Sample only the scene's domain (SPEC §5): the scattering tables cover
+   * it alone, and a scene without sky radiance gets the transmittance table
+   * only. */
+  topt.has_domain = 1;
+  topt.domain.h_min_km = domain.h_min_km;
+  topt.domain.h_max_km = domain.h_max_km;
+  topt.domain.mu_min = domain.mu_min;
+  topt.domain.mu_s_min = domain.mu_s_min;
+  topt.domain.mu_s_max = domain.mu_s_max;
+  topt.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
+  topt.transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
+  if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;
+  sf_table_set set;
+  if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
+  for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];
+  res->tables_total = set.n_tables;
+  double t_tables = now();
+  res->seconds_tables = t_tables - t_start;
+
+  sf_sky_tables sky;
+  sf_sky_tables_of_set(&sky, &scene->atmosphere, &set);
+  sf_candidate_inputs in = {.scene = scene, .domain = domain, .atm = &scene->atmosphere, .tables = &set,
+                            .sky = &sky, .work_dir = work, .cache_dir = cache,
+                            .orders = topt.orders, .seed = o->report.seed, .quick = o->quick,
+                            .mlp_transmittance_epochs = o->mlp_transmittance_epochs,
+                            .mlp_scattering_epochs = o->mlp_scattering_epochs,
+                            .mlp_scattering_samples = o->mlp_scattering_samples, .run = o->report.run,
+                            .note = o->note, .note_ctx = o->note_ctx};
+  sf_candidate_list list;
+  sf_candidate_list_init(&list);
+  int status = sf_candidates_make_all(&in, &list, o->note, o->note_ctx, err);
+  double t_fit = now();
+  res->seconds_fit = t_fit - t_tables;
+
+  /* A spectral4 scene: the 4-wavelength colour model (SPEC §7.3). */
+  sf_report_spectral4 spectral4;
+  memset(&spectral4, 0, sizeof spectral4);
+  if (status == SF_OK && scene->color == SF_COLOR_SPECTRAL4 && (scene->quantities & SF_QUANTITY_SKY_RADIANCE)) {
+    sf_build_spectral4_options so = {.cache_dir = cache, .work_dir = work, .quick = o->quick, .run = o->report.run,
+                                     .note = o->note, .note_ctx = o->note_ctx};
+    status = sf_build_spectral4(scene, &so, &spectral4, err);
+  }
+  res->seconds_fit = now() - t_tables;
+
+  sf_report rep;
+  memset(&rep, 0, sizeof rep);
+  sf_report_options ropt = o->report;
+  ropt.cost_cache_dir = cache;
+  if (status == SF_OK) status = sf_report_evaluate(&rep, scene, &list, &ropt, o->out_dir, err);
+  rep.spectral4 = spectral4;
+  if (status == SF_OK) {
+    sf_report_select(&rep, scene);
+    if (o->emit) status = emit_selection(&rep, scene, o, res, err);
+  }
+  res->seconds_report = now() - t_fit;
+  res->seconds_total = now() - t_start;
+  rep.seconds_total = res->seconds_total;
+  if (status == SF_OK) status = sf_report_write_all(&rep, err);
+  if (status == SF_OK) {
+    snprintf(res->report_html, sizeof res->report_html, "%s/report.html", o->out_dir);
+    for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+      const sf_report_selection *s = &rep.selection[q];
+      res->asked[q] = s->asked;
+      res->meets_budget[q] = s->meets_budget;
+      snprintf(res->chosen[q], sizeof res->chosen[q], "%s", s->model >= 0 ? rep.models[s->model].candidate->name : "");
+    }
+  }
+  sf_report_free(&rep);
+  sf_candidate_list_free(&list);
+  sf_table_set_free(&set);
+  return status;
+}

@@ -1,0 +1,42 @@
+/* `skyfit build` as a library function (SPEC §5, §11): scene -> reference
+ * tables (cached in OUT/cache) -> every applicable candidate
+ * (fit/candidate_registry.h) -> metrics and views (codegen/report.h) ->
+ * selection per quantity -> GLSL and C for the selection
+ * (codegen/codegen_file.h) -> report.html, report.md, metrics.json.
+ * An impossible budget is not an error: the best available model is
+ * emitted and the report says it misses the budget. */
+#ifndef SKYFIT_FIT_BUILD_PIPELINE_H
+#define SKYFIT_FIT_BUILD_PIPELINE_H
+
+#include "codegen/report.h"
+#include "data/table_set.h"
+#include "fit/candidate_registry.h"
+
+typedef struct sf_build_options {
+  const char *out_dir;
+  sf_table_set_options tables;       /* cache_dir is set to OUT/cache */
+  sf_report_options report;
+  int quick;                         /* smaller fits */
+  int mlp_transmittance_epochs;      /* 0: the build's defaults (fit/candidate_fitted.h) */
+  int mlp_scattering_epochs;
+  long mlp_scattering_samples;       /* 0: default; < 0: every grid point */
+  int emit;                          /* write the headers (default 1) */
+  sf_candidate_note_fn note;         /* messages for the user; may be NULL */
+  void *note_ctx;
+} sf_build_options;
+
+void sf_build_options_default(sf_build_options *o);
+
+typedef struct sf_build_result {
+  int tables_from_cache, tables_total;
+  double seconds_tables, seconds_fit, seconds_report, seconds_total;
+  char report_html[SF_REPORT_PATH_LEN + 32];
+  char chosen[SF_CANDIDATE_N_QUANTITIES][48];
+  int meets_budget[SF_CANDIDATE_N_QUANTITIES];
+  int asked[SF_CANDIDATE_N_QUANTITIES];
+  char header_c[SF_REPORT_PATH_LEN], header_glsl[SF_REPORT_PATH_LEN];
+} sf_build_result;
+
+int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err);
+
+#endif

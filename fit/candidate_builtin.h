@@ -1,0 +1,50 @@
+/* The candidates that need no fitting (fit/candidate.h):
+ *  - the reference of each quantity: transmittance from the exact optical
+ *    depth (models/optical_depth.h, adaptive Gauss-Kronrod), sky radiance
+ *    from the reference tables (data/sky_lookup.h: single + multiple
+ *    scattering, the only reference of multiple scattering there is);
+ *  - the transmittance table lookup (Bruneton's 2D table, multilinear), a
+ *    "lookup" model: what a renderer gets from shipping the table;
+ *  - the analytic transmittance baselines of SPEC §7.6: the 16-step naive
+ *    midpoint raymarch (seed 000 §11.2.6, the cost unit of SPEC §12),
+ *    Schuler's Chapman approximation (seed 000 eq. 22-25), Gałaj's Taylor
+ *    formula (seed 002 eq. 17, a = b = 0.45) and Leenman's flat model (seed
+ *    000 eq. 48-53, 59). Chapman and Taylor treat a non-exponential
+ *    constituent (the ozone tent) as the flat model's constant shell (seed
+ *    000 §10.5), as codegen/baselines.h emits them.
+ * Each constructor fills *out; tables and atmosphere are borrowed (must
+ * outlive the candidate). Parameter counts of the baselines are the
+ * atmosphere constants their emitted code holds (per constituent: one
+ * extinction per channel, plus the profile: H and d0 for an exponential,
+ * the shell's two radii, or the raymarch's 5 numbers per density layer;
+ * plus the two radii), at 4 bytes each. */
+#ifndef SKYFIT_FIT_CANDIDATE_BUILTIN_H
+#define SKYFIT_FIT_CANDIDATE_BUILTIN_H
+
+#include "data/sky_lookup.h"
+#include "fit/candidate.h"
+#include "models/atmosphere.h"
+#include "util/error.h"
+
+#define SF_NAIVE_COST_UNIT_STEPS 16
+
+typedef enum sf_transmittance_baseline {
+  SF_TB_NAIVE = 0,   /* N-step midpoint raymarch */
+  SF_TB_CHAPMAN,
+  SF_TB_TAYLOR,
+  SF_TB_FLAT
+} sf_transmittance_baseline;
+
+/* Exact reference transmittance (slow: ~3e5 evaluations/s). */
+int sf_candidate_reference_transmittance(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
+/* Transmittance from the tables' transmittance table. */
+int sf_candidate_table_transmittance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
+/* Sky radiance from the tables: the reference of the sky-radiance models. */
+int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
+/* An analytic transmittance baseline; steps is used by SF_TB_NAIVE only
+ * (name "naive<steps>"). SF_ERR_INPUT when the model does not apply (no
+ * exponential constituent for Chapman/Taylor/flat). */
+int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittance_baseline kind,
+                                        int steps, sf_candidate *out, sf_error *err);
+
+#endif

@@ -1,0 +1,100 @@
+#include "fit/candidate_cache.h"
+
+#include <inttypes.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "models/atmosphere_file.h"
+#include "util/atomic_file.h"
+#include "util/make_folders.h"
+
+static void append(sf_cache_key *k, const char *name, const char *value) {
+  size_t len = strlen(k->text);
+  snprintf(k->text + len, sizeof k->text - len, "%s=%s;", name, value);
+}
+
+void sf_cache_key_add_text(sf_cache_key *k, const char *name, const char *v) { append(k, name, v); }
+
+void sf_cache_key_add_number(sf_cache_key *k, const char *name, double v) {
+  char text[40];
+  snprintf(text, sizeof text, "%.17g", v);
+  append(k, name, text);
+}
+
+void sf_cache_key_begin(sf_cache_key *k, const char *model, const sf_candidate_inputs *in) {
+  k->text[0] = '\0';
+  char hash[17];
+  sf_atmosphere_hash_hex(in->atm, hash);
+  append(k, "model", model);
+  append(k, "code", SF_CANDIDATE_CODE_VERSION);
+  append(k, "atmosphere", hash);
+  const sf_scene_domain *d = &in->domain;
+  sf_cache_key_add_number(k, "h_min", d->h_min_km);
+  sf_cache_key_add_number(k, "h_max", d->h_max_km);
+  sf_cache_key_add_number(k, "mu_min", d->mu_min);
+  sf_cache_key_add_number(k, "mu_max", d->mu_max);
+  sf_cache_key_add_number(k, "mu_s_min", d->mu_s_min);
+  sf_cache_key_add_number(k, "mu_s_max", d->mu_s_max);
+  sf_cache_key_add_number(k, "seed", (double)in->seed);
+  sf_cache_key_add_number(k, "quick", in->quick);
+}
+
+void sf_cache_key_add_tables(sf_cache_key *k, const sf_candidate_inputs *in) {
+  const sf_table_params *p = &in->tables->params;
+  sf_cache_key_add_number(k, "param_kind", p->kind);
+  const sf_table_resolution *r = &p->res;
+  sf_cache_key_add_number(k, "t_mu", r->transmittance_mu);
+  sf_cache_key_add_number(k, "t_h", r->transmittance_h);
+  sf_cache_key_add_number(k, "s_h", r->scattering_h);
+  sf_cache_key_add_number(k, "s_mu", r->scattering_mu);
+  sf_cache_key_add_number(k, "s_mu_s", r->scattering_mu_s);
+  sf_cache_key_add_number(k, "s_nu", r->scattering_nu);
+  sf_cache_key_add_number(k, "i_mu_s", r->irradiance_mu_s);
+  sf_cache_key_add_number(k, "i_h", r->irradiance_h);
+  sf_cache_key_add_number(k, "restricted", p->restricted);
+  sf_cache_key_add_number(k, "tables_h_min", p->h_min_km);
+  sf_cache_key_add_number(k, "tables_h_max", p->h_max_km);
+  sf_cache_key_add_number(k, "tables_mu_s_max", p->mu_s_max);
+  sf_cache_key_add_number(k, "orders", in->orders);
+}
+
+int sf_cache_path(const char *cache_dir, const char *sub, const char *model, const sf_cache_key *k,
+                  char *path, size_t n, sf_error *err) {
+  path[0] = '\0';
+  if (!cache_dir) return SF_OK;
+  char dir[4200];
+  snprintf(dir, sizeof dir, "%s/%s", cache_dir, sub);
+  if (sf_make_folders(dir, "cache", err) != SF_OK) return err->status;
+  uint64_t h = sf_fnv1a64(k->text, strlen(k->text));
+  int w = snprintf(path, n, "%s/%s-%016" PRIx64 ".json", dir, model, h);
+  if (w < 0 || (size_t)w >= n) return sf_fail(err, SF_ERR_INPUT, "cache path too long: %s", dir);
+  return SF_OK;
+}
+
+int sf_cache_exists(const char *path) {
+  struct stat st;
+  return path[0] && stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+int sf_copy_file(const char *src, const char *dst, sf_error *err) {
+  FILE *in = fopen(src, "rb");
+  if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: cannot open", src);
+  sf_atomic_file out;
+  if (sf_atomic_open(&out, dst, err) != SF_OK) {
+    fclose(in);
+    return err->status;
+  }
+  char buf[65536];
+  size_t got;
+  int ok = 1;
+  while ((got = fread(buf, 1, sizeof buf, in)) > 0)
+    if (fwrite(buf, 1, got, out.stream) != got) ok = 0;
+  if (ferror(in)) ok = 0;
+  fclose(in);
+  if (!ok) {
+    sf_atomic_abort(&out);
+    return sf_fail(err, SF_ERR_INPUT, "cannot copy %s to %s", src, dst);
+  }
+  return sf_atomic_commit(&out, err);
+}

@@ -1,0 +1,48 @@
+/* The fit cache of `skyfit build` (SPEC §5, §11: "a second run with
+ * nothing changed reuses the cache"): a fitted model is stored as its
+ * weights file (SPEC §8) under CACHE/fits/<model>-<key>.json, the key
+ * hashing everything its parameters depend on — the model, the candidate
+ * code version, the atmosphere's canonical JSON (through its hash), the
+ * scene's domain, the fit options and, for fits to the tables, the tables'
+ * resolution. A cached file that fails to load is reported and refitted.
+ * Costs (ns per evaluation, fit/candidate_metrics.h) are cached the same
+ * way under CACHE/costs/ by codegen/report_evaluate.c, so that a rerun's
+ * report is byte-identical. */
+#ifndef SKYFIT_FIT_CANDIDATE_CACHE_H
+#define SKYFIT_FIT_CANDIDATE_CACHE_H
+
+#include <stddef.h>
+
+#include "fit/candidate_registry.h"
+#include "util/error.h"
+
+/* Bump whenever a change to a candidate's fit changes its parameters. */
+#define SF_CANDIDATE_CODE_VERSION "skyfit-candidates 2"
+
+/* A key text being built: "name=value;" pairs. */
+typedef struct sf_cache_key {
+  char text[2048];
+} sf_cache_key;
+
+/* Starts a key with the model, the code version, the atmosphere hash and
+ * the domain (every number printed %.17g, so equal doubles give equal
+ * text). */
+void sf_cache_key_begin(sf_cache_key *k, const char *model, const sf_candidate_inputs *in);
+void sf_cache_key_add_number(sf_cache_key *k, const char *name, double v);
+void sf_cache_key_add_text(sf_cache_key *k, const char *name, const char *v);
+/* The table resolution and orders of the build's tables (for fits to them). */
+void sf_cache_key_add_tables(sf_cache_key *k, const sf_candidate_inputs *in);
+
+/* CACHE/<sub>/<model>-<16 hex digits of the key's hash>.json; creates
+ * CACHE/<sub>. in->cache_dir NULL: path "" (no caching), SF_OK. */
+int sf_cache_path(const char *cache_dir, const char *sub, const char *model, const sf_cache_key *k,
+                  char *path, size_t n, sf_error *err);
+
+/* 1 when path names an existing regular file. */
+int sf_cache_exists(const char *path);
+
+/* Copies src to dst atomically (the weights file of a cached fit into the
+ * build's weights folder). */
+int sf_copy_file(const char *src, const char *dst, sf_error *err);
+
+#endif

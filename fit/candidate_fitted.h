@@ -1,0 +1,43 @@
+/* Factories of the fitted models for fit/candidate_registry.c, one file
+ * each (fit/candidate_<model>.c). See fit/candidate_registry.h for the
+ * contract. */
+#ifndef SKYFIT_FIT_CANDIDATE_FITTED_H
+#define SKYFIT_FIT_CANDIDATE_FITTED_H
+
+#include "fit/candidate_registry.h"
+
+/* Training inside `skyfit build` (fit/candidate_mlp.c); `skyfit fit mlp-*`
+ * trains longer by default. Overridden by sf_candidate_inputs. */
+#define SF_BUILD_MLP_TRANSMITTANCE_EPOCHS 150
+#define SF_BUILD_MLP_SCATTERING_EPOCHS 12
+#define SF_BUILD_MLP_SCATTERING_SAMPLES 200000L
+
+/* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */
+int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+
+/* Our fitted Hosek and Preetham/Perez skies (SPEC §7.2): ground viewer, sun
+ * up; fit/fit_sky_elevation.h (fit/candidate_sky_form.c). */
+int sf_candidate_applies_hosek(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_hosek(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+int sf_candidate_applies_preetham(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_preetham(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+
+/* The neural sky (SPEC §7.4-7.5): fit/train.h on fit/dataset_sky.h
+ * (fit/candidate_mlp.c). */
+int sf_candidate_applies_mlp_transmittance(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_mlp_transmittance(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+int sf_candidate_applies_mlp_scattering(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+
+/* Both networks in one emitted file: their functions share the prefix
+ * skyfit_mlp_, and the scattering network's segment function (eq. 44)
+ * needs the transmittance network. emit_model of each MLP candidate is its
+ * sf_mlp_sky. */
+struct sf_code_writer;
+typedef struct sf_mlp_emit_pair {
+  const void *transmittance, *scattering;   /* const sf_mlp_sky * */
+} sf_mlp_emit_pair;
+void sf_candidate_emit_mlp_pair(struct sf_code_writer *w, const void *pair);
+
+#endif

@@ -1,0 +1,162 @@
+#include "fit/candidate_metrics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "data/parallel_rows.h"
+#include "models/rng.h"
+#include "util/constants.h"
+
+int sf_domain_samples_make(const sf_scene_domain *d, sf_candidate_quantity q, size_t n, uint64_t seed,
+                           sf_domain_samples *out, sf_error *err) {
+  memset(out, 0, sizeof *out);
+  if (n == 0) return sf_fail(err, SF_ERR_INPUT, "no samples asked for");
+  out->quantity = q;
+  out->n_inputs = sf_candidate_n_inputs(q);
+  out->n = n;
+  out->inputs = malloc(sizeof(double) * n * (size_t)out->n_inputs);
+  if (!out->inputs) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for %zu samples", n);
+  sf_rng rng;
+  sf_rng_seed(&rng, seed, 0x646f6d61696eULL /* "domain" */, (uint64_t)q);
+  for (size_t i = 0; i < n; ++i) {
+    double *p = out->inputs + i * (size_t)out->n_inputs;
+    double h = d->h_min_km + (d->h_max_km - d->h_min_km) * sf_rng_uniform(&rng);
+    double mu = d->mu_min + (d->mu_max - d->mu_min) * sf_rng_uniform(&rng);
+    double mu_s = d->mu_s_min + (d->mu_s_max - d->mu_s_min) * sf_rng_uniform(&rng);
+    double phi = SF_PI * sf_rng_uniform(&rng);
+    p[0] = h;
+    p[1] = mu;
+    if (out->n_inputs == 4) {
+      double nu = mu * mu_s + sqrt(fmax(0.0, (1.0 - mu * mu) * (1.0 - mu_s * mu_s))) * cos(phi);
+      p[2] = mu_s;
+      p[3] = fmax(-1.0, fmin(1.0, nu));
+    }
+  }
+  return SF_OK;
+}
+
+void sf_domain_samples_free(sf_domain_samples *s) {
+  free(s->inputs);
+  memset(s, 0, sizeof *s);
+}
+
+typedef struct values_job {
+  const sf_candidate *c;
+  const sf_domain_samples *s;
+  double *values;
+} values_job;
+
+enum { VALUES_ROW = 256 };
+
+static void values_row(void *ctx, int thread, long row) {
+  (void)thread;
+  const values_job *j = ctx;
+  size_t begin = (size_t)row * VALUES_ROW, end = begin + VALUES_ROW;
+  if (end > j->s->n) end = j->s->n;
+  for (size_t i = begin; i < end; ++i)
+    j->c->eval(j->c->ctx, j->s->inputs + i * (size_t)j->s->n_inputs,
+               j->values + i * (size_t)j->c->n_channels);
+}
+
+void sf_candidate_values(const sf_candidate *c, const sf_domain_samples *s, double *values,
+                         const sf_precompute_options *run) {
+  values_job job = {c, s, values};
+  long rows = (long)((s->n + VALUES_ROW - 1) / VALUES_ROW);
+  sf_precompute_options quiet = {0};
+  if (run) quiet.n_threads = run->n_threads;
+  sf_parallel_rows(rows, &quiet, NULL, values_row, &job);
+}
+
+void sf_error_metrics_compute(const double *model, const double *reference, size_t n_values,
+                              sf_error_metrics *out, size_t *n_non_finite) {
+  memset(out, 0, sizeof *out);
+  size_t bad = 0, n = 0;
+  double ref_sq = 0.0;
+  for (size_t i = 0; i < n_values; ++i)
+    if (isfinite(reference[i])) ref_sq += reference[i] * reference[i];
+  double ref_rms = n_values ? sqrt(ref_sq / (double)n_values) : 0.0;
+  double floor = ref_rms > 0.0 ? 1e-3 * ref_rms : 1e-300;
+  double sq = 0.0, rel = 0.0, mx = 0.0;
+  for (size_t i = 0; i < n_values; ++i) {
+    if (!isfinite(model[i]) || !isfinite(reference[i])) {
+      ++bad;
+      continue;
+    }
+    double e = fabs(model[i] - reference[i]);
+    sq += e * e;
+    if (e > mx) mx = e;
+    rel += e / fmax(fabs(reference[i]), floor);
+    ++n;
+  }
+  out->n_values = n;
+  out->reference_rms = ref_rms;
+  if (n > 0) {
+    out->rmse = sqrt(sq / (double)n);   /* seed 000 eq. 61 */
+    out->max_abs = mx;
+    out->mean_rel = rel / (double)n;
+    out->rel_rmse = ref_rms > 0.0 ? out->rmse / ref_rms : 0.0;
+  }
+  if (n_non_finite) *n_non_finite = bad;
+}
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int compare_doubles(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s, int repetitions,
+                              sf_cost *out, sf_error *err) {
+  memset(out, 0, sizeof *out);
+  if (repetitions < 1 || repetitions > 1000) return sf_fail(err, SF_ERR_INPUT, "repetitions must be in 1..1000");
+  size_t n = s->n, ni = (size_t)s->n_inputs, nc = (size_t)c->n_channels;
+  double *times = malloc(sizeof(double) * (size_t)repetitions);
+  float *in_f = NULL, *out_f = NULL;
+  double *out_d = NULL;
+  if (c->eval_f32) {
+    in_f = malloc(sizeof(float) * n * ni);
+    out_f = malloc(sizeof(float) * n * nc);
+  } else {
+    out_d = malloc(sizeof(double) * nc);
+  }
+  if (!times || (c->eval_f32 && (!in_f || !out_f)) || (!c->eval_f32 && !out_d)) {
+    free(times); free(in_f); free(out_f); free(out_d);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory timing %s", c->name);
+  }
+  if (in_f)
+    for (size_t i = 0; i < n * ni; ++i) in_f[i] = (float)s->inputs[i];
+  volatile double sink = 0.0;
+  for (int r = 0; r < repetitions; ++r) {
+    double t0 = now_seconds();
+    if (c->eval_f32) {
+      c->eval_f32(c->ctx, n, in_f, out_f);
+      sink += out_f[(size_t)r % (n * nc)];
+    } else {
+      double acc = 0.0;
+      for (size_t i = 0; i < n; ++i) {
+        c->eval(c->ctx, s->inputs + i * ni, out_d);
+        acc += out_d[0];
+      }
+      sink += acc;
+    }
+    times[r] = (now_seconds() - t0) * 1e9 / (double)n;
+  }
+  (void)sink;
+  qsort(times, (size_t)repetitions, sizeof(double), compare_doubles);
+  out->ns_min = times[0];
+  out->ns_max = times[repetitions - 1];
+  out->ns_median = repetitions % 2 ? times[repetitions / 2]
+                                   : 0.5 * (times[repetitions / 2 - 1] + times[repetitions / 2]);
+  out->repetitions = repetitions;
+  out->n_points = n;
+  out->precision_bits = c->eval_f32 ? 32 : 64;
+  free(times); free(in_f); free(out_f); free(out_d);
+  return SF_OK;
+}

@@ -1,0 +1,292 @@
+/* The neural sky (SPEC §7.4-7.5, seed 000 §9.6, models/mlp_sky.h) as
+ * candidates: the transmittance network (2 inputs, 4 sigmoid units, exp(-x)
+ * outputs; rays to the ground by eq. 43) and the scattering network (4
+ * inputs, 8-8 sigmoid units, exp(-x) outputs: single scattering per
+ * constituent without its phase function, then multiple; the phase
+ * functions applied exactly). Trained with the hand-written Adam of
+ * fit/train.h on the reference tables' grid points inside the scene's
+ * domain (fit/dataset_sky.h), seeded and deterministic, and cached as their
+ * weights files (fit/candidate_cache.h). Valid anywhere (SPEC §5).
+ *
+ * Epochs inside `skyfit build` are fewer than `skyfit fit mlp-*`'s
+ * defaults, and the scattering network trains on a seeded subset of the
+ * grid points, so that the whole build stays within its time budget; the
+ * report states the error this gives, and `skyfit fit` trains longer. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codegen/emit_mlp.h"
+#include "fit/candidate_cache.h"
+#include "fit/candidate_fitted.h"
+#include "fit/dataset_sky.h"
+#include "fit/train.h"
+#include "models/mlp_sky.h"
+
+static void mlp_t_eval(const void *ctx, const double *in, double *out) {
+  sf_mlp_transmittance(ctx, in[0], in[1], out);
+}
+static void mlp_t_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const sf_mlp_sky *m = ctx;
+  for (size_t p = 0; p < n; ++p) sf_mlp_transmittance_f(m, in[2 * p], in[2 * p + 1], out + (size_t)m->n_channels * p);
+}
+static void mlp_s_eval(const void *ctx, const double *in, double *out) {
+  sf_mlp_scattering(ctx, in[0], in[1], in[2], in[3], out);
+}
+static void mlp_s_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const sf_mlp_sky *m = ctx;
+  for (size_t p = 0; p < n; ++p) {
+    const float *x = in + 4 * p;
+    sf_mlp_scattering_f(m, x[0], x[1], x[2], x[3], out + (size_t)m->n_channels * p);
+  }
+}
+static void free_mlp(void *ctx) {
+  sf_mlp_sky_free(ctx);
+  free(ctx);
+}
+
+static void emit_t(struct sf_code_writer *w, const void *model) { sf_emit_mlp_transmittance(w, model); }
+static void emit_s(struct sf_code_writer *w, const void *model) { sf_emit_mlp_scattering(w, model, NULL); }
+
+void sf_candidate_emit_mlp_pair(struct sf_code_writer *w, const void *pair) {
+  const sf_mlp_emit_pair *p = pair;
+  sf_emit_mlp_transmittance(w, p->transmittance);
+  sf_emit_mlp_scattering(w, p->scattering, p->transmittance);
+}
+
+static int applies(const sf_candidate_inputs *in, const char *name, char *why, size_t why_len) {
+  if (!in->tables || in->tables->params.kind != SF_PARAM_BRUNETON) {
+    snprintf(why, why_len, "%s trains on Bruneton-parameterised tables, which this build has not made", name);
+    return 0;
+  }
+  return 1;
+}
+int sf_candidate_applies_mlp_transmittance(const sf_candidate_inputs *in, char *why, size_t why_len) {
+  return applies(in, "mlp-transmittance", why, why_len);
+}
+int sf_candidate_applies_mlp_scattering(const sf_candidate_inputs *in, char *why, size_t why_len) {
+  if (!in->sky || in->tables->n_single < 1) {
+    snprintf(why, why_len, "mlp-scattering trains on the scattering tables, which this build has not made");
+    return 0;
+  }
+  return applies(in, "mlp-scattering", why, why_len);
+}
+
+typedef struct mlp_job {
+  int scattering;
+  const char *name;
+  sf_train_options train;
+  long max_samples;          /* training samples kept, <= 0: all */
+} mlp_job;
+
+static void train_progress(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
+                           double validation_loss) {
+  (void)train_loss; (void)validation_loss;
+  const sf_candidate_inputs *in = ctx;
+  if (in->run.progress)
+    in->run.progress(in->run.progress_ctx, "training the networks",
+                     ((double)restart + (double)epoch / n_epochs) / n_restarts);
+}
+
+/* Trains and writes the weights file to path (if not ""). */
+static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const char *path, sf_mlp_sky *model,
+                           sf_error *err) {
+  sf_dataset data, train, val;
+  memset(&data, 0, sizeof data);
+  memset(&train, 0, sizeof train);
+  memset(&val, 0, sizeof val);
+  int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
+  sf_mlp_target target = job->scattering ? SF_MLP_TARGET_SEPARATE : SF_MLP_TARGET_TRANSMITTANCE_TOP;
+  int status = job->scattering ? sf_dataset_scattering(in->tables, in->atm, &in->domain, target, &data, &n_single,
+                                                       constituent, err)
+                               : sf_dataset_transmittance(in->tables, in->atm, &in->domain, &data, err);
+  if (status == SF_OK) status = sf_dataset_split(&data, 0.1, job->train.seed, &train, &val, err);
+  /* The split shuffles: the first max_samples are a seeded random subset. */
+  if (status == SF_OK && job->max_samples > 0 && train.n > job->max_samples) sf_dataset_truncate(&train, job->max_samples);
+  if (status == SF_OK && val.n > 20000) sf_dataset_truncate(&val, 20000);
+  sf_train_result result;
+  memset(&result, 0, sizeof result);
+  if (status == SF_OK) {
+    char layers[64];
+    int nch = in->atm->n_channels;
+    if (job->scattering) snprintf(layers, sizeof layers, "4,8,8,%d", (n_single + 1) * nch);
+    else snprintf(layers, sizeof layers, "2,4,%d", nch);
+    status = sf_mlp_shape_parse_layers(layers, &job->train.shape, err);
+    job->train.shape.hidden = SF_ACT_SIGMOID;
+    job->train.shape.output = SF_ACT_EXP_NEG;
+  }
+  if (status == SF_OK) {
+    job->train.n_threads = in->run.n_threads;
+    job->train.progress = train_progress;
+    job->train.progress_ctx = (void *)in;
+    status = sf_mlp_train(&train, &val, &job->train, &result, err);
+  }
+  double offset[4], scale[4];
+  for (int k = 0; k < data.n_in && k < 4; ++k) {
+    offset[k] = data.input_offset[k];
+    scale[k] = data.input_scale[k];
+  }
+  if (status == SF_OK)
+    status = sf_mlp_sky_make(model, &result.net, target, in->atm, offset, scale, n_single, constituent, err);
+  else
+    sf_mlp_free(&result.net);
+  cJSON *doc = NULL;
+  if (status == SF_OK && path[0]) {
+    doc = sf_weights_new(job->scattering ? "mlp-scattering" : "mlp-transmittance",
+                         job->scattering ? "sky_radiance" : "transmittance", in->atm, &in->domain);
+    if (!doc) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  if (doc) {
+    for (int k = 0; k < data.n_in; ++k) sf_weights_add_input(doc, data.names[k], offset[k], scale[k]);
+    cJSON *training = sf_weights_training(doc);
+    cJSON_AddStringToObject(training, "target", sf_mlp_target_name(target));
+    if (target == SF_MLP_TARGET_SEPARATE) {
+      cJSON *comps = cJSON_AddArrayToObject(training, "components");
+      for (int k = 0; k < n_single; ++k)
+        cJSON_AddItemToArray(comps, cJSON_CreateString(in->atm->constituents[constituent[k]].name));
+      cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
+    }
+    if (sf_mlp_add_to_weights(doc, &model->net) != SF_OK) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    cJSON_AddNumberToObject(training, "seed", (double)job->train.seed);
+    cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
+    cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
+    cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(job->train.loss));
+    cJSON_AddNumberToObject(training, "batch", (double)job->train.batch);
+    cJSON_AddNumberToObject(training, "lr", job->train.adam.lr);
+    cJSON_AddNumberToObject(training, "training_samples", (double)train.n);
+    cJSON_AddNumberToObject(training, "validation_samples", (double)val.n);
+    cJSON_AddNumberToObject(training, "grid_points_in_domain", (double)data.n);
+    cJSON *metrics = sf_weights_metrics(doc);
+    cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
+    if (val.n > 0 && isfinite(result.validation_loss))
+      cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
+    if (status == SF_OK) status = sf_weights_write(doc, path, err);
+    cJSON_Delete(doc);
+  }
+  sf_dataset_free(&data);
+  sf_dataset_free(&train);
+  sf_dataset_free(&val);
+  return status;
+}
+
+static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, sf_error *err) {
+  sf_cache_key key;
+  sf_cache_key_begin(&key, job->name, in);
+  sf_cache_key_add_tables(&key, in);
+  sf_cache_key_add_number(&key, "epochs", job->train.epochs);
+  sf_cache_key_add_number(&key, "batch", (double)job->train.batch);
+  sf_cache_key_add_number(&key, "loss", job->train.loss);
+  sf_cache_key_add_number(&key, "lr", job->train.adam.lr);
+  sf_cache_key_add_number(&key, "samples", (double)job->max_samples);
+  char path[4400];
+  if (sf_cache_path(in->cache_dir, "fits", job->name, &key, path, sizeof path, err) != SF_OK) return err->status;
+  sf_mlp_sky *m = calloc(1, sizeof *m);
+  if (!m) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  int loaded = 0;
+  if (sf_cache_exists(path)) {
+    sf_error lerr = {0};
+    loaded = sf_mlp_sky_load(path, m, &lerr) == SF_OK;
+    if (!loaded) {
+      sf_mlp_sky_free(m);
+      memset(m, 0, sizeof *m);
+      if (in->note) {
+        char text[1200];
+        snprintf(text, sizeof text, "%s: cached fit unusable, retraining: %s", job->name, lerr.message);
+        in->note(in->note_ctx, text);
+      }
+    }
+  }
+  if (!loaded && train_and_store(in, job, path, m, err) != SF_OK) {
+    sf_mlp_sky_free(m);
+    free(m);
+    return err->status;
+  }
+  char weights[4400] = "";
+  if (path[0] && in->work_dir) {
+    snprintf(weights, sizeof weights, "%s/%s.json", in->work_dir, job->name);
+    if (sf_copy_file(path, weights, err) != SF_OK) {
+      free_mlp(m);
+      return err->status;
+    }
+  }
+  sf_candidate_init(out, job->scattering ? SF_CANDIDATE_SKY_RADIANCE : SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED,
+                    job->name, job->scattering ? "Scattering MLP (trained)" : "Transmittance MLP (trained)");
+  snprintf(out->weights_path, sizeof out->weights_path, "%s", weights);
+  char shape[64] = "";
+  for (int l = 0; l <= m->net.shape.n_layers; ++l) {
+    size_t len = strlen(shape);
+    snprintf(shape + len, sizeof shape - len, "%s%d", l ? "-" : "", m->net.shape.sizes[l]);
+  }
+  if (job->scattering)
+    snprintf(out->description, sizeof out->description,
+             "Network %s, sigmoid hidden units, exp(-x) outputs (seed 000 §9.6.2): single scattering per "
+             "constituent (phase applied exactly) and multiple; %d epochs of Adam on %s of the tables' grid "
+             "points in the domain.",
+             shape, job->train.epochs, job->max_samples > 0 ? "a seeded subset" : "all");
+  else
+    snprintf(out->description, sizeof out->description,
+             "Network %s, sigmoid hidden units, exp(-x) output = optical depth (seed 000 §9.6.1); rays to the "
+             "ground from two reversed rays (eq. 43); %d epochs of Adam on the transmittance table's grid.",
+             shape, job->train.epochs);
+  out->n_channels = m->n_channels;
+  out->n_params = m->net.n_params;
+  out->constant_bytes = 4 * out->n_params + 4 * 2 * m->n_inputs;   /* weights, biases, input normalisation */
+  out->valid.h_min_km = in->domain.h_min_km;
+  out->valid.h_max_km = in->domain.h_max_km;
+  out->valid.mu_min = in->domain.mu_min;
+  out->valid.mu_max = in->domain.mu_max;
+  out->valid.mu_s_min = in->domain.mu_s_min;
+  out->valid.mu_s_max = in->domain.mu_s_max;
+  if (!job->scattering) {   /* T(h, mu) holds for every sun */
+    out->valid.mu_s_min = -1.0;
+    out->valid.mu_s_max = 1.0;
+  }
+  char problem[256];
+  if (sf_emit_mlp_check(m, problem, sizeof problem) == 0) {
+    snprintf(out->emit_name, sizeof out->emit_name, "mlp");
+    out->emit = job->scattering ? emit_s : emit_t;
+    out->emit_model = m;
+  } else if (in->note) {
+    char text[400];
+    snprintf(text, sizeof text, "%s: cannot be emitted: %s", job->name, problem);
+    in->note(in->note_ctx, text);
+  }
+  out->eval = job->scattering ? mlp_s_eval : mlp_t_eval;
+  out->eval_f32 = job->scattering ? mlp_s_eval_f32 : mlp_t_eval_f32;
+  out->ctx = m;
+  out->free_ctx = free_mlp;
+  return SF_OK;
+}
+
+int sf_candidate_make_mlp_transmittance(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err) {
+  mlp_job job;
+  memset(&job, 0, sizeof job);
+  job.name = "mlp-transmittance";
+  sf_train_options_default(&job.train);
+  job.train.loss = SF_LOSS_MSE;
+  job.train.batch = 256;
+  job.train.epochs = in->mlp_transmittance_epochs > 0 ? in->mlp_transmittance_epochs
+                     : in->quick                     ? 20
+                                                     : SF_BUILD_MLP_TRANSMITTANCE_EPOCHS;
+  job.train.seed = in->seed;
+  return make(in, &job, out, err);
+}
+
+int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err) {
+  mlp_job job;
+  memset(&job, 0, sizeof job);
+  job.scattering = 1;
+  job.name = "mlp-scattering";
+  sf_train_options_default(&job.train);
+  job.train.loss = SF_LOSS_REL;
+  job.train.batch = 1024;
+  job.train.epochs = in->mlp_scattering_epochs > 0 ? in->mlp_scattering_epochs
+                     : in->quick                  ? 3
+                                                  : SF_BUILD_MLP_SCATTERING_EPOCHS;
+  job.max_samples = in->mlp_scattering_samples < 0   ? 0
+                    : in->mlp_scattering_samples > 0 ? in->mlp_scattering_samples
+                                                     : SF_BUILD_MLP_SCATTERING_SAMPLES;
+  job.train.seed = in->seed;
+  return make(in, &job, out, err);
+}

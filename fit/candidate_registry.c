@@ -1,0 +1,85 @@
+#include "fit/candidate_registry.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "fit/candidate_builtin.h"
+#include "fit/candidate_fitted.h"
+
+/* One line per fitted model (fit/candidate_fitted.h). */
+static const sf_candidate_factory factories[] = {
+    {"sigmoid", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_sigmoid, sf_candidate_make_sigmoid},
+    {"mlp-transmittance", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_mlp_transmittance,
+     sf_candidate_make_mlp_transmittance},
+    {"preetham", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_preetham, sf_candidate_make_preetham},
+    {"hosek", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_hosek, sf_candidate_make_hosek},
+    {"mlp-scattering", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_mlp_scattering,
+     sf_candidate_make_mlp_scattering},
+};
+
+int sf_candidate_factories(const sf_candidate_factory **out) {
+  *out = factories;
+  return (int)(sizeof factories / sizeof factories[0]);
+}
+
+static int add(sf_candidate_list *list, sf_candidate *c, sf_error *err) {
+  if (sf_candidate_list_add(list, c) != 0) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  return SF_OK;
+}
+
+static void say(sf_candidate_note_fn note, void *ctx, const char *fmt, const char *a, const char *b) {
+  if (!note) return;
+  char text[1200];
+  snprintf(text, sizeof text, fmt, a, b);
+  note(ctx, text);
+}
+
+int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
+                           void *note_ctx, sf_error *err) {
+  sf_candidate c;
+  if (sf_candidate_reference_transmittance(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
+    return err->status;
+  if (in->sky && sf_candidate_table_transmittance(in->sky, &c, err) == SF_OK && add(list, &c, err) != SF_OK)
+    return err->status;
+  static const sf_transmittance_baseline kinds[] = {SF_TB_NAIVE, SF_TB_CHAPMAN, SF_TB_TAYLOR, SF_TB_FLAT};
+  for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+    sf_error why = {0};
+    if (sf_candidate_transmittance_baseline(in->atm, kinds[k], SF_NAIVE_COST_UNIT_STEPS, &c, &why) == SF_OK) {
+      if (add(list, &c, err) != SF_OK) return err->status;
+    } else if (why.status == SF_ERR_INPUT) {
+      say(note, note_ctx, "baseline skipped: %s%s", why.message, "");
+    } else {
+      *err = why;
+      return err->status;
+    }
+  }
+  int want_radiance = (in->scene->quantities & SF_QUANTITY_SKY_RADIANCE) && in->sky;
+  if (want_radiance) {
+    if (sf_candidate_table_sky_radiance(in->sky, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
+      return err->status;
+  }
+  const sf_candidate_factory *f;
+  int n = sf_candidate_factories(&f);
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    if (q == SF_CANDIDATE_SKY_RADIANCE && !want_radiance) continue;
+    for (int i = 0; i < n; ++i) {
+      if ((int)f[i].quantity != q) continue;
+      char why[512] = "";
+      if (f[i].applies && !f[i].applies(in, why, sizeof why)) {
+        say(note, note_ctx, "%s: not fitted: %s", f[i].name, why);
+        continue;
+      }
+      sf_error ferr = {0};
+      if (f[i].make(in, &c, &ferr) != SF_OK) {
+        if (ferr.status != SF_ERR_INPUT) {
+          *err = ferr;
+          return err->status;
+        }
+        say(note, note_ctx, "%s: fit failed, skipped: %s", f[i].name, ferr.message);
+        continue;
+      }
+      if (add(list, &c, err) != SF_OK) return err->status;
+    }
+  }
+  return SF_OK;
+}

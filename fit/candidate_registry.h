@@ -1,0 +1,68 @@
+/* Every model `skyfit build` tries for a scene (SPEC §5 "fits every model
+ * that is valid there"), as a table of factories. A fitted model plugs in
+ * with one line in fit/candidate_registry.c's table and one factory
+ * function (its own file, e.g. fit/candidate_sigmoid.c):
+ *
+ *   int sf_candidate_make_<model>(const sf_candidate_inputs *in,
+ *                                 sf_candidate *out, sf_error *err);
+ *
+ * which calls the model's library fit function (never the CLI) on the
+ * scene's domain, may write its weights file into in->work_dir, and fills
+ * *out (fit/candidate.h): name, label, description, counts, the valid
+ * domain, eval (double) and eval_f32 (float32 batch, what the cost is
+ * measured on), ctx and free_ctx. `applies` says whether the model is
+ * valid for the scene at all (e.g. Hosek: ground viewers, sun up) and why
+ * not. SF_ERR_INPUT from make is reported and the model skipped; other
+ * errors stop the build. */
+#ifndef SKYFIT_FIT_CANDIDATE_REGISTRY_H
+#define SKYFIT_FIT_CANDIDATE_REGISTRY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "data/precompute_options.h"
+#include "data/sky_lookup.h"
+#include "data/table_set.h"
+#include "fit/candidate.h"
+#include "util/error.h"
+
+typedef struct sf_candidate_inputs {
+  const sf_scene *scene;
+  sf_scene_domain domain;
+  const sf_atmosphere *atm;          /* &scene->atmosphere */
+  const sf_table_set *tables;
+  const sf_sky_tables *sky;
+  const char *work_dir;              /* where fitters may write weights files (exists) */
+  const char *cache_dir;             /* the build's cache (fit/candidate_cache.h); NULL: none */
+  int orders;                        /* scattering orders of the tables */
+  uint64_t seed;
+  int quick;                         /* smaller fits (tests) */
+  int mlp_transmittance_epochs;      /* 0: the build's default (fit/candidate_fitted.h) */
+  int mlp_scattering_epochs;         /* 0: the build's default */
+  long mlp_scattering_samples;       /* training samples kept (0: the default; < 0: all) */
+  sf_precompute_options run;         /* threads, progress */
+  void (*note)(void *ctx, const char *message);   /* messages for the user; may be NULL */
+  void *note_ctx;
+} sf_candidate_inputs;
+
+typedef struct sf_candidate_factory {
+  const char *name;
+  sf_candidate_quantity quantity;
+  /* 1 if the model applies to in->scene; else 0 and a reason in why. */
+  int (*applies)(const sf_candidate_inputs *in, char *why, size_t why_len);
+  int (*make)(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+} sf_candidate_factory;
+
+int sf_candidate_factories(const sf_candidate_factory **out);
+
+/* Called for each model skipped or failed, with a sentence. */
+typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
+
+/* The references (transmittance: exact; sky radiance: tables — only if
+ * the scene asks for sky radiance), the transmittance table lookup, the
+ * analytic baselines (naive16 always: it is the cost unit), then every
+ * registered factory that applies. */
+int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
+                           void *note_ctx, sf_error *err);
+
+#endif

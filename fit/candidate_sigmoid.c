@@ -1,0 +1,150 @@
+/* The sigmoid-polynomial transmittance as a candidate: fitted with
+ * sf_fit_sigmoid over the scene's domain (fit/fit_sigmoid.h), evaluated
+ * with sf_sigmoid_model_eval, timed in float32 as the emitted code
+ * computes it (codegen/emit_sigmoid.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "codegen/emit_sigmoid.h"
+#include "fit/candidate_cache.h"
+#include "fit/candidate_fitted.h"
+#include "fit/fit_sigmoid.h"
+
+typedef struct sigmoid_ctx {
+  sf_sigmoid_model model;
+  int n_constituents, n_channels;
+  float a[SF_MAX_CONSTITUENTS][4][SF_SIGMOID_N_COEFFS];
+} sigmoid_ctx;
+
+static void sigmoid_eval(const void *ctx, const double *in, double *out) {
+  sf_sigmoid_model_eval(&((const sigmoid_ctx *)ctx)->model, in[0], in[1], out);
+}
+
+static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const sigmoid_ctx *s = ctx;
+  const int nc = s->n_channels;
+  for (size_t p = 0; p < n; ++p) {
+    float h = in[2 * p], mu = in[2 * p + 1];
+    for (int k = 0; k < nc; ++k) {
+      float t = 1.0f;
+      for (int c = 0; c < s->n_constituents; ++c) {
+        const float *a = s->a[c][k];
+        t *= 1.0f / (1.0f + expf(-(a[0] + a[1] * h + a[2] * mu + a[3] * mu * mu)));   /* seed 000 §9.5 */
+      }
+      out[(size_t)nc * p + (size_t)k] = t;
+    }
+  }
+}
+
+static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sigmoid(w, model); }
+
+int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len) {
+  if (in->atm->n_channels > 4) {
+    snprintf(why, why_len, "the emitted sigmoid holds at most 4 channels, the atmosphere has %d",
+             in->atm->n_channels);
+    return 0;
+  }
+  return 1;
+}
+
+/* Fits and writes the weights file (models/sigmoid_transmittance.h) to path (if not ""). */
+static int fit_and_store(const sf_candidate_inputs *in, const sf_sigmoid_fit_options *o, const char *path,
+                         sf_sigmoid_model *m, sf_error *err) {
+  sf_sigmoid_fit_report *rep = calloc(1, sizeof *rep);
+  if (!rep) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  int status = sf_fit_sigmoid(in->atm, &in->domain, o, m, rep, err);
+  if (status == SF_OK && path[0]) {
+    cJSON *doc = sf_weights_new("sigmoid", "transmittance", in->atm, &in->domain);
+    double *a = malloc(sizeof(double) * SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS * SF_SIGMOID_N_COEFFS);
+    if (!doc || !a) {
+      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    } else {
+      size_t n = 0;
+      for (int c = 0; c < m->n_constituents; ++c)
+        for (int k = 0; k < m->n_channels; ++k)
+          for (int j = 0; j < SF_SIGMOID_N_COEFFS; ++j) a[n++] = m->a[c][k][j];
+      int shape[3] = {m->n_constituents, m->n_channels, SF_SIGMOID_N_COEFFS};
+      sf_weights_add_input(doc, "h_km", 0.0, 1.0);
+      sf_weights_add_input(doc, "mu", 0.0, 1.0);
+      sf_weights_add_param(doc, "a", 3, shape, a);
+      cJSON *metrics = sf_weights_metrics(doc);
+      cJSON_AddNumberToObject(metrics, "rmse", rep->rmse);
+      cJSON_AddNumberToObject(metrics, "max_abs", rep->max_abs);
+      cJSON *training = sf_weights_training(doc);
+      cJSON_AddNumberToObject(training, "n_h", o->n_h);
+      cJSON_AddNumberToObject(training, "n_mu", o->n_mu);
+      status = sf_weights_write(doc, path, err);
+    }
+    free(a);
+    cJSON_Delete(doc);
+  }
+  free(rep);
+  return status;
+}
+
+int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err) {
+  sigmoid_ctx *s = calloc(1, sizeof *s);
+  if (!s) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  sf_sigmoid_fit_options o;
+  sf_sigmoid_fit_options_default(&o);
+  if (in->quick) {
+    o.n_h = 12;
+    o.n_mu = 24;
+  }
+  o.progress = in->run.progress;
+  o.progress_ctx = in->run.progress_ctx;
+  sf_cache_key key;
+  sf_cache_key_begin(&key, "sigmoid", in);
+  sf_cache_key_add_number(&key, "n_h", o.n_h);
+  sf_cache_key_add_number(&key, "n_mu", o.n_mu);
+  char path[4400];
+  if (sf_cache_path(in->cache_dir, "fits", "sigmoid", &key, path, sizeof path, err) != SF_OK) {
+    free(s);
+    return err->status;
+  }
+  int loaded = 0;
+  if (sf_cache_exists(path)) {
+    sf_error lerr = {0};
+    loaded = sf_sigmoid_model_load(path, &s->model, NULL, &lerr) == SF_OK;
+    if (!loaded && in->note) {
+      char text[1200];
+      snprintf(text, sizeof text, "sigmoid: cached fit unusable, refitting: %s", lerr.message);
+      in->note(in->note_ctx, text);
+    }
+  }
+  if (!loaded && fit_and_store(in, &o, path, &s->model, err) != SF_OK) {
+    free(s);
+    return err->status;
+  }
+  char weights[4400] = "";
+  if (path[0] && in->work_dir) {
+    snprintf(weights, sizeof weights, "%s/sigmoid.json", in->work_dir);
+    if (sf_copy_file(path, weights, err) != SF_OK) {
+      free(s);
+      return err->status;
+    }
+  }
+  s->n_constituents = s->model.n_constituents;
+  s->n_channels = s->model.n_channels;
+  for (int c = 0; c < s->n_constituents; ++c)
+    for (int k = 0; k < s->n_channels && k < 4; ++k)
+      for (int j = 0; j < SF_SIGMOID_N_COEFFS; ++j) s->a[c][k][j] = (float)s->model.a[c][k][j];
+  sf_candidate_init(out, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED, "sigmoid", "Sigmoid polynomial (fitted)");
+  snprintf(out->description, sizeof out->description,
+           "T = prod_c 1/(1+exp(-a1 - a2 h - a3 mu - a4 mu^2)) per constituent and channel (seed 000 §9.5), "
+           "least squares (Ceres) on the scene's (h, mu) box.");
+  snprintf(out->weights_path, sizeof out->weights_path, "%s", weights);
+  out->n_channels = s->n_channels;
+  out->n_params = (long)s->n_constituents * s->n_channels * SF_SIGMOID_N_COEFFS;
+  out->constant_bytes = 4 * out->n_params;
+  out->valid = in->domain;
+  snprintf(out->emit_name, sizeof out->emit_name, "sigmoid");
+  out->emit = emit;
+  out->emit_model = &s->model;
+  out->eval = sigmoid_eval;
+  out->eval_f32 = sigmoid_eval_f32;
+  out->ctx = s;
+  out->free_ctx = free;
+  return SF_OK;
+}

@@ -1,0 +1,228 @@
+#include "fit/dataset.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "models/rng.h"
+#include "util/atomic_file.h"
+
+/* rng stream keys of this file */
+#define SPLIT_KEY 0x73706c6974ull   /* "split" */
+
+int sf_dataset_init(sf_dataset *d, long n, int n_in, int n_out, sf_error *err) {
+  memset(d, 0, sizeof *d);
+  if (n_in < 1 || n_out < 1 || n_in + n_out > SF_DATASET_MAX_COLUMNS)
+    return sf_fail(err, SF_ERR_INPUT, "dataset: need 1..%d columns, got %d inputs and %d targets",
+                   SF_DATASET_MAX_COLUMNS, n_in, n_out);
+  d->n = n;
+  d->n_in = n_in;
+  d->n_out = n_out;
+  d->x = malloc((size_t)(n > 0 ? n : 1) * (size_t)n_in * sizeof(double));
+  d->y = malloc((size_t)(n > 0 ? n : 1) * (size_t)n_out * sizeof(double));
+  if (!d->x || !d->y) {
+    sf_dataset_free(d);
+    return sf_fail(err, SF_ERR_INTERNAL, "dataset: out of memory for %ld samples", n);
+  }
+  for (int k = 0; k < n_in; ++k) {
+    snprintf(d->names[k], SF_DATASET_NAME_LEN, "x%d", k);
+    d->input_offset[k] = 0.0;
+    d->input_scale[k] = 1.0;
+  }
+  for (int k = 0; k < n_out; ++k) snprintf(d->names[n_in + k], SF_DATASET_NAME_LEN, "y%d", k);
+  return SF_OK;
+}
+
+void sf_dataset_free(sf_dataset *d) {
+  free(d->x);
+  free(d->y);
+  d->x = d->y = NULL;
+  d->n = 0;
+}
+
+void sf_dataset_truncate(sf_dataset *d, long n) {
+  if (n < d->n) d->n = n;
+}
+
+int sf_dataset_write_csv(const sf_dataset *d, const char *path, sf_error *err) {
+  sf_atomic_file f;
+  if (sf_atomic_open(&f, path, err)) return err->status;
+  int cols = d->n_in + d->n_out;
+  for (int k = 0; k < cols; ++k) fprintf(f.stream, "%s%s", k ? "," : "", d->names[k]);
+  fputc('\n', f.stream);
+  for (long i = 0; i < d->n; ++i) {
+    for (int k = 0; k < cols; ++k) {
+      double v = k < d->n_in ? d->x[i * d->n_in + k] : d->y[i * d->n_out + (k - d->n_in)];
+      fprintf(f.stream, "%s%.17g", k ? "," : "", v);
+    }
+    fputc('\n', f.stream);
+  }
+  return sf_atomic_commit(&f, err);
+}
+
+/* One line of any length (caller frees *line). Returns its length or -1 at EOF. */
+static long read_line(FILE *in, char **line, size_t *cap) {
+  long n = 0;
+  int c;
+  while ((c = fgetc(in)) != EOF && c != '\n') {
+    if ((size_t)n + 2 > *cap) {
+      size_t nc = *cap ? *cap * 2 : 256;
+      char *p = realloc(*line, nc);
+      if (!p) return -2;
+      *line = p;
+      *cap = nc;
+    }
+    (*line)[n++] = (char)c;
+  }
+  if (c == EOF && n == 0) return -1;
+  if (!*line) {
+    *line = malloc(1);
+    if (!*line) return -2;
+    *cap = 1;
+  }
+  if (n > 0 && (*line)[n - 1] == '\r') --n;
+  (*line)[n] = '\0';
+  return n;
+}
+
+int sf_dataset_read_csv(const char *path, int n_in, sf_dataset *d, sf_error *err) {
+  memset(d, 0, sizeof *d);
+  FILE *in = fopen(path, "r");
+  if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+  char *line = NULL;
+  size_t cap = 0;
+  int status = SF_OK;
+  char names[SF_DATASET_MAX_COLUMNS][SF_DATASET_NAME_LEN];
+  int cols = 0;
+  long len = read_line(in, &line, &cap);
+  if (len < 0) {
+    status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: expected a header row naming the columns", path);
+    goto done;
+  }
+  for (char *tok = line, *next;; tok = next + 1) {
+    next = strchr(tok, ',');
+    if (next) *next = '\0';
+    if (cols >= SF_DATASET_MAX_COLUMNS) {
+      status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: more than %d columns", path, SF_DATASET_MAX_COLUMNS);
+      goto done;
+    }
+    snprintf(names[cols++], SF_DATASET_NAME_LEN, "%.31s", tok);
+    if (!next) break;
+  }
+  if (n_in < 1 || cols <= n_in) {
+    status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: %d columns, but --inputs %d leaves no target column",
+                     path, cols, n_in);
+    goto done;
+  }
+  long capacity = 1024, n = 0;
+  double *rows = malloc((size_t)capacity * (size_t)cols * sizeof(double));
+  if (!rows) {
+    status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    goto done;
+  }
+  for (long line_no = 2;; ++line_no) {
+    len = read_line(in, &line, &cap);
+    if (len == -1) break;
+    if (len == 0) continue;
+    if (n == capacity) {
+      capacity *= 2;
+      double *p = realloc(rows, (size_t)capacity * (size_t)cols * sizeof(double));
+      if (!p) {
+        free(rows);
+        status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+        goto done;
+      }
+      rows = p;
+    }
+    char *p = line;
+    for (int k = 0; k < cols; ++k) {
+      char *end;
+      errno = 0;
+      double v = strtod(p, &end);
+      int last = k + 1 == cols;
+      if (end == p || !isfinite(v) || (last ? *end != '\0' : *end != ',')) {
+        free(rows);
+        status = sf_fail(err, SF_ERR_INPUT,
+                         "%s: line %ld, column %d (%s): expected a finite number%s", path, line_no, k + 1,
+                         names[k], last ? " ending the row" : " followed by a comma");
+        goto done;
+      }
+      rows[n * cols + k] = v;
+      p = end + 1;
+    }
+    ++n;
+  }
+  if (n == 0) {
+    free(rows);
+    status = sf_fail(err, SF_ERR_INPUT, "%s: no data rows after the header", path);
+    goto done;
+  }
+  if ((status = sf_dataset_init(d, n, n_in, cols - n_in, err)) != SF_OK) {
+    free(rows);
+    goto done;
+  }
+  memcpy(d->names, names, (size_t)cols * sizeof names[0]);
+  for (long i = 0; i < n; ++i)
+    for (int k = 0; k < cols; ++k) {
+      if (k < n_in) d->x[i * n_in + k] = rows[i * cols + k];
+      else d->y[i * d->n_out + (k - n_in)] = rows[i * cols + k];
+    }
+  free(rows);
+done:
+  free(line);
+  fclose(in);
+  return status;
+}
+
+void sf_dataset_permutation(int *perm, long n, uint64_t seed, uint64_t key_a, uint64_t key_b) {
+  sf_rng rng;
+  sf_rng_seed(&rng, seed, key_a, key_b);
+  for (long i = 0; i < n; ++i) perm[i] = (int)i;
+  for (long i = n - 1; i > 0; --i) {
+    long j = (long)(sf_rng_uniform(&rng) * (double)(i + 1));
+    if (j > i) j = i;
+    int t = perm[i];
+    perm[i] = perm[j];
+    perm[j] = t;
+  }
+}
+
+static void copy_rows(const sf_dataset *from, const int *index, long count, sf_dataset *to) {
+  for (long i = 0; i < count; ++i) {
+    memcpy(to->x + i * from->n_in, from->x + (long)index[i] * from->n_in, (size_t)from->n_in * sizeof(double));
+    memcpy(to->y + i * from->n_out, from->y + (long)index[i] * from->n_out, (size_t)from->n_out * sizeof(double));
+  }
+}
+
+static void copy_header(const sf_dataset *from, sf_dataset *to) {
+  memcpy(to->names, from->names, sizeof to->names);
+  memcpy(to->input_offset, from->input_offset, sizeof to->input_offset);
+  memcpy(to->input_scale, from->input_scale, sizeof to->input_scale);
+}
+
+int sf_dataset_split(const sf_dataset *d, double fraction, uint64_t seed, sf_dataset *train,
+                     sf_dataset *validation, sf_error *err) {
+  memset(train, 0, sizeof *train);
+  memset(validation, 0, sizeof *validation);
+  long n_val = (long)floor(fraction * (double)d->n + 0.5);
+  if (n_val < 0) n_val = 0;
+  if (n_val >= d->n) return sf_fail(err, SF_ERR_INPUT, "dataset: validation fraction %g leaves no training samples", fraction);
+  int *perm = malloc((size_t)d->n * sizeof(int));
+  if (!perm) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  sf_dataset_permutation(perm, d->n, seed, SPLIT_KEY, 0);
+  if (sf_dataset_init(train, d->n - n_val, d->n_in, d->n_out, err) ||
+      sf_dataset_init(validation, n_val, d->n_in, d->n_out, err)) {
+    free(perm);
+    sf_dataset_free(train);
+    sf_dataset_free(validation);
+    return err->status;
+  }
+  copy_header(d, train);
+  copy_header(d, validation);
+  copy_rows(d, perm, n_val, validation);
+  copy_rows(d, perm + n_val, d->n - n_val, train);
+  free(perm);
+  return SF_OK;
+}

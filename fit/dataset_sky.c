@@ -1,0 +1,151 @@
+#include "fit/dataset_sky.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "models/phase.h"
+#include "models/ray_geometry.h"
+#include "models/single_scattering.h"
+
+#define DOMAIN_TOL 1e-9
+
+/* normalised = (value - offset) * scale maps [lo, hi] to [-1, 1]. */
+static void set_input(sf_dataset *d, int k, const char *name, double lo, double hi) {
+  snprintf(d->names[k], SF_DATASET_NAME_LEN, "%s", name);
+  d->input_offset[k] = 0.5 * (lo + hi);
+  d->input_scale[k] = hi > lo ? 2.0 / (hi - lo) : 1.0;
+}
+
+static double norm_input(const sf_dataset *d, int k, double v) {
+  return (v - d->input_offset[k]) * d->input_scale[k];
+}
+
+void sf_transmittance_domain_of(const sf_atmosphere *atm, const sf_scene_domain *dom,
+                                sf_transmittance_domain *out) {
+  double R = atm->bottom_radius_km;
+  double top = atm->top_radius_km - R;
+  double h_max = fmin(dom->h_max_km, top);
+  double h_min = fmin(dom->h_min_km, h_max);
+  int ground_rays = dom->mu_min < sf_horizon_mu(R + h_min, R) || h_min <= 0.0;
+  out->h_min = ground_rays ? 0.0 : h_min;
+  out->h_max = h_max;
+  out->mu_min = ground_rays ? -1.0 : dom->mu_min;
+}
+
+int sf_dataset_transmittance(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                             sf_dataset *d, sf_error *err) {
+  memset(d, 0, sizeof *d);
+  if (set->params.kind != SF_PARAM_BRUNETON)
+    return sf_fail(err, SF_ERR_INPUT, "the transmittance network is trained on Bruneton's tables (rays to the top)");
+  sf_transmittance_domain td;
+  sf_transmittance_domain_of(atm, dom, &td);
+  const sf_table *t = &set->transmittance;
+  int n0 = t->desc.axes[0].size, n1 = t->desc.axes[1].size;
+  long count = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      if (sf_dataset_init(d, count, 2, atm->n_channels, err)) return err->status;
+      set_input(d, 0, "sqrt_h_km", sqrt(td.h_min), sqrt(td.h_max));
+      set_input(d, 1, "mu", td.mu_min, 1.0);
+      for (int c = 0; c < atm->n_channels; ++c)
+        snprintf(d->names[2 + c], SF_DATASET_NAME_LEN, "T_%s", atm->channel_names[c]);
+      count = 0;
+    }
+    for (int i1 = 0; i1 < n1; ++i1)
+      for (int i0 = 0; i0 < n0; ++i0) {
+        double pos[2] = {i0, i1}, h, mu;
+        sf_params_transmittance_coord(&set->params, pos, &h, &mu);
+        if (h < td.h_min - DOMAIN_TOL || h > td.h_max + DOMAIN_TOL || mu < td.mu_min - DOMAIN_TOL) continue;
+        if (pass == 1) {
+          int index[2] = {i0, i1};
+          const float *v = sf_table_at(t, index);
+          d->x[count * 2 + 0] = norm_input(d, 0, sqrt(fmax(h, 0.0)));
+          d->x[count * 2 + 1] = norm_input(d, 1, mu);
+          for (int c = 0; c < atm->n_channels; ++c) d->y[count * atm->n_channels + c] = v[c];
+        }
+        ++count;
+      }
+    if (count == 0) return sf_fail(err, SF_ERR_INPUT, "the scene's domain holds no transmittance table sample");
+  }
+  return SF_OK;
+}
+
+int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                          sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
+                          sf_error *err) {
+  memset(d, 0, sizeof *d);
+  if (set->params.kind != SF_PARAM_BRUNETON)
+    return sf_fail(err, SF_ERR_INPUT, "the scattering network is trained on Bruneton's tables");
+  if (target == SF_MLP_TARGET_TRANSMITTANCE_TOP)
+    return sf_fail(err, SF_ERR_INPUT, "target transmittance_top is not a scattering target");
+  int nch = atm->n_channels;
+  *n_single = set->n_single;
+  for (int k = 0; k < set->n_single; ++k) constituent[k] = set->single_constituent[k];
+  int n_out = target == SF_MLP_TARGET_SEPARATE ? (set->n_single + 1) * nch : nch;
+  double top = atm->top_radius_km - atm->bottom_radius_km;
+  double h_max = fmin(dom->h_max_km, top), h_min = fmin(dom->h_min_km, h_max);
+  const sf_table *ms = &set->multiple;
+  int size[4];
+  for (int a = 0; a < 4; ++a) size[a] = ms->desc.axes[a].size;
+  long count = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      if (sf_dataset_init(d, count, 4, n_out, err)) return err->status;
+      set_input(d, 0, "sqrt_h_km", sqrt(h_min), sqrt(h_max));
+      set_input(d, 1, "mu", dom->mu_min, dom->mu_max);
+      set_input(d, 2, "mu_s", dom->mu_s_min, dom->mu_s_max);
+      set_input(d, 3, "nu", -1.0, 1.0);
+      int col = 4;
+      if (target == SF_MLP_TARGET_SEPARATE) {
+        for (int k = 0; k < set->n_single; ++k)
+          for (int c = 0; c < nch; ++c)
+            snprintf(d->names[col++], SF_DATASET_NAME_LEN, "%.20s_%s",
+                     atm->constituents[constituent[k]].name, atm->channel_names[c]);
+        for (int c = 0; c < nch; ++c) snprintf(d->names[col++], SF_DATASET_NAME_LEN, "multiple_%s", atm->channel_names[c]);
+      } else {
+        for (int c = 0; c < nch; ++c) snprintf(d->names[col++], SF_DATASET_NAME_LEN, "L_%s", atm->channel_names[c]);
+      }
+      count = 0;
+    }
+    int idx[4];
+    for (idx[3] = 0; idx[3] < size[3]; ++idx[3])
+      for (idx[2] = 0; idx[2] < size[2]; ++idx[2])
+        for (idx[1] = 0; idx[1] < size[1]; ++idx[1])
+          for (idx[0] = 0; idx[0] < size[0]; ++idx[0]) {
+            double pos[4] = {idx[0], idx[1], idx[2], idx[3]};
+            sf_scattering_coord c;
+            sf_params_scattering_coord(&set->params, pos, &c);
+            if (c.h < h_min - DOMAIN_TOL || c.h > h_max + DOMAIN_TOL || c.mu < dom->mu_min - DOMAIN_TOL ||
+                c.mu > dom->mu_max + DOMAIN_TOL || c.mu_s < dom->mu_s_min - DOMAIN_TOL ||
+                c.mu_s > dom->mu_s_max + DOMAIN_TOL)
+              continue;
+            if (pass == 1) {
+              double nu = sf_clamp_nu(c.mu, c.mu_s, c.nu);
+              double *x = d->x + count * 4, *y = d->y + count * n_out;
+              x[0] = norm_input(d, 0, sqrt(fmax(c.h, 0.0)));
+              x[1] = norm_input(d, 1, c.mu);
+              x[2] = norm_input(d, 2, c.mu_s);
+              x[3] = norm_input(d, 3, nu);
+              const float *m = sf_table_at(ms, idx);
+              if (target == SF_MLP_TARGET_SEPARATE) {
+                for (int k = 0; k < set->n_single; ++k) {
+                  const float *s = sf_table_at(&set->single[k], idx);
+                  for (int ch = 0; ch < nch; ++ch) y[k * nch + ch] = s[ch];
+                }
+                for (int ch = 0; ch < nch; ++ch) y[set->n_single * nch + ch] = m[ch];
+              } else {
+                for (int ch = 0; ch < nch; ++ch) y[ch] = m[ch];
+                for (int k = 0; k < set->n_single; ++k) {
+                  const float *s = sf_table_at(&set->single[k], idx);
+                  double phase = sf_phase_value(&atm->constituents[constituent[k]].phase, nu);
+                  for (int ch = 0; ch < nch; ++ch) y[ch] += phase * s[ch];
+                }
+              }
+            }
+            ++count;
+          }
+    if (count == 0) return sf_fail(err, SF_ERR_INPUT, "the scene's domain holds no scattering table sample");
+  }
+  return SF_OK;
+}

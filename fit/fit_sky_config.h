@@ -1,0 +1,64 @@
+/* Least-squares fit of one sky configuration (one sun elevation, one
+ * channel) of the Perez or Hosek form (models/hosek_sky_model.h) to sky
+ * radiance samples, through Ceres (fit/ceres_shim.h) with analytic
+ * Jacobians (SPEC §7.2):
+ *
+ *   residual_i = weight (S F(c; theta_i, gamma_i) - L_i)
+ *
+ * c the 5 (A..E) or 9 (A..I) coefficients, S the radiance scale (Perez K,
+ * Hosek R). Hosek's S is degenerate with its linear coefficients C, D, F,
+ * G, I, so Hosek fits hold S fixed (fix_scale); Perez's K is free.
+ *
+ * Bounds: S >= 0 always. SF_SKY_BOUNDS_PHYSICAL adds Hosek H in [0, 0.999]
+ * (a forward-scattering Mie anisotropy) and B <= 0 for both forms
+ * (exp(B / cos theta), exp(B / (cos theta + 0.01)) stay bounded towards the
+ * horizon; without it a Bezier curve through fitted B values can blow up
+ * between the elevations it was fitted at). The published Hosek dataset
+ * itself has H outside [0, 1) in 71 and B > 0 in 37 of its 360 control
+ * points: fits meant to reproduce it use SF_SKY_BOUNDS_SCALE_ONLY. */
+#ifndef SKYFIT_FIT_FIT_SKY_CONFIG_H
+#define SKYFIT_FIT_FIT_SKY_CONFIG_H
+
+#include "fit/ceres_shim.h"
+#include "models/hosek_sky_model.h"
+#include "util/error.h"
+
+typedef enum sf_sky_bounds { SF_SKY_BOUNDS_PHYSICAL = 0, SF_SKY_BOUNDS_SCALE_ONLY = 1 } sf_sky_bounds;
+
+#define SF_HOSEK_H_MAX 0.999
+
+typedef struct sf_sky_fit_data {
+  sf_sky_form form;
+  int n;
+  const double *cos_theta, *gamma, *cos_gamma;
+  const double *radiance;    /* radiance[i * stride] */
+  int stride;
+  double weight;
+} sf_sky_fit_data;
+
+/* Bounds of coefficient i (i == n_coeffs: the scale). */
+void sf_sky_coeff_bounds(sf_sky_form form, sf_sky_bounds bounds, int i, double *lower,
+                         double *upper);
+/* Clamps coefficients and scale into their bounds (a start must be inside). */
+void sf_sky_clamp_to_bounds(sf_sky_form form, sf_sky_bounds bounds, double *coeffs, double *scale);
+
+/* 1/2 sum residual^2 at (coeffs, scale). */
+double sf_sky_fit_cost(const sf_sky_fit_data *d, const double *coeffs, double scale);
+
+/* Solves in place from the start in coeffs/scale (clamped into the bounds
+ * first). Returns 0 when usable (SF_ERR_INTERNAL with Ceres' message
+ * otherwise). */
+int sf_fit_sky_config(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_scale,
+                      const sf_lsq_options *o, double *coeffs, double *scale,
+                      sf_lsq_summary *summary, sf_error *err);
+
+/* Multi-start: starts[s * (n_coeffs + 1) ...] = coefficients then scale.
+ * Fits from each, keeps the lowest final cost (ties: the earlier start).
+ * final_costs (may be NULL) receives each start's final cost (INFINITY for
+ * an unusable solve). *winner is the winning start's index. */
+int sf_fit_sky_multistart(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_scale,
+                          const sf_lsq_options *o, int n_starts, const double *starts,
+                          double *coeffs, double *scale, int *winner, sf_lsq_summary *summary,
+                          double *final_costs, sf_error *err);
+
+#endif

@@ -1,0 +1,459 @@
+#include "fit/fit_sky_elevation.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "fit/fit_sky_config.h"
+#include "fit/linear_lsq.h"
+#include "fit/sky_radiance_samples.h"
+#include "models/preetham.h"
+#include "util/constants.h"
+
+#define CHUNK 128
+#define MAX_PARAMS (SF_BEZIER_POINTS * SF_HOSEK_N_COEFFS)
+
+static const double start_turbidities[3] = {2.0, 4.0, 7.0};
+
+void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form form) {
+  memset(o, 0, sizeof *o);
+  o->form = form;
+  o->elevation_min_rad = 0.0;
+  o->elevation_max_rad = 0.5 * SF_PI;
+  o->n_elevations = 10;
+  o->n_theta = 16;
+  o->n_phi = 24;
+  sf_lsq_options_default(&o->lsq);
+}
+
+static double monotonic_seconds(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Everything the global (all elevations) fit of one channel reads. */
+typedef struct global_ctx {
+  sf_sky_form form;
+  int channel, n_elevations;
+  const sf_sky_samples *samples;                 /* per elevation */
+  const double *weight;                          /* per elevation */
+  double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];
+} global_ctx;
+
+typedef struct global_chunk {
+  const global_ctx *g;
+  int elevation, begin, count;
+} global_chunk;
+
+/* Blocks: [0] coefficient control points [6][nc], [1] scale control points [6]. */
+static int global_residuals(void *user, const double *const *params, double *r, double **jac) {
+  const global_chunk *c = user;
+  const global_ctx *g = c->g;
+  int nc = sf_sky_form_n_coeffs(g->form);
+  const double *bw = g->bernstein[c->elevation];
+  double coeffs[SF_HOSEK_N_COEFFS] = {0}, scale = 0.0;
+  for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+    for (int i = 0; i < nc; ++i) coeffs[i] += bw[j] * params[0][j * nc + i];
+    scale += bw[j] * params[1][j];
+  }
+  const sf_sky_samples *s = &g->samples[c->elevation];
+  double w = g->weight[c->elevation];
+  int np = SF_BEZIER_POINTS * nc;
+  for (int t = 0; t < c->count; ++t) {
+    int i = c->begin + t;
+    double grad[SF_HOSEK_N_COEFFS];
+    double f = sf_sky_form_f(g->form, coeffs, s->cos_theta[i], s->gamma[i], s->cos_gamma[i], grad);
+    r[t] = w * (scale * f - s->radiance[(size_t)i * s->n_channels + g->channel]);
+    if (!isfinite(r[t])) return 0;
+    if (jac && jac[0])
+      for (int j = 0; j < SF_BEZIER_POINTS; ++j)
+        for (int k = 0; k < nc; ++k) jac[0][t * np + j * nc + k] = w * scale * bw[j] * grad[k];
+    if (jac && jac[1])
+      for (int j = 0; j < SF_BEZIER_POINTS; ++j) jac[1][t * SF_BEZIER_POINTS + j] = w * bw[j] * f;
+  }
+  return 1;
+}
+
+/* One Ceres fit of a channel's control points from P, Q (solved in place).
+ * Returns SF_OK when usable, SF_ERR_INTERNAL when out of memory, -1 when
+ * this start failed (not finite, or the solver gave up). */
+static int global_fit(const global_ctx *g, int n_samples, const sf_sky_samples *samples,
+                      const sf_lsq_options *lsq, double *P, double *Q, sf_lsq_summary *sum,
+                      sf_error *err) {
+  int nc = sf_sky_form_n_coeffs(g->form), n_e = g->n_elevations;
+  memset(sum, 0, sizeof *sum);
+  sf_lsq_problem *p = sf_lsq_problem_new();
+  int n_chunks_max = n_samples / CHUNK + n_e + 1;
+  global_chunk *chunks = calloc((size_t)n_chunks_max, sizeof *chunks);
+  if (!p || !chunks) {
+    sf_lsq_problem_free(p);
+    free(chunks);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  int blocks[2] = {sf_lsq_add_block(p, P, SF_BEZIER_POINTS * nc),
+                   sf_lsq_add_block(p, Q, SF_BEZIER_POINTS)};
+  for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+    for (int i = 0; i < nc; ++i) {
+      double lo, hi;
+      sf_sky_coeff_bounds(g->form, SF_SKY_BOUNDS_PHYSICAL, i, &lo, &hi);
+      sf_lsq_set_bounds(p, blocks[0], j * nc + i, lo, hi);
+    }
+    if (g->form == SF_SKY_FORM_PEREZ) sf_lsq_set_bounds(p, blocks[1], j, 0.0, INFINITY);
+  }
+  if (g->form == SF_SKY_FORM_HOSEK) sf_lsq_set_constant(p, blocks[1]);
+  int n_chunks = 0;
+  for (int e = 0; e < n_e; ++e)
+    for (int b = 0; b < samples[e].n; b += CHUNK) {
+      global_chunk *c = &chunks[n_chunks++];
+      c->g = g;
+      c->elevation = e;
+      c->begin = b;
+      c->count = samples[e].n - b < CHUNK ? samples[e].n - b : CHUNK;
+      sf_lsq_add_residuals(p, global_residuals, c, c->count, 2, blocks, SF_LSQ_LOSS_NONE, 0.0);
+    }
+  double start_cost;
+  int rc = -1;
+  if (sf_lsq_cost(p, &start_cost) == 0 && isfinite(start_cost))
+    rc = sf_lsq_solve(p, lsq, sum) == 0 && isfinite(sum->final_cost) ? SF_OK : -1;
+  else snprintf(sum->message, sizeof sum->message, "start not finite");
+  sf_lsq_problem_free(p);
+  free(chunks);
+  return rc;
+}
+
+/* Best factor a minimising sum (a model_i - data_i)^2. */
+static double best_factor(double sum_md, double sum_mm) { return sum_mm > 0 ? sum_md / sum_mm : 1.0; }
+
+/* Step 2 starts for elevation e, channel k: starts[s][0..nc] (coeffs, scale). */
+static int make_starts(const sf_sky_elevation_options *o, const sf_hosek_dataset *published,
+                       const sf_atmosphere *atm, const sf_sky_samples *s, int k, double zenith,
+                       const double *previous, double starts[][SF_HOSEK_N_COEFFS + 1],
+                       char names[][32]) {
+  int nc = sf_sky_form_n_coeffs(o->form);
+  int n = 0;
+  for (int t = 0; t < 3; ++t) {
+    double *c = starts[n];
+    double T = start_turbidities[t];
+    if (o->form == SF_SKY_FORM_HOSEK) {
+      if (!published) continue;
+      int dch = atm->n_channels == 3 ? k : 1;
+      double albedo = fmin(fmax(atm->ground_albedo[k], 0.0), 1.0), R;
+      sf_error e = {0};
+      double elev = fmin(fmax(s->elevation_rad, 0.0), 0.5 * SF_PI);
+      if (sf_hosek_dataset_state(published, dch, T, albedo, elev, c, &R, &e) != SF_OK) continue;
+      /* the published shape with its linear part (C, D, F, G, I) rescaled */
+      double md = 0, mm = 0;
+      for (int i = 0; i < s->n; ++i) {
+        double f = zenith * sf_hosek_f(c, s->cos_theta[i], s->gamma[i]);
+        md += f * s->radiance[(size_t)i * s->n_channels + k];
+        mm += f * f;
+      }
+      double a = best_factor(md, mm);
+      const int linear[5] = {SF_HOSEK_C, SF_HOSEK_D, SF_HOSEK_F, SF_HOSEK_G, SF_HOSEK_I};
+      for (int q = 0; q < 5; ++q) c[linear[q]] *= a;
+      c[nc] = zenith;
+    } else {
+      sf_preetham_coefficients(SF_PREETHAM_Y, T, c);
+      double md = 0, mm = 0;
+      for (int i = 0; i < s->n; ++i) {
+        double f = sf_perez_f(c, s->cos_theta[i], s->gamma[i]);
+        md += f * s->radiance[(size_t)i * s->n_channels + k];
+        mm += f * f;
+      }
+      c[nc] = best_factor(md, mm);
+    }
+    snprintf(names[n], 32, "published T=%g", T);
+    ++n;
+  }
+  if (previous) {
+    memcpy(starts[n], previous, sizeof(double) * (size_t)(nc + 1));
+    if (o->form == SF_SKY_FORM_HOSEK) starts[n][nc] = zenith;
+  }
+  snprintf(names[n], 32, "previous elevation");
+  if (previous) ++n;
+  return n;
+}
+
+/* Bezier control points from values v[e] at x[e] (weights w may be NULL). */
+static int bezier_lsq(int n_e, const double (*bernstein)[SF_BEZIER_POINTS], const double *v,
+                      const double *w, double *p, int stride) {
+  double A[SF_SKY_MAX_ELEVATIONS * SF_BEZIER_POINTS], x[SF_BEZIER_POINTS];
+  for (int e = 0; e < n_e; ++e)
+    for (int j = 0; j < SF_BEZIER_POINTS; ++j) A[e * SF_BEZIER_POINTS + j] = bernstein[e][j];
+  if (sf_linear_lsq(n_e, SF_BEZIER_POINTS, A, v, w, x) != 0) return -1;
+  for (int j = 0; j < SF_BEZIER_POINTS; ++j) p[j * stride] = x[j];
+  return 0;
+}
+
+static void baseline_scan(const sf_sky_samples *samples, int n_e, const sf_atmosphere *atm,
+                          const sf_hosek_dataset *published, int preetham,
+                          double *best_rmse, double *best_T) {
+  int nk = atm->n_channels;
+  *best_rmse = NAN;
+  *best_T = NAN;
+  if (preetham && nk != 3) return;
+  if (!preetham && !published) return;
+  double best_sse = INFINITY;
+  long n_total = 0;
+  for (int e = 0; e < n_e; ++e) n_total += samples[e].n;
+  for (double T = preetham ? 2.0 : 1.0; T <= 10.0 + 1e-9; T += 0.25) {
+    double md[SF_MAX_CHANNELS] = {0}, mm[SF_MAX_CHANNELS] = {0}, dd[SF_MAX_CHANNELS] = {0};
+    for (int e = 0; e < n_e; ++e) {
+      const sf_sky_samples *s = &samples[e];
+      sf_preetham_sky sky;
+      double hc[3][SF_HOSEK_N_COEFFS], hr[3];
+      if (preetham) {
+        sf_preetham_sky_init(&sky, T, 0.5 * SF_PI - s->elevation_rad);
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          sf_error err = {0};
+          double albedo = fmin(fmax(atm->ground_albedo[nk == 3 ? k : 0], 0.0), 1.0);
+          sf_hosek_dataset_state(published, k, T, albedo,
+                                 fmin(fmax(s->elevation_rad, 0.0), 0.5 * SF_PI), hc[k], &hr[k], &err);
+        }
+      }
+      for (int i = 0; i < s->n; ++i) {
+        double m[3];
+        if (preetham) sf_preetham_sky_rgb(&sky, s->theta[i], s->gamma[i], m);
+        else
+          for (int k = 0; k < 3; ++k) m[k] = hr[k] * sf_hosek_f(hc[k], s->cos_theta[i], s->gamma[i]);
+        for (int k = 0; k < nk; ++k) {
+          double model = m[nk == 3 ? k : 1], data = s->radiance[(size_t)i * nk + k];
+          md[k] += model * data;
+          mm[k] += model * model;
+          dd[k] += data * data;
+        }
+      }
+    }
+    /* SSE after the best per-channel factor: dd - md^2 / mm */
+    double sse = 0;
+    for (int k = 0; k < nk; ++k) sse += dd[k] - (mm[k] > 0 ? md[k] * md[k] / mm[k] : 0.0);
+    if (sse < best_sse) {
+      best_sse = sse;
+      *best_T = T;
+    }
+  }
+  *best_rmse = sqrt(fmax(best_sse, 0.0) / (double)(n_total * nk));
+}
+
+int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_options *o,
+                         const sf_hosek_dataset *published, sf_elevation_sky_model *out,
+                         sf_sky_elevation_report *rep, sf_error *err) {
+  const sf_atmosphere *atm = sky->atm;
+  double t0 = monotonic_seconds();
+  memset(rep, 0, sizeof *rep);
+  memset(out, 0, sizeof *out);
+  int n_e = o->n_elevations, nk = atm->n_channels, nc = sf_sky_form_n_coeffs(o->form);
+  if (n_e < SF_BEZIER_POINTS || n_e > SF_SKY_MAX_ELEVATIONS)
+    return sf_fail(err, SF_ERR_INPUT, "sky fit: %d sun elevations; need %d..%d", n_e,
+                   SF_BEZIER_POINTS, SF_SKY_MAX_ELEVATIONS);
+  if (!(o->elevation_min_rad >= 0.0 && o->elevation_min_rad < o->elevation_max_rad &&
+        o->elevation_max_rad <= 0.5 * SF_PI + 1e-12))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "sky fit: sun elevation range [%g, %g] deg must be a range within [0, 90] "
+                   "(Perez and Hosek hold only for a sun above the horizon)",
+                   o->elevation_min_rad * 180 / SF_PI, o->elevation_max_rad * 180 / SF_PI);
+  out->form = o->form;
+  out->n_coeffs = nc;
+  out->n_channels = nk;
+  out->elevation_min_rad = o->elevation_min_rad;
+  out->elevation_max_rad = fmin(o->elevation_max_rad, 0.5 * SF_PI);
+  rep->n_elevations = n_e;
+  rep->n_channels = nk;
+
+  sf_sky_samples *samples = calloc((size_t)n_e, sizeof *samples);
+  double *weights = calloc((size_t)n_e * (size_t)nk, sizeof *weights);
+  /* per-elevation solutions [e][k][nc + 1] */
+  double *solved = calloc((size_t)n_e * (size_t)nk * (size_t)(nc + 1), sizeof *solved);
+  global_ctx g;
+  memset(&g, 0, sizeof g);
+  int status = (samples && weights && solved) ? SF_OK
+                                              : sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
+  double x1 = sf_bezier_x_of_elevation(o->elevation_max_rad);
+  for (int e = 0; e < n_e && status == SF_OK; ++e) {
+    double x = x0 + (x1 - x0) * e / (n_e - 1);
+    double elev = 0.5 * SF_PI * x * x * x;
+    rep->elevation_rad[e] = elev;
+    sf_bezier_weights(x, g.bernstein[e]);
+    status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[e], err);
+    rep->n_samples += status == SF_OK ? samples[e].n : 0;
+    for (int k = 0; k < nk && status == SF_OK; ++k) {
+      double ss = 0;
+      for (int i = 0; i < samples[e].n; ++i) {
+        double v = samples[e].radiance[(size_t)i * nk + k];
+        ss += v * v;
+      }
+      double rms = sqrt(ss / samples[e].n);
+      if (!(rms > 0) || !(samples[e].zenith_radiance[k] > 0))
+        status = sf_fail(err, SF_ERR_INPUT,
+                         "sky fit: the reference sky is dark in channel %d at sun elevation %g deg",
+                         k, elev * 180 / SF_PI);
+      weights[e * nk + k] = 1.0 / rms;
+    }
+  }
+
+  /* Step 2: per elevation and channel, multi-start. */
+  double sse_per_elevation = 0.0;
+  for (int k = 0; k < nk && status == SF_OK; ++k) {
+    for (int e = 0; e < n_e && status == SF_OK; ++e) {
+      const sf_sky_samples *s = &samples[e];
+      sf_sky_fit_data d = {o->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
+                           s->radiance + k, nk, weights[e * nk + k]};
+      double starts[SF_SKY_MAX_STARTS][SF_HOSEK_N_COEFFS + 1];
+      char names[SF_SKY_MAX_STARTS][32];
+      const double *previous = e > 0 ? &solved[((size_t)(e - 1) * nk + k) * (nc + 1)] : NULL;
+      int n_starts = make_starts(o, published, atm, s, k, s->zenith_radiance[k], previous, starts,
+                                 names);
+      if (n_starts == 0) {
+        /* no published set to start Hosek from: a flat sky */
+        memset(starts[0], 0, sizeof starts[0]);
+        starts[0][SF_HOSEK_C] = 1.0;
+        starts[0][SF_HOSEK_H] = 0.5;
+        starts[0][nc] = s->zenith_radiance[k];
+        snprintf(names[0], 32, "flat sky");
+        n_starts = 1;
+      }
+      if (e == 1 || rep->n_starts == 0) {
+        rep->n_starts = (published || o->form == SF_SKY_FORM_PEREZ) ? 4 : 2;
+        for (int q = 0; q < SF_SKY_MAX_STARTS; ++q) {
+          if (q < 3 && (published || o->form == SF_SKY_FORM_PEREZ))
+            snprintf(rep->start_names[q], 32, "published T=%g", start_turbidities[q]);
+        }
+        snprintf(rep->start_names[rep->n_starts - 1], 32, "previous elevation");
+        if (!(published || o->form == SF_SKY_FORM_PEREZ)) snprintf(rep->start_names[0], 32, "flat sky");
+      }
+      double *sol = &solved[((size_t)e * nk + k) * (nc + 1)];
+      int winner;
+      sf_lsq_summary sum;
+      status = sf_fit_sky_multistart(&d, SF_SKY_BOUNDS_PHYSICAL, o->form == SF_SKY_FORM_HOSEK,
+                                     &o->lsq, n_starts, &starts[0][0], sol, &sol[nc], &winner, &sum,
+                                     NULL, err);
+      if (status != SF_OK) break;
+      /* map the winner to the report's start list by name */
+      int slot = 0;
+      for (int q = 0; q < rep->n_starts; ++q)
+        if (strcmp(rep->start_names[q], names[winner]) == 0) slot = q;
+      rep->winner[e][k] = slot;
+      rep->start_wins[slot]++;
+      sse_per_elevation += 2.0 * sum.final_cost / (weights[e * nk + k] * weights[e * nk + k]);
+      if (o->progress)
+        o->progress(o->progress_ctx, "per-elevation fits", (double)(k * n_e + e + 1) / (nk * n_e));
+    }
+  }
+  rep->per_elevation_rmse = sqrt(sse_per_elevation / ((double)rep->n_samples * nk));
+
+  /* Step 3: Bezier control points per channel, then the global fit. */
+  for (int k = 0; k < nk && status == SF_OK; ++k) {
+    double v[SF_SKY_MAX_ELEVATIONS], w[SF_SKY_MAX_ELEVATIONS];
+    for (int i = 0; i <= nc && status == SF_OK; ++i) {
+      for (int e = 0; e < n_e; ++e) {
+        v[e] = solved[((size_t)e * nk + k) * (nc + 1) + i];
+        w[e] = i == nc ? 1.0 / v[e] : 1.0;   /* the scale: relative error */
+      }
+      double *p = i < nc ? &out->coefficients[k][0][i] : &out->scale[k][0];
+      if (bezier_lsq(n_e, g.bernstein, v, i == nc && v[0] > 0 ? w : NULL, p,
+                     i < nc ? SF_HOSEK_N_COEFFS : 1) != 0)
+        status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: Bezier control points are singular");
+    }
+    if (status != SF_OK) break;
+    g.form = o->form;
+    g.channel = k;
+    g.n_elevations = n_e;
+    g.samples = samples;
+    double wk[SF_SKY_MAX_ELEVATIONS];
+    for (int e = 0; e < n_e; ++e) wk[e] = weights[e * nk + k];
+    g.weight = wk;
+    /* Global starts: the curve through the per-elevation fits, and constant
+     * curves holding one elevation's coefficients (finite everywhere, where
+     * the first can swing far off between the elevations it passes). */
+    double best_cost = INFINITY;
+    double best_P[MAX_PARAMS], best_Q[SF_BEZIER_POINTS];
+    int best_start = -1;
+    const int constant_from[3] = {n_e / 4, n_e / 2, (3 * n_e) / 4};
+    for (int st = 0; st < 4 && status == SF_OK; ++st) {
+      double P[MAX_PARAMS], Q[SF_BEZIER_POINTS];
+      for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+        for (int i = 0; i < nc; ++i)
+          P[j * nc + i] = st == 0 ? out->coefficients[k][j][i]
+                                  : solved[((size_t)constant_from[st - 1] * nk + k) * (nc + 1) + i];
+        Q[j] = out->scale[k][j];
+        double scale_j = Q[j];
+        sf_sky_clamp_to_bounds(o->form, SF_SKY_BOUNDS_PHYSICAL, &P[j * nc], &scale_j);
+        if (o->form == SF_SKY_FORM_PEREZ) Q[j] = scale_j;
+      }
+      sf_lsq_summary sum;
+      int rc = global_fit(&g, rep->n_samples, samples, &o->lsq, P, Q, &sum, err);
+      if (rc > 0) status = rc;
+      if (status != SF_OK) break;
+      if (rc == SF_OK && sum.final_cost < best_cost) {
+        best_cost = sum.final_cost;
+        best_start = st;
+        memcpy(best_P, P, sizeof P);
+        memcpy(best_Q, Q, sizeof Q);
+        rep->global_initial_cost_channel[k] = sum.initial_cost;
+        rep->global_iterations_channel[k] = sum.iterations;
+      }
+    }
+    if (status == SF_OK && best_start < 0)
+      status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: every elevation fit of channel %d failed", k);
+    if (status != SF_OK) break;
+    rep->global_start_wins[best_start]++;
+    rep->global_initial_cost += rep->global_initial_cost_channel[k];
+    rep->global_final_cost += best_cost;
+    rep->global_iterations += rep->global_iterations_channel[k];
+    for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+      for (int i = 0; i < nc; ++i) out->coefficients[k][j][i] = best_P[j * nc + i];
+      out->scale[k][j] = best_Q[j];
+    }
+    if (o->progress) o->progress(o->progress_ctx, "elevation Bezier fit", (double)(k + 1) / nk);
+  }
+
+  /* Step 4: metrics and baselines on the same samples. */
+  if (status == SF_OK) {
+    double sse = 0, sse_rel = 0, sse_norm = 0, max_abs = 0;
+    long n_rel = 0;
+    for (int e = 0; e < n_e; ++e) {
+      const sf_sky_samples *s = &samples[e];
+      for (int i = 0; i < s->n; ++i) {
+        double m[SF_MAX_CHANNELS];
+        sf_elevation_sky_radiance(out, s->elevation_rad, s->theta[i], s->gamma[i], m);
+        for (int k = 0; k < nk; ++k) {
+          double ref = s->radiance[(size_t)i * nk + k], d = m[k] - ref;
+          sse += d * d;
+          sse_norm += d * d * weights[e * nk + k] * weights[e * nk + k];
+          if (ref > 0) {
+            sse_rel += (d / ref) * (d / ref);
+            ++n_rel;
+          }
+          if (!(fabs(d) <= max_abs)) {
+            max_abs = fabs(d);
+            rep->worst_elevation_rad = s->elevation_rad;
+            rep->worst_theta = s->theta[i];
+            rep->worst_gamma = s->gamma[i];
+          }
+        }
+      }
+    }
+    double n = (double)rep->n_samples * nk;
+    rep->rmse = sqrt(sse / n);
+    rep->normalised_rmse = sqrt(sse_norm / n);
+    rep->rel_rmse = n_rel ? sqrt(sse_rel / (double)n_rel) : NAN;
+    rep->max_abs = max_abs;
+    if (!isfinite(rep->rmse))
+      status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: the fitted model is not finite");
+    baseline_scan(samples, n_e, atm, published, 1, &rep->preetham_rmse, &rep->preetham_turbidity);
+    baseline_scan(samples, n_e, atm, published, 0, &rep->hosek_published_rmse,
+                  &rep->hosek_published_turbidity);
+  }
+  for (int e = 0; samples && e < n_e; ++e) sf_sky_samples_free(&samples[e]);
+  free(samples);
+  free(weights);
+  free(solved);
+  rep->seconds = monotonic_seconds() - t0;
+  if (status != SF_OK) memset(out, 0, sizeof *out);
+  return status;
+}

@@ -1,0 +1,87 @@
+/* The ground-level sky fit of SPEC §7.2 for a whole sun range: Perez
+ * ("preetham") or Hosek coefficients per sun elevation and channel, fitted
+ * to the reference sky radiance from the tables, then their dependence on
+ * elevation fitted Hosek's way (a quintic Bezier in (elevation/(pi/2))^(1/3),
+ * 6 control points per coefficient and for the scale,
+ * models/hosek_sky_model.h), so one model covers the scene's sun range.
+ *
+ * 1. Samples: n_elevations suns, equally spaced in x = (e/(pi/2))^(1/3)
+ *    over [e_min, e_max] (e_min >= 0: Perez and Hosek hold only for a sun
+ *    above the horizon), each a grid of view directions
+ *    (fit/sky_radiance_samples.h). Residuals are normalised per elevation
+ *    and channel by the RMS reference radiance there, so low suns count as
+ *    much as high ones.
+ * 2. Per elevation and channel (fit/fit_sky_config.h), a multi-start:
+ *    the published set (Hosek 2012 dataset, resp. Preetham 1999 luminance
+ *    coefficients) at turbidities 2, 4 and 7 with its linear part rescaled
+ *    to the data, and the previous elevation's solution. The lowest final
+ *    cost wins; the report counts which start won. Hosek's scale R is held
+ *    at the reference zenith radiance (it is degenerate with C, D, F, G, I);
+ *    Perez's K is free.
+ * 3. Bezier control points: one Ceres fit of all control points of a
+ *    channel against the radiance samples of every elevation (Hosek's R
+ *    curve is held at its least-squares fit to the zenith radiances), from
+ *    four starts: the linear least-squares curve through the per-elevation
+ *    values, and constant curves holding the values of the elevations at
+ *    1/4, 1/2 and 3/4 of the range (the first can swing far off between
+ *    the elevations it passes through; the report counts the winners).
+ *    Bounds on the control points (models' physical bounds) bound the curve
+ *    (a Bezier curve lies in the convex hull of its control points).
+ * 4. Metrics on the same samples, and the published baselines on them:
+ *    Preetham 1999 (in linear sRGB) and Hosek 2012 RGB, each at its best
+ *    turbidity (scan) with its best per-channel scale factor (closed form)
+ *    to map its units onto ours — the most favourable reading of them. */
+#ifndef SKYFIT_FIT_FIT_SKY_ELEVATION_H
+#define SKYFIT_FIT_FIT_SKY_ELEVATION_H
+
+#include "data/sky_lookup.h"
+#include "fit/ceres_shim.h"
+#include "models/hosek_dataset.h"
+#include "models/hosek_sky_model.h"
+#include "util/error.h"
+
+#define SF_SKY_MAX_ELEVATIONS 64
+#define SF_SKY_MAX_STARTS 4
+
+typedef struct sf_sky_elevation_options {
+  sf_sky_form form;
+  double elevation_min_rad, elevation_max_rad;
+  int n_elevations;          /* >= 6 (the curve has 6 control points); default 10 */
+  int n_theta, n_phi;        /* view grid per elevation; default 16 x 24 */
+  sf_lsq_options lsq;
+  void (*progress)(void *ctx, const char *stage, double fraction);
+  void *progress_ctx;
+} sf_sky_elevation_options;
+
+void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form form);
+
+typedef struct sf_sky_elevation_report {
+  int n_elevations, n_channels, n_samples;
+  double elevation_rad[SF_SKY_MAX_ELEVATIONS];
+  int n_starts;
+  char start_names[SF_SKY_MAX_STARTS][32];
+  int start_wins[SF_SKY_MAX_STARTS];      /* over all elevations and channels */
+  int winner[SF_SKY_MAX_ELEVATIONS][SF_MAX_CHANNELS];
+  double per_elevation_rmse;     /* the step-2 fits, before the Bezier */
+  double rmse, rel_rmse, normalised_rmse, max_abs;   /* the final model */
+  double worst_elevation_rad, worst_theta, worst_gamma;
+  double global_initial_cost, global_final_cost;   /* summed over channels */
+  int global_iterations;
+  double global_initial_cost_channel[SF_MAX_CHANNELS];
+  int global_iterations_channel[SF_MAX_CHANNELS];
+  /* which start of the elevation fit won: 0 the curve through the
+   * per-elevation fits, 1..3 constant curves from elevations n/4, n/2, 3n/4 */
+  int global_start_wins[4];
+  double preetham_rmse, preetham_turbidity;      /* NAN unless 3 channels */
+  double hosek_published_rmse, hosek_published_turbidity;
+  double seconds;
+} sf_sky_elevation_report;
+
+/* published: the Hosek dataset (starts for Hosek, baseline for both); may
+ * be NULL (Hosek then starts from its Perez-like default, no baseline).
+ * rep is large: allocate it. */
+int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_options *o,
+                         const sf_hosek_dataset *published, sf_elevation_sky_model *out,
+                         sf_sky_elevation_report *rep, sf_error *err);
+
+#endif

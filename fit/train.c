@@ -1,0 +1,358 @@
+#include "fit/train.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <omp.h>
+
+#include "data/hash64.h"
+#include "models/rng.h"
+#include "util/atomic_file.h"
+
+/* rng stream keys of this file */
+#define INIT_KEY 0x696e6974ull      /* "init" */
+#define SHUFFLE_KEY 0x73687566ull   /* "shuf" */
+#define CHECKPOINT_MAGIC "SKYFIT-MLP-CHECKPOINT 1\n"
+
+void sf_train_options_default(sf_train_options *o) {
+  memset(o, 0, sizeof *o);
+  o->loss = SF_LOSS_MSE;
+  o->loss_floor = 1e-4;
+  sf_adam_options_default(&o->adam);
+  o->epochs = 200;
+  o->batch = 1024;
+  o->restarts = 1;
+  o->patience = 0;
+  o->seed = 1;
+}
+
+void sf_mlp_init_xavier(const sf_mlp_shape *s, uint64_t seed, int restart, double *params) {
+  sf_rng rng;
+  sf_rng_seed(&rng, seed, INIT_KEY, (uint64_t)restart);
+  for (int l = 0; l < s->n_layers; ++l) {
+    int ni = s->sizes[l], no = s->sizes[l + 1];
+    double a = sqrt(6.0 / (double)(ni + no));
+    double *W = params + sf_mlp_weight_offset(s, l), *b = params + sf_mlp_bias_offset(s, l);
+    for (int k = 0; k < ni * no; ++k) W[k] = a * (2.0 * sf_rng_uniform(&rng) - 1.0);
+    for (int k = 0; k < no; ++k) b[k] = 0.0;
+  }
+}
+
+static double now_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Scratch for chunked sums: one gradient and one loss per chunk. */
+typedef struct chunk_sums {
+  long n_chunks;
+  int n_params;
+  double *grad;   /* n_chunks x n_params */
+  double *loss;   /* n_chunks */
+} chunk_sums;
+
+static int chunk_sums_init(chunk_sums *c, long max_samples, int n_params) {
+  c->n_chunks = (max_samples + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
+  if (c->n_chunks < 1) c->n_chunks = 1;
+  c->n_params = n_params;
+  c->grad = malloc((size_t)c->n_chunks * (size_t)n_params * sizeof(double));
+  c->loss = malloc((size_t)c->n_chunks * sizeof(double));
+  return c->grad && c->loss ? 0 : -1;
+}
+
+static void chunk_sums_free(chunk_sums *c) {
+  free(c->grad);
+  free(c->loss);
+}
+
+/* Sum of the loss (and, if grad, of its gradient) over samples
+ * index[begin..end-1], in fixed chunks added in chunk order. */
+static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
+                           const sf_dataset *d, const int *index, long begin, long end, double *grad,
+                           chunk_sums *cs, int n_threads) {
+  long n = end - begin;
+  long n_chunks = (n + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
+  int np = cs->n_params;
+  int threads = n_threads > 0 ? n_threads : omp_get_max_threads();
+  if (threads > n_chunks) threads = (int)(n_chunks > 0 ? n_chunks : 1);
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+  for (long c = 0; c < n_chunks; ++c) {
+    long b = begin + c * SF_TRAIN_CHUNK;
+    long e = b + SF_TRAIN_CHUNK < end ? b + SF_TRAIN_CHUNK : end;
+    double *g = grad ? cs->grad + c * np : NULL;
+    if (g) memset(g, 0, (size_t)np * sizeof(double));
+    cs->loss[c] = sf_mlp_loss_range(s, params, loss, d->x, d->y, index, b, e, g);
+  }
+  double total = 0.0;
+  if (grad) memset(grad, 0, (size_t)np * sizeof(double));
+  for (long c = 0; c < n_chunks; ++c) {
+    total += cs->loss[c];
+    if (grad) {
+      const double *g = cs->grad + c * np;
+      for (int k = 0; k < np; ++k) grad[k] += g[k];
+    }
+  }
+  return total;
+}
+
+double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
+                           const sf_dataset *d, int n_threads) {
+  if (d->n <= 0) return NAN;
+  chunk_sums cs;
+  if (chunk_sums_init(&cs, d->n, 1)) {
+    chunk_sums_free(&cs);
+    return NAN;
+  }
+  double total = chunked_loss(s, params, loss, d, NULL, 0, d->n, NULL, &cs, n_threads);
+  chunk_sums_free(&cs);
+  return total / (double)d->n;
+}
+
+/* Everything the rest of a run depends on (what a checkpoint holds). */
+typedef struct train_state {
+  int restart, epoch;            /* next epoch to run, 0-based within the restart */
+  int since_best;                /* epochs since the restart's best */
+  int epochs_run;
+  double best_restart_loss;      /* criterion of the restart's kept network */
+  int best_restart_epoch;
+  double best_loss;              /* over finished restarts */
+  int best_restart, best_epoch;
+  double *params, *restart_best, *overall_best;
+  sf_adam adam;
+} train_state;
+
+static uint64_t run_fingerprint(const sf_dataset *train, const sf_dataset *val, const sf_train_options *o) {
+  uint64_t h = SF_FNV1A64_OFFSET;
+  h = sf_fnv1a64(h, &o->shape, sizeof o->shape);
+  h = sf_fnv1a64(h, &o->loss, sizeof o->loss);
+  h = sf_fnv1a64(h, &o->loss_floor, sizeof o->loss_floor);
+  h = sf_fnv1a64(h, &o->adam, sizeof o->adam);
+  h = sf_fnv1a64(h, &o->epochs, sizeof o->epochs);
+  h = sf_fnv1a64(h, &o->batch, sizeof o->batch);
+  h = sf_fnv1a64(h, &o->restarts, sizeof o->restarts);
+  h = sf_fnv1a64(h, &o->patience, sizeof o->patience);
+  h = sf_fnv1a64(h, &o->seed, sizeof o->seed);
+  const sf_dataset *sets[2] = {train, val};
+  for (int k = 0; k < 2; ++k) {
+    if (!sets[k] || sets[k]->n <= 0) continue;
+    h = sf_fnv1a64(h, &sets[k]->n, sizeof sets[k]->n);
+    h = sf_fnv1a64(h, sets[k]->x, (size_t)sets[k]->n * (size_t)sets[k]->n_in * sizeof(double));
+    h = sf_fnv1a64(h, sets[k]->y, (size_t)sets[k]->n * (size_t)sets[k]->n_out * sizeof(double));
+  }
+  if (o->init_params)
+    h = sf_fnv1a64(h, o->init_params, (size_t)sf_mlp_param_count(&o->shape) * sizeof(double));
+  return h;
+}
+
+/* Binary, native byte order (a checkpoint resumes on the machine that wrote it). */
+static int write_checkpoint(const char *path, uint64_t fingerprint, const train_state *st, int np,
+                            sf_error *err) {
+  sf_atomic_file f;
+  if (sf_atomic_open(&f, path, err)) return err->status;
+  FILE *out = f.stream;
+  fwrite(CHECKPOINT_MAGIC, 1, strlen(CHECKPOINT_MAGIC), out);
+  fwrite(&fingerprint, sizeof fingerprint, 1, out);
+  int ints[7] = {st->restart, st->epoch, st->since_best, st->epochs_run, st->best_restart_epoch,
+                 st->best_restart, st->best_epoch};
+  fwrite(ints, sizeof ints, 1, out);
+  fwrite(&st->adam.step, sizeof st->adam.step, 1, out);
+  double losses[2] = {st->best_restart_loss, st->best_loss};
+  fwrite(losses, sizeof losses, 1, out);
+  const double *arrays[5] = {st->params, st->restart_best, st->overall_best, st->adam.m, st->adam.v};
+  for (int k = 0; k < 5; ++k) fwrite(arrays[k], sizeof(double), (size_t)np, out);
+  if (ferror(out)) {
+    sf_atomic_abort(&f);
+    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write the checkpoint", path);
+  }
+  return sf_atomic_commit(&f, err);
+}
+
+static int read_checkpoint(const char *path, uint64_t fingerprint, train_state *st, int np, sf_error *err) {
+  FILE *in = fopen(path, "rb");
+  if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: --resume: no checkpoint to resume from", path);
+  char magic[sizeof CHECKPOINT_MAGIC];
+  uint64_t fp = 0;
+  int ints[7];
+  double losses[2];
+  int ok = fread(magic, 1, strlen(CHECKPOINT_MAGIC), in) == strlen(CHECKPOINT_MAGIC) &&
+           memcmp(magic, CHECKPOINT_MAGIC, strlen(CHECKPOINT_MAGIC)) == 0 &&
+           fread(&fp, sizeof fp, 1, in) == 1;
+  if (!ok) {
+    fclose(in);
+    return sf_fail(err, SF_ERR_INPUT, "%s: not a skyfit MLP checkpoint", path);
+  }
+  if (fp != fingerprint) {
+    fclose(in);
+    return sf_fail(err, SF_ERR_INPUT,
+                   "%s: the checkpoint belongs to another run (different data, network or options)", path);
+  }
+  ok = fread(ints, sizeof ints, 1, in) == 1 && fread(&st->adam.step, sizeof st->adam.step, 1, in) == 1 &&
+       fread(losses, sizeof losses, 1, in) == 1;
+  double *arrays[5] = {st->params, st->restart_best, st->overall_best, st->adam.m, st->adam.v};
+  for (int k = 0; k < 5 && ok; ++k) ok = fread(arrays[k], sizeof(double), (size_t)np, in) == (size_t)np;
+  fclose(in);
+  if (!ok) return sf_fail(err, SF_ERR_INPUT, "%s: checkpoint is truncated", path);
+  st->restart = ints[0];
+  st->epoch = ints[1];
+  st->since_best = ints[2];
+  st->epochs_run = ints[3];
+  st->best_restart_epoch = ints[4];
+  st->best_restart = ints[5];
+  st->best_epoch = ints[6];
+  st->best_restart_loss = losses[0];
+  st->best_loss = losses[1];
+  return SF_OK;
+}
+
+static void start_restart(train_state *st, const sf_train_options *o, int np) {
+  if (st->restart == 0 && o->init_params)
+    memcpy(st->params, o->init_params, (size_t)np * sizeof(double));
+  else
+    sf_mlp_init_xavier(&o->shape, o->seed, st->restart, st->params);
+  sf_adam_reset(&st->adam);
+  st->epoch = 0;
+  st->since_best = 0;
+  st->best_restart_loss = INFINITY;
+  st->best_restart_epoch = 0;
+}
+
+int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_options *o,
+                 sf_train_result *result, sf_error *err) {
+  memset(result, 0, sizeof *result);
+  const sf_mlp_shape *s = &o->shape;
+  if (train->n_in != s->sizes[0] || train->n_out != s->sizes[s->n_layers])
+    return sf_fail(err, SF_ERR_INPUT, "--layers: the data have %d inputs and %d targets, the network %d and %d",
+                   train->n_in, train->n_out, s->sizes[0], s->sizes[s->n_layers]);
+  if (train->n <= 0) return sf_fail(err, SF_ERR_INPUT, "no training samples");
+  if (o->epochs < 1 || o->restarts < 1) return sf_fail(err, SF_ERR_INPUT, "epochs and restarts must be >= 1");
+  int has_val = val && val->n > 0;
+  int np = sf_mlp_param_count(s);
+  long batch = o->batch > 0 && o->batch < train->n ? o->batch : train->n;
+
+  double *delta = malloc((size_t)train->n_out * sizeof(double));
+  double *grad = malloc((size_t)np * sizeof(double));
+  int *perm = malloc((size_t)train->n * sizeof(int));
+  train_state st;
+  memset(&st, 0, sizeof st);
+  st.params = malloc((size_t)np * sizeof(double));
+  st.restart_best = malloc((size_t)np * sizeof(double));
+  st.overall_best = malloc((size_t)np * sizeof(double));
+  chunk_sums cs;
+  memset(&cs, 0, sizeof cs);
+  int status = SF_OK;
+  if (!delta || !grad || !perm || !st.params || !st.restart_best || !st.overall_best ||
+      sf_adam_init(&st.adam, np) || chunk_sums_init(&cs, batch, np) || sf_mlp_init(&result->net, s)) {
+    status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    goto done;
+  }
+  /* rel/log floors from the training targets (fit/mlp_backward.h). */
+  for (int k = 0; k < train->n_out; ++k) {
+    double m = 0.0;
+    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
+    delta[k] = o->loss_floor * m > 1e-300 ? o->loss_floor * m : 1e-300;
+  }
+  sf_mlp_loss loss = {o->loss, delta};
+  uint64_t fingerprint = run_fingerprint(train, val, o);
+
+  st.best_loss = INFINITY;
+  st.best_restart = 0;
+  if (o->resume) {
+    if (!o->checkpoint_path) {
+      status = sf_fail(err, SF_ERR_INPUT, "--resume: no checkpoint file");
+      goto done;
+    }
+    if ((status = read_checkpoint(o->checkpoint_path, fingerprint, &st, np, err)) != SF_OK) goto done;
+  } else {
+    st.restart = 0;
+    start_restart(&st, o, np);
+  }
+
+  double t_start = now_seconds();
+  clock_t cpu_start = clock();
+  int epochs_this_call = 0;
+  while (st.restart < o->restarts) {
+    int stop_restart = 0;
+    while (st.epoch < o->epochs && !stop_restart) {
+      if ((o->interrupt && *o->interrupt) || (o->stop_after_epochs > 0 && epochs_this_call >= o->stop_after_epochs)) {
+        result->interrupted = 1;
+        if (o->checkpoint_path) status = write_checkpoint(o->checkpoint_path, fingerprint, &st, np, err);
+        goto done;
+      }
+      double lr = sf_adam_lr(&o->adam, st.epoch);
+      sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
+      double epoch_loss = 0.0;
+      for (long b = 0; b < train->n; b += batch) {
+        long e = b + batch < train->n ? b + batch : train->n;
+        double inv = 1.0 / (double)(e - b);
+        epoch_loss += chunked_loss(s, st.params, &loss, train, perm, b, e, grad, &cs, o->n_threads);
+        for (int k = 0; k < np; ++k) grad[k] *= inv;
+        sf_adam_step(&st.adam, &o->adam, lr, st.params, grad);
+      }
+      epoch_loss /= (double)train->n;
+      double val_loss = has_val ? sf_mlp_dataset_loss(s, st.params, &loss, val, o->n_threads) : NAN;
+      st.epoch += 1;
+      st.epochs_run += 1;
+      epochs_this_call += 1;
+      /* Early stopping and the kept network follow the validation loss;
+       * without a validation set the last network is kept. */
+      if (has_val) {
+        if (val_loss < st.best_restart_loss) {
+          st.best_restart_loss = val_loss;
+          st.best_restart_epoch = st.epoch;
+          st.since_best = 0;
+          memcpy(st.restart_best, st.params, (size_t)np * sizeof(double));
+        } else {
+          st.since_best += 1;
+          if (o->patience > 0 && st.since_best >= o->patience) stop_restart = 1;
+        }
+      } else {
+        st.best_restart_loss = isfinite(epoch_loss) ? epoch_loss : INFINITY;
+        st.best_restart_epoch = st.epoch;
+        memcpy(st.restart_best, st.params, (size_t)np * sizeof(double));
+      }
+      if (!isfinite(epoch_loss)) stop_restart = 1;   /* diverged: this restart is over */
+      if (o->progress) o->progress(o->progress_ctx, st.restart, o->restarts, st.epoch, o->epochs, epoch_loss, val_loss);
+    }
+    if (st.best_restart_loss < st.best_loss) {
+      st.best_loss = st.best_restart_loss;
+      st.best_restart = st.restart;
+      st.best_epoch = st.best_restart_epoch;
+      memcpy(st.overall_best, st.restart_best, (size_t)np * sizeof(double));
+    }
+    st.restart += 1;
+    if (st.restart < o->restarts) start_restart(&st, o, np);
+  }
+  if (!isfinite(st.best_loss)) {
+    status = sf_fail(err, SF_ERR_INTERNAL, "training diverged in every restart (try a smaller --lr)");
+    goto done;
+  }
+  memcpy(result->net.params, st.overall_best, (size_t)np * sizeof(double));
+  result->best_restart = st.best_restart;
+  result->best_epoch = st.best_epoch;
+  result->epochs_run = st.epochs_run;
+  result->seconds_per_epoch = epochs_this_call > 0 ? (now_seconds() - t_start) / epochs_this_call : 0.0;
+  result->cpu_seconds_per_epoch =
+      epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : 0.0;
+  result->train_loss = sf_mlp_dataset_loss(s, result->net.params, &loss, train, o->n_threads);
+  result->validation_loss = has_val ? sf_mlp_dataset_loss(s, result->net.params, &loss, val, o->n_threads) : NAN;
+  if (o->checkpoint_path) remove(o->checkpoint_path);
+done:
+  if (status != SF_OK || result->interrupted) {
+    if (status != SF_OK) sf_mlp_free(&result->net);
+    result->epochs_run = st.epochs_run;
+    result->seconds_per_epoch = 0.0;
+  }
+  free(delta);
+  free(grad);
+  free(perm);
+  free(st.params);
+  free(st.restart_best);
+  free(st.overall_best);
+  sf_adam_free(&st.adam);
+  chunk_sums_free(&cs);
+  return status;
+}

@@ -1,0 +1,81 @@
+/* Training a network (SPEC §7.5): Xavier-initialised restarts, seeded
+ * shuffled mini-batches, hand-written Adam (fit/adam.h), early stopping on
+ * the validation loss, the best restart kept, checkpoints.
+ *
+ * Determinism: everything random is drawn from streams named by (seed,
+ * restart, epoch) (models/rng.h), so nothing depends on what ran before; a
+ * batch gradient is summed over fixed chunks of SF_TRAIN_CHUNK samples,
+ * each chunk in sample order, the chunk sums added in chunk order - the
+ * result is byte-identical for any thread count.
+ *
+ * Checkpoints: when *interrupt becomes nonzero (a SIGINT handler sets it) or
+ * after stop_after_epochs epochs (for tests), training stops at the end of
+ * the current epoch and writes everything the rest of the run depends on
+ * (parameters, Adam moments and step, best-so-far networks and losses,
+ * counters) to checkpoint_path; a run started with resume = 1 reads it and
+ * continues to exactly the result of an uninterrupted run. */
+#ifndef SKYFIT_FIT_TRAIN_H
+#define SKYFIT_FIT_TRAIN_H
+
+#include <signal.h>
+#include <stdint.h>
+
+#include "fit/adam.h"
+#include "fit/dataset.h"
+#include "fit/mlp_backward.h"
+#include "models/mlp.h"
+
+#define SF_TRAIN_CHUNK 256
+
+typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
+                                     double train_loss, double validation_loss);
+
+typedef struct sf_train_options {
+  sf_mlp_shape shape;
+  sf_mlp_loss_kind loss;
+  double loss_floor;        /* rel/log: delta_k = loss_floor * max |y_k| of the training set */
+  sf_adam_options adam;
+  int epochs;               /* per restart */
+  long batch;               /* samples per step; 0 = the whole training set */
+  int restarts;             /* >= 1; the one with the lowest validation loss is kept */
+  int patience;             /* epochs without a better validation loss before stopping; 0 = never */
+  uint64_t seed;
+  int n_threads;            /* <= 0: OpenMP's default */
+  const double *init_params;   /* optional initial network of restart 0 (n_params values) */
+  const char *checkpoint_path; /* NULL: no checkpoints */
+  int resume;               /* continue from checkpoint_path */
+  int stop_after_epochs;    /* > 0: behave as interrupted after this many epochs in this call */
+  const volatile sig_atomic_t *interrupt;   /* may be NULL */
+  sf_train_progress_fn progress;            /* may be NULL */
+  void *progress_ctx;
+} sf_train_options;
+
+void sf_train_options_default(sf_train_options *o);
+
+typedef struct sf_train_result {
+  sf_mlp net;               /* the kept network (owned; sf_mlp_free) */
+  double train_loss;        /* its loss on the whole training set */
+  double validation_loss;   /* its loss on the validation set (NAN if none) */
+  int best_restart, best_epoch;   /* where it came from (epochs 1-based) */
+  int epochs_run;           /* over all restarts, this call and resumed ones */
+  double seconds_per_epoch; /* wall clock, in this call */
+  double cpu_seconds_per_epoch;   /* process CPU time (all threads), in this call */
+  int interrupted;          /* 1: stopped early, checkpoint written */
+} sf_train_result;
+
+/* Xavier/Glorot-uniform weights U(-a, a), a = sqrt(6 / (fan_in + fan_out)),
+ * zero biases, from the stream (seed, restart). */
+void sf_mlp_init_xavier(const sf_mlp_shape *shape, uint64_t seed, int restart, double *params);
+
+/* Trains on train, stopping early and choosing among restarts on validation
+ * (NULL or empty: no early stopping, the last network of the best final
+ * training loss is kept). */
+int sf_mlp_train(const sf_dataset *train, const sf_dataset *validation, const sf_train_options *o,
+                 sf_train_result *result, sf_error *err);
+
+/* Loss of a network on a whole dataset (mean over samples), summed in fixed
+ * chunks as in training. */
+double sf_mlp_dataset_loss(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                           const sf_dataset *d, int n_threads);
+
+#endif

@@ -1,0 +1,173 @@
+#include "models/mlp_sky.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "models/phase.h"
+#include "models/ray_geometry.h"
+#include "models/single_scattering.h"
+
+static const char *const target_names[] = {"transmittance_top", "radiance", "separate"};
+
+const char *sf_mlp_target_name(sf_mlp_target t) { return (unsigned)t < 3u ? target_names[t] : "?"; }
+
+int sf_mlp_target_parse(const char *name, sf_mlp_target *out) {
+  for (int k = 0; k < 3; ++k)
+    if (strcmp(name, target_names[k]) == 0) {
+      *out = (sf_mlp_target)k;
+      return 0;
+    }
+  return -1;
+}
+
+/* The network in double; depth = 1 gives the last layer's pre-activation. */
+static void net_forward_d(const sf_mlp_sky *m, const double *x, double *out, int depth) {
+  sf_mlp_shape s = m->net.shape;
+  if (depth) s.output = SF_ACT_LINEAR;
+  sf_mlp_forward(&s, m->net.params, x, out);
+}
+
+static void net_forward_f(const sf_mlp_sky *m, const float *x, float *out, int depth) {
+  sf_mlp_f net = m->net_f;
+  if (depth) net.shape.output = SF_ACT_LINEAR;
+  sf_mlp_forward_f(&net, x, out);
+}
+
+#define REAL double
+#define SKY_FN(name) name
+#define R_SQRT sqrt
+#define R_EXP exp
+#define NET_FORWARD net_forward_d
+#define RAY_SEGMENT sf_ray_atmosphere_segment
+#define RAY_HITS sf_ray_hits_sphere_from_above
+#define RAY_RADIUS_AT sf_ray_radius_at
+#define RAY_INTERSECT sf_ray_sphere_intersections
+#define OFFSET offset
+#define SCALE scale
+#include "models/mlp_sky_impl.inc"
+#undef REAL
+#undef SKY_FN
+#undef R_SQRT
+#undef R_EXP
+#undef NET_FORWARD
+#undef RAY_SEGMENT
+#undef RAY_HITS
+#undef RAY_RADIUS_AT
+#undef RAY_INTERSECT
+#undef OFFSET
+#undef SCALE
+
+#define REAL float
+#define SKY_FN(name) name##_f
+#define R_SQRT sqrtf
+#define R_EXP expf
+#define NET_FORWARD net_forward_f
+#define RAY_SEGMENT sf_ray_atmosphere_segment_f
+#define RAY_HITS sf_ray_hits_sphere_from_above_f
+#define RAY_RADIUS_AT sf_ray_radius_at_f
+#define RAY_INTERSECT sf_ray_sphere_intersections_f
+#define OFFSET offset_f
+#define SCALE scale_f
+#include "models/mlp_sky_impl.inc"
+
+int sf_mlp_sky_make(sf_mlp_sky *m, sf_mlp *net, sf_mlp_target target, const sf_atmosphere *atm,
+                    const double *offset, const double *scale, int n_single, const int *phase_constituent,
+                    sf_error *err) {
+  memset(m, 0, sizeof *m);
+  const sf_mlp_shape *s = &net->shape;
+  int n_in = target == SF_MLP_TARGET_TRANSMITTANCE_TOP ? 2 : 4;
+  int n_out_expected = target == SF_MLP_TARGET_SEPARATE ? (n_single + 1) * atm->n_channels : atm->n_channels;
+  if (s->sizes[0] != n_in || s->sizes[s->n_layers] != n_out_expected) {
+    sf_fail(err, SF_ERR_INPUT, "network %d -> %d does not fit target %s (%d -> %d for %d channels)", s->sizes[0],
+            s->sizes[s->n_layers], sf_mlp_target_name(target), n_in, n_out_expected, atm->n_channels);
+    sf_mlp_free(net);
+    return SF_ERR_INPUT;
+  }
+  m->net = *net;
+  memset(net, 0, sizeof *net);
+  if (sf_mlp_to_float(&m->net, &m->net_f)) {
+    sf_mlp_sky_free(m);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  m->target = target;
+  m->n_inputs = n_in;
+  for (int k = 0; k < n_in; ++k) {
+    m->offset[k] = offset[k];
+    m->scale[k] = scale[k];
+    m->offset_f[k] = (float)offset[k];
+    m->scale_f[k] = (float)scale[k];
+  }
+  m->bottom_radius_km = atm->bottom_radius_km;
+  m->top_radius_km = atm->top_radius_km;
+  m->n_channels = atm->n_channels;
+  m->n_single = target == SF_MLP_TARGET_SEPARATE ? n_single : 0;
+  for (int k = 0; k < m->n_single; ++k) m->phases[k] = atm->constituents[phase_constituent[k]].phase;
+  return SF_OK;
+}
+
+void sf_mlp_sky_free(sf_mlp_sky *m) {
+  sf_mlp_free(&m->net);
+  sf_mlp_f_free(&m->net_f);
+}
+
+int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
+  memset(m, 0, sizeof *m);
+  const cJSON *training = cJSON_GetObjectItemCaseSensitive(w->root, "training");
+  const cJSON *target_item = cJSON_GetObjectItemCaseSensitive(training, "target");
+  sf_mlp_target target;
+  if (!cJSON_IsString(target_item) || sf_mlp_target_parse(target_item->valuestring, &target))
+    return sf_fail(err, SF_ERR_INPUT, "%s: training.target: expected transmittance_top, radiance or separate",
+                   w->source);
+  static const char *const names[4] = {"sqrt_h_km", "mu", "mu_s", "nu"};
+  int n_in = target == SF_MLP_TARGET_TRANSMITTANCE_TOP ? 2 : 4;
+  if (w->n_inputs != n_in)
+    return sf_fail(err, SF_ERR_INPUT, "%s: inputs: expected %d entries, got %d", w->source, n_in, w->n_inputs);
+  double offset[4], scale[4];
+  for (int k = 0; k < n_in; ++k) {
+    if (strcmp(w->inputs[k].name, names[k]) != 0)
+      return sf_fail(err, SF_ERR_INPUT, "%s: inputs[%d].name: expected \"%s\", got \"%s\"", w->source, k,
+                     names[k], w->inputs[k].name);
+    offset[k] = w->inputs[k].offset;
+    scale[k] = w->inputs[k].scale;
+  }
+  int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
+  if (target == SF_MLP_TARGET_SEPARATE) {
+    const cJSON *comps = cJSON_GetObjectItemCaseSensitive(training, "components");
+    int n = cJSON_IsArray(comps) ? cJSON_GetArraySize(comps) : 0;
+    if (n < 2 || n > SF_MAX_CONSTITUENTS + 1)
+      return sf_fail(err, SF_ERR_INPUT, "%s: training.components: expected the scattering constituents' names "
+                     "then \"multiple\"", w->source);
+    for (int k = 0; k + 1 < n; ++k) {
+      const cJSON *c = cJSON_GetArrayItem(comps, k);
+      int idx = cJSON_IsString(c) ? sf_atmosphere_find(&w->atmosphere, c->valuestring) : -1;
+      if (idx < 0)
+        return sf_fail(err, SF_ERR_INPUT, "%s: training.components[%d]: not a constituent of the atmosphere",
+                       w->source, k);
+      constituent[n_single++] = idx;
+    }
+  }
+  sf_mlp net;
+  if (sf_mlp_from_weights(w, &net, err)) return err->status;
+  if (sf_mlp_sky_make(m, &net, target, &w->atmosphere, offset, scale, n_single, constituent, err)) {
+    char message[1024];
+    snprintf(message, sizeof message, "%.400s: params: %.600s", w->source, err->message);
+    snprintf(err->message, sizeof err->message, "%s", message);
+    return err->status;
+  }
+  return SF_OK;
+}
+
+int sf_mlp_sky_load(const char *path, sf_mlp_sky *m, sf_error *err) {
+  memset(m, 0, sizeof *m);
+  sf_weights w;
+  if (sf_weights_load_file(path, NULL, &w, err)) return err->status;
+  int status = SF_OK;
+  if (strcmp(w.model, "mlp-transmittance") != 0 && strcmp(w.model, "mlp-scattering") != 0)
+    status = sf_fail(err, SF_ERR_INPUT, "%s: model: expected \"mlp-transmittance\" or \"mlp-scattering\", got \"%s\"",
+                     path, w.model);
+  else
+    status = sf_mlp_sky_from_weights(&w, m, err);
+  sf_weights_free(&w);
+  return status;
+}

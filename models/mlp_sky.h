@@ -1,0 +1,121 @@
+/* The neural sky (SPEC §7.4-7.5, seed 000 §9.6): transmittance and
+ * scattering evaluated from the networks of models/mlp.h, in double and in
+ * float32 (the float path is what emitted shaders must do, operation for
+ * operation).
+ *
+ * Geometry: R = bottom radius, Rt = top radius, viewer at radius r = R + h
+ * looking along mu; along the ray, at distance d,
+ *   r_d = sqrt(r^2 + d^2 + 2 r mu d),  mu_d = (r mu + d) / r_d,
+ *   mu_s_d = (r mu_s + d nu) / r_d.
+ * A viewer above Rt is first moved to where its ray enters the atmosphere
+ * (seed 000 §9.6.3: "any viewer that is outside the atmosphere is moved to
+ * the top atmosphere boundary"); a ray that never enters sees T = 1, S = 0.
+ *
+ * Inputs of every network: x = ((value - offset) * scale) per input, values
+ * sqrt(h) ("sqrt_h_km"), mu, and for scattering mu_s, nu (nu clamped into
+ * what mu and mu_s allow, SPEC §3).
+ *
+ * Transmittance network (target "transmittance_top"): outputs T_top(h, mu)
+ * per channel, the transmittance of the ray from altitude h along mu to the
+ * TOP boundary, trained only for rays that do not hit the ground (mu at or
+ * above the horizon cosine -sqrt(1 - (R/r)^2)). With the exp_neg output
+ * (default) the last layer's pre-activation is the optical depth
+ * tau_top = -log T_top, and every ratio below is computed as
+ * exp(-(tau_a - tau_b)) (no division of two tiny numbers, SPEC §10); with
+ * another output the ratio T_a / max(T_b, 1e-30) is clamped to [0, 1].
+ *   Full ray (to the ground or the top, whichever comes first):
+ *     no ground hit:  T = T_top(h, mu)
+ *     ground hit at distance d_g (mu_g = mu at the ground, < 0), eq. 43
+ *     with reversed rays (seed 000 §9.6.3): both rays point up,
+ *       T = T_top(0, -mu_g) / T_top(h, -mu).
+ *   Segment from the viewer to distance d (eq. 43, Bruneton 2017
+ *   GetTransmittance): if the viewer's ray hits the ground
+ *       T = T_top(h_d, -mu_d) / T_top(h, -mu)          (reversed)
+ *     else
+ *       T = T_top(h, mu) / T_top(h_d, mu_d).
+ *
+ * Scattering network: outputs the light scattered towards the viewer along
+ * the ray to its end (the ground if it hits it, else the top), as in the
+ * reference tables (data/table_params.h), from a sun of irradiance 1:
+ *   target "radiance" (seed 000 §9.6.2): n_channels outputs = the sky
+ *     radiance, phase functions included;
+ *   target "separate" (default): (n_single + 1) * n_channels outputs, the
+ *     single scattering of each scattering constituent WITHOUT its phase
+ *     function (Bruneton's convention), then multiple scattering; the
+ *     radiance is   L_c = sum_k P_k(nu) S_k,c + M_c.
+ *     Phase functions thus stay exact (the Mie halo is not asked of the
+ *     network, seed 000 §12.1.6), and because every term is an integral
+ *     along the ray, eq. 44 applies to each of them.
+ *   Sky radiance of a full ray: L(h, mu, mu_s, nu) directly.
+ *   Segment from the viewer to distance d (aerial perspective), eq. 44:
+ *       S = S(h, mu, mu_s, nu) - T(viewer -> d) * S(h_d, mu_d, mu_s_d, nu)
+ *     with T the transmittance segment above (reversed rays when the ray
+ *     hits the ground, as the seed notes), clamped at 0.
+ * Multiply by the atmosphere's sun irradiance per channel. */
+#ifndef SKYFIT_MODELS_MLP_SKY_H
+#define SKYFIT_MODELS_MLP_SKY_H
+
+#include "models/atmosphere.h"
+#include "models/mlp.h"
+#include "models/weights_file.h"
+#include "util/error.h"
+
+typedef enum sf_mlp_target {
+  SF_MLP_TARGET_TRANSMITTANCE_TOP = 0,
+  SF_MLP_TARGET_RADIANCE,
+  SF_MLP_TARGET_SEPARATE
+} sf_mlp_target;
+
+/* "transmittance_top", "radiance", "separate". */
+const char *sf_mlp_target_name(sf_mlp_target t);
+int sf_mlp_target_parse(const char *name, sf_mlp_target *out);
+
+/* A network with what its inputs and outputs mean. */
+typedef struct sf_mlp_sky {
+  sf_mlp net;
+  sf_mlp_f net_f;
+  sf_mlp_target target;
+  int n_inputs;
+  double offset[4], scale[4];   /* per input, see above */
+  float offset_f[4], scale_f[4];
+  double bottom_radius_km, top_radius_km;
+  int n_channels;
+  int n_single;                 /* separate: scattering constituents, then multiple */
+  sf_phase phases[SF_MAX_CONSTITUENTS];
+} sf_mlp_sky;
+
+/* Builds the model from a trained network (owned by the model afterwards:
+ * net is moved in). For target separate, phase_constituent[k] names the
+ * atmosphere constituent of single-scattering output block k. */
+int sf_mlp_sky_make(sf_mlp_sky *m, sf_mlp *net, sf_mlp_target target, const sf_atmosphere *atm,
+                    const double *offset, const double *scale, int n_single, const int *phase_constituent,
+                    sf_error *err);
+/* Loads "mlp-transmittance" or "mlp-scattering" weights (SPEC §8). */
+int sf_mlp_sky_load(const char *path, sf_mlp_sky *m, sf_error *err);
+int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err);
+void sf_mlp_sky_free(sf_mlp_sky *m);
+
+/* Number of channels of transmittance / radiance results. */
+static inline int sf_mlp_sky_channels(const sf_mlp_sky *m) { return m->n_channels; }
+
+/* ---- double ---- */
+/* Network output T_top(h, mu) (no ground handling; for tests and fitting). */
+void sf_mlp_transmittance_top(const sf_mlp_sky *t, double h_km, double mu, double *T);
+/* Full ray and segment transmittance (above). */
+void sf_mlp_transmittance(const sf_mlp_sky *t, double h_km, double mu, double *T);
+void sf_mlp_transmittance_segment(const sf_mlp_sky *t, double h_km, double mu, double d_km, double *T);
+/* Sky radiance of the full ray (no sun disc, no ground), and of a segment
+ * (needs the transmittance model for eq. 44). */
+void sf_mlp_scattering(const sf_mlp_sky *s, double h_km, double mu, double mu_s, double nu, double *L);
+void sf_mlp_scattering_segment(const sf_mlp_sky *s, const sf_mlp_sky *t, double h_km, double mu,
+                               double mu_s, double nu, double d_km, double *L);
+
+/* ---- float32, operation for operation as the shader ---- */
+void sf_mlp_transmittance_top_f(const sf_mlp_sky *t, float h_km, float mu, float *T);
+void sf_mlp_transmittance_f(const sf_mlp_sky *t, float h_km, float mu, float *T);
+void sf_mlp_transmittance_segment_f(const sf_mlp_sky *t, float h_km, float mu, float d_km, float *T);
+void sf_mlp_scattering_f(const sf_mlp_sky *s, float h_km, float mu, float mu_s, float nu, float *L);
+void sf_mlp_scattering_segment_f(const sf_mlp_sky *s, const sf_mlp_sky *t, float h_km, float mu, float mu_s,
+                                 float nu, float d_km, float *L);
+
+#endif

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# skyfit codegen on the command line (SPEC §9, §11): byte-identical output
+# for identical input, only what is asked is emitted, bad input exits 2 and
+# writes nothing, previous outputs are left untouched.
+set -uo pipefail
+: "${SKYFIT_BIN:?}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+check() { if eval "$2"; then echo "ok   $1"; else echo "FAIL $1"; fail=1; fi; }
+
+"$SKYFIT_BIN" codegen --help | grep -q "usage: skyfit codegen"
+check "--help prints the usage" "[ \${PIPESTATUS[0]} -eq 0 ]"
+
+mkdir -p "$tmp/a" "$tmp/b"
+"$SKYFIT_BIN" codegen --baselines naive,chapman,taylor --lang both --out "$tmp/a" --quiet
+check "first run exits 0" "[ $? -eq 0 ]"
+"$SKYFIT_BIN" codegen --baselines naive,chapman,taylor --lang both --out "$tmp/b" --quiet
+check "C header byte-identical across runs" "cmp -s $tmp/a/skyfit.h $tmp/b/skyfit.h"
+check "GLSL byte-identical across runs" "cmp -s $tmp/a/skyfit.glsl $tmp/b/skyfit.glsl"
+check "header names atmosphere, hash, domain, error" \
+  "grep -q 'atmosphere: earth-hillaire2020, hash [0-9a-f]\{16\}' $tmp/a/skyfit.h && grep -q 'domain: h_km' $tmp/a/skyfit.h && grep -q 'measured error: transmittance' $tmp/a/skyfit.h"
+check "same function names in C and GLSL" \
+  "[ \"\$(grep -o 'skyfit_[a-z_]*transmittance[a-z_]*(' $tmp/a/skyfit.h | sort -u)\" = \"\$(grep -o 'skyfit_[a-z_]*transmittance[a-z_]*(' $tmp/a/skyfit.glsl | sort -u)\" ]"
+
+mkdir -p "$tmp/c"
+"$SKYFIT_BIN" codegen --baselines chapman --lang c --out "$tmp/c" --quiet
+check "only chapman asked: no naive/taylor, no raymarch helpers" \
+  "! grep -q 'skyfit_naive_\|skyfit_taylor_\|skyfit_expm1' $tmp/c/skyfit.h && grep -q skyfit_chapman_transmittance $tmp/c/skyfit.h"
+check "only C asked: no GLSL written" "[ ! -e $tmp/c/skyfit.glsl ]"
+
+cp "$tmp/a/skyfit.h" "$tmp/before.h"
+"$SKYFIT_BIN" codegen --baselines naive,bogus --lang both --out "$tmp/a" 2>"$tmp/err.txt"
+check "unknown baseline exits 2" "[ $? -eq 2 ]"
+check "message names the baseline" "grep -q \"unknown baseline 'bogus'\" $tmp/err.txt"
+check "previous output untouched" "cmp -s $tmp/a/skyfit.h $tmp/before.h"
+
+echo '{"skyfit_weights": 1, "model": "sigmoid"' > "$tmp/broken.json"
+"$SKYFIT_BIN" codegen --weights "$tmp/broken.json" --lang c --out "$tmp/a" 2>"$tmp/err.txt"
+check "broken weights file exits 2" "[ $? -eq 2 ]"
+check "message names the file" "grep -q broken.json $tmp/err.txt"
+check "previous output untouched" "cmp -s $tmp/a/skyfit.h $tmp/before.h"
+
+"$SKYFIT_BIN" codegen --baselines naive --lang c --out "$tmp/missing-dir" 2>"$tmp/err.txt"
+check "missing output folder exits 2" "[ $? -eq 2 ]"
+"$SKYFIT_BIN" codegen --baselines naive --out "$tmp/a" 2>/dev/null
+check "missing --lang exits 2" "[ $? -eq 2 ]"
+check "no temporary files left" "[ -z \"\$(ls $tmp/a | grep tmp)\" ]"
+exit $fail

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# skyfit fit mlp-transmittance | mlp-scattering | mlp on small tables:
+# byte-identical weights for 1 and 2 threads; an interrupted run (test hook
+# and a real SIGINT) resumed with --resume ends byte-identical to a straight
+# run; --dump-dataset / fit mlp round trip; bad input exits 2 writing nothing.
+set -euo pipefail
+BIN="${SKYFIT_BIN:?SKYFIT_BIN must name the skyfit binary}"
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+passed=0
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { echo "ok    $*"; passed=$((passed + 1)); }
+TAB=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4 --orders 2)
+
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 1 --out "$TMP/t1.json" --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 2 --out "$TMP/t2.json" --quiet
+if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identical for 1 and 2 threads"; else fail "thread count changed the weights"; fi
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --threads 1 --out "$TMP/s1.json" --quiet
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --threads 2 --out "$TMP/s2.json" --quiet
+if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
+
+# interruption by the test hook, twice, then --resume
+set +e
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
+rc=$?
+set -e
+[ "$rc" = 130 ] && [ -f "$TMP/r.json.checkpoint" ] && [ ! -f "$TMP/r.json" ] && pass "interrupted: exit 130, checkpoint, no weights" || fail "interrupt: rc $rc"
+set +e
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
+set -e
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --resume --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/straight.json" --quiet
+if cmp -s "$TMP/r.json" "$TMP/straight.json"; then pass "resumed run identical to the straight run"; else fail "resume differs"; fi
+[ ! -f "$TMP/r.json.checkpoint" ] && pass "checkpoint removed after the finished run" || fail "checkpoint left behind"
+
+# dataset dump and fit mlp on it; a real SIGINT and --resume
+"$BIN" fit mlp-transmittance "${TAB[@]}" --dump-dataset "$TMP/t.csv" --quiet
+rows=$(($(wc -l <"$TMP/t.csv") - 1))
+header=$(head -1 "$TMP/t.csv")
+[ "$header" = "sqrt_h_km,mu,T_r,T_g,T_b" ] && [ "$rows" -gt 500 ] && pass "dump: $rows rows, header $header" || fail "dump: $rows rows, header $header"
+json=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 200 --batch 64 --quiet)
+mse=$(echo "$json" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
+awk -v m="$mse" 'BEGIN { exit !(m > 0 && m < 0.03) }' && pass "fit mlp prints final_train_mse $mse" || fail "fit mlp: $json"
+"$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m_straight.json" --quiet >/dev/null
+"$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m.json" --quiet >/dev/null &
+pid=$!
+sleep 0.5
+kill -INT "$pid" 2>/dev/null || true
+set +e
+wait "$pid"
+rc=$?
+set -e
+if [ "$rc" = 130 ]; then
+  [ -f "$TMP/m.json.checkpoint" ] && pass "SIGINT: exit 130 and a checkpoint" || fail "SIGINT: no checkpoint"
+  "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m.json" --resume --quiet >/dev/null
+else
+  echo "note: the run finished before SIGINT arrived (rc $rc)"
+fi
+if cmp -s "$TMP/m.json" "$TMP/m_straight.json"; then pass "SIGINT + --resume identical to the straight run"; else fail "SIGINT resume differs"; fi
+
+# bad input: exit 2, message, nothing written
+expect_error() {
+  local name=$1 pattern=$2
+  shift 2
+  set +e
+  err=$("$@" 2>&1 >/dev/null)
+  rc=$?
+  set -e
+  if [ "$rc" = 2 ] && echo "$err" | grep -q -- "$pattern" && [ ! -e "$TMP/bad.json" ]; then pass "$name: $err"; else fail "$name: rc $rc, '$err'"; fi
+}
+expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3 --out "$TMP/bad.json"
+expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
+expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
+printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
+expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"
+expect_error "missing resume" "checkpoint" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --resume --out "$TMP/bad.json"
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# skyfit fit spectral4: help, and every input error exits 2 with a message
+# naming the problem and writes nothing.
+set -euo pipefail
+
+BIN="${SKYFIT_BIN:?SKYFIT_BIN must name the skyfit binary}"
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+
+passed=0
+failed=0
+fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
+pass() { echo "ok    $*"; passed=$((passed + 1)); }
+
+# expect_error NAME GREP_PATTERN ARGS...: exit 2, stderr matching, no W.json
+expect_error() {
+  local name=$1 pattern=$2
+  shift 2
+  local rc=0
+  "$BIN" fit spectral4 "$@" >"$TMP/out" 2>"$TMP/err" || rc=$?
+  if [[ $rc -ne 2 ]]; then fail "$name: exit $rc, want 2 ($(cat "$TMP/err"))"; return; fi
+  if ! grep -q -- "$pattern" "$TMP/err"; then fail "$name: stderr '$(cat "$TMP/err")' lacks '$pattern'"; return; fi
+  if [[ -e $TMP/w.json ]]; then fail "$name: wrote w.json"; return; fi
+  pass "$name: $(head -1 "$TMP/err")"
+}
+
+if "$BIN" fit spectral4 --help | grep -q "usage: skyfit fit spectral4"; then pass "--help"; else fail "--help"; fi
+if "$BIN" fit --help | grep -q "spectral4"; then pass "listed by skyfit fit --help"; else fail "not listed"; fi
+
+expect_error "no --out" "--out W.json is required"
+expect_error "unknown option" "unknown option '--colour'" --colour red --out "$TMP/w.json"
+expect_error "bad orders" "--orders: expected 1..64" --orders 0 --out "$TMP/w.json"
+expect_error "bad resolution" "--resolution" --resolution 3x3 --out "$TMP/w.json"
+expect_error "missing scene" "missing.json" --scene "$TMP/missing.json" --out "$TMP/w.json"
+cat >"$TMP/night.json" <<'JSON'
+{"name": "night", "sun_elevation_deg": [-20, -5]}
+JSON
+expect_error "sun range misses -2..90" "sun_elevation_deg \[-20, -5\] misses" --scene "$TMP/night.json" --out "$TMP/w.json" --cache "$TMP/cache"
+cat >"$TMP/bad_atm.json" <<'JSON'
+{"name": "bad", "bottom_radius_km": 6360, "top_radius_km": 6460, "channels": {"wavelengths_nm": [400, 500]},
+ "constituents": [{"name": "rayleigh", "scattering": {"recipe": "rayleigh_bucholtz", "scale": -1}, "absorption": 0,
+                   "phase": {"kind": "rayleigh"}, "density": [{"exp_term": 1}]}]}
+JSON
+expect_error "bad recipe" "constituents\[0\].scattering.scale: negative value" --atmosphere "$TMP/bad_atm.json" --out "$TMP/w.json"
+cat >"$TMP/narrow.json" <<'JSON'
+{"name": "narrow", "bottom_radius_km": 6360, "top_radius_km": 6460,
+ "channels": {"wavelengths_nm": [400, 500, 600]},
+ "constituents": [{"name": "rayleigh", "scattering": {"recipe": "rayleigh_bucholtz"}, "absorption": 0,
+                   "phase": {"kind": "rayleigh"}, "density": [{"exp_term": 1, "exp_scale_per_km": -0.125}]}]}
+JSON
+expect_error "spectral atmosphere too narrow" "needs coefficients over 360-830 nm" --atmosphere "$TMP/narrow.json" --out "$TMP/w.json" --cache "$TMP/cache"
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]

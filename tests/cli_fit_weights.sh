@@ -1,0 +1,111 @@
+#!/bin/bash
+# skyfit fit sigmoid|preetham|hosek: weights files (SPEC §8) are written and
+# validated (--check), bad ones (wrong shape, non-finite number, atmosphere
+# hash mismatch, wrong model) exit 2 with a message naming the file and key;
+# --samples refits the published Hosek / Preetham skies (computed here in
+# Python from the data notes) and prints the coefficients A..I / A..E.
+set -u
+bin=${SKYFIT_BIN:?}
+src=${SKYFIT_SOURCE_DIR:?}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+expect() {  # expect CODE DESCRIPTION PATTERN -- command...
+  local want=$1 what=$2 pattern=$3
+  shift 4
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [ "$got" = "$want" ] && grep -q -- "$pattern" "$tmp/out" "$tmp/err"; then
+    echo "ok   $what (exit $got): $(head -c 200 "$tmp/err" | tr '\n' ' ')"
+  else
+    echo "FAIL $what: exit $got, want $want, pattern '$pattern'"; cat "$tmp/err"; fail=1
+  fi
+}
+
+expect 0 "sigmoid fit" "wrote" -- "$bin" fit sigmoid --grid 12x24 --out "$tmp/s.json"
+expect 0 "sigmoid --check" "valid sigmoid" -- "$bin" fit sigmoid --check "$tmp/s.json"
+python3 - "$tmp" <<'PY'
+import json, sys, copy
+d = sys.argv[1]
+w = json.load(open(d + "/s.json"))
+def dump(name, doc, text=None):
+    with open(d + "/" + name, "w") as f: f.write(text if text is not None else json.dumps(doc))
+bad = copy.deepcopy(w); bad["params"]["a"] = [row[:2] for row in w["params"]["a"]]; dump("shape.json", bad)
+dump("nan.json", None, json.dumps(w).replace(json.dumps(w["params"]["a"][0][0][0]), "1e999", 1))
+bad = copy.deepcopy(w); bad["atmosphere_hash"] = "0123456789abcdef"; dump("hash.json", bad)
+bad = copy.deepcopy(w); bad["atmosphere"]["constituents"][0]["scattering"][0] *= 2; dump("atm.json", bad)
+# a hosek weights file: same header, hosek params
+h = copy.deepcopy(w); h["model"] = "hosek"; h["quantity"] = "sky_radiance"
+h["params"] = {"coefficients": [[[-1, -0.1, 1, 0.5, -2, 0.3, 0.2, 0.6, 1] for j in range(6)] for k in range(3)],
+               "radiance": [[1] * 6 for k in range(3)], "sun_elevation_rad": [0, 1.5]}
+dump("h.json", h)
+bad = copy.deepcopy(h); bad["params"]["coefficients"][1] = bad["params"]["coefficients"][1][:5]; dump("hshape.json", bad)
+bad = copy.deepcopy(h); del bad["params"]["radiance"]; dump("hmissing.json", bad)
+bad = copy.deepcopy(h); bad["params"]["sun_elevation_rad"] = [0, 2.5]; dump("hrange.json", bad)
+PY
+expect 2 "sigmoid wrong shape" "params.a" -- "$bin" fit sigmoid --check "$tmp/shape.json"
+expect 2 "sigmoid non-finite" "nan.json" -- "$bin" fit sigmoid --check "$tmp/nan.json"
+expect 2 "sigmoid hash mismatch" "hash" -- "$bin" fit sigmoid --check "$tmp/hash.json"
+expect 2 "sigmoid atmosphere edited" "hash" -- "$bin" fit sigmoid --check "$tmp/atm.json"
+expect 2 "sigmoid file as hosek" "model" -- "$bin" fit hosek --check "$tmp/s.json"
+expect 0 "hosek --check" "valid hosek" -- "$bin" fit hosek --check "$tmp/h.json"
+expect 2 "hosek wrong shape" "params.coefficients" -- "$bin" fit hosek --check "$tmp/hshape.json"
+expect 2 "hosek missing radiance" "params.radiance" -- "$bin" fit hosek --check "$tmp/hmissing.json"
+expect 2 "hosek elevation range" "sun_elevation_rad" -- "$bin" fit hosek --check "$tmp/hrange.json"
+expect 2 "hosek as preetham" "model" -- "$bin" fit preetham --check "$tmp/h.json"
+expect 2 "sigmoid --tables refused" "exact optical depth" -- "$bin" fit sigmoid --tables "$tmp" --out "$tmp/x.json"
+expect 2 "hosek scene without ground viewer" "ground" -- bash -c "echo '{\"viewer_altitude_km\": [5, 10]}' > '$tmp/sc.json' && '$bin' fit hosek --scene '$tmp/sc.json' --out '$tmp/x.json'"
+[ -e "$tmp/x.json" ] && { echo "FAIL: a failed fit wrote its output"; fail=1; }
+
+# --samples: published Hosek (T=4, albedo 0.3, elevation 0.5 rad, green) and Preetham Y (T=3)
+python3 - "$tmp" "$src/data/physical/hosek2012_rgb.json" <<'PY'
+import json, math, sys
+d, path = sys.argv[1], sys.argv[2]
+ds = json.load(open(path))
+T, alb, elev, ch = 4.0, 0.3, 0.5, 1
+x = (elev / (math.pi / 2)) ** (1 / 3)
+def bez(p): return sum(math.comb(5, j) * (1 - x) ** (5 - j) * x ** j * p[j] for j in range(6))
+t = int(T) - 1
+st = [(1 - alb) * bez([ds["coefficients"][ch][0][t][j][k] for j in range(6)]) +
+      alb * bez([ds["coefficients"][ch][1][t][j][k] for j in range(6)]) for k in range(9)]
+R = (1 - alb) * bez(ds["radiances"][ch][0][t]) + alb * bez(ds["radiances"][ch][1][t])
+paper = st[:7] + [st[8], st[7]]
+json.dump({"coefficients": paper, "R": R}, open(d + "/hosek_truth.json", "w"))
+def hosek(th, g):
+    chi = (1 + math.cos(g) ** 2) / (1 + st[8] ** 2 - 2 * st[8] * math.cos(g)) ** 1.5
+    return (1 + st[0] * math.exp(st[1] / (math.cos(th) + 0.01))) * (st[2] + st[3] * math.exp(st[4] * g) + st[5] * math.cos(g) ** 2 + st[6] * chi + st[7] * math.sqrt(math.cos(th))) * R
+Tp = 3.0
+c = [0.1787 * Tp - 1.4630, -0.3554 * Tp + 0.4275, -0.0227 * Tp + 5.3251, 0.1206 * Tp - 2.5771, -0.0670 * Tp + 0.3703]
+K = 2.5
+json.dump({"coefficients": c, "K": K}, open(d + "/perez_truth.json", "w"))
+def perez(th, g):
+    return K * (1 + c[0] * math.exp(c[1] / math.cos(th))) * (1 + c[2] * math.exp(c[3] * g) + c[4] * math.cos(g) ** 2)
+with open(d + "/hosek.csv", "w") as fh, open(d + "/perez.csv", "w") as fp:
+    fh.write("theta,gamma,radiance\n"); fp.write("theta,gamma,radiance\n")
+    for i in range(10):
+        for j in range(14):
+            th = (i + 0.5) / 10 * math.pi / 2; ph = j / 13 * math.pi
+            cg = math.cos(th) * math.sin(elev) + math.sin(th) * math.cos(elev) * math.cos(ph)
+            g = math.acos(max(-1, min(1, cg)))
+            fh.write("%.17g,%.17g,%.17g\n" % (th, g, hosek(th, g)))
+            fp.write("%.17g,%.17g,%.17g\n" % (th, g, perez(th, g)))
+PY
+R=$(python3 -c "import json;print(repr(json.load(open('$tmp/hosek_truth.json'))['R']))")
+expect 0 "hosek --samples" "coefficients" -- "$bin" fit hosek --samples "$tmp/hosek.csv" --scale "$R" --unbounded
+cp "$tmp/out" "$tmp/hosek_fit.json"
+expect 0 "preetham --samples" "coefficients" -- "$bin" fit preetham --samples "$tmp/perez.csv"
+cp "$tmp/out" "$tmp/perez_fit.json"
+python3 - "$tmp" <<'PY' || fail=1
+import json, sys
+d = sys.argv[1]; bad = 0
+for name, letters, scale_key in (("hosek", "ABCDEFGHI", "R"), ("perez", "ABCDE", "K")):
+    fit = json.load(open(d + "/%s_fit.json" % name)); truth = json.load(open(d + "/%s_truth.json" % name))
+    worst = max(abs(fit["coefficients"][l] - t) / abs(t) for l, t in zip(letters, truth["coefficients"]))
+    sc = abs(fit["scale"] - truth[scale_key]) / truth[scale_key]
+    ok = worst <= 1e-3 and sc <= 1e-3 and fit["rel_rmse"] <= 1e-6
+    print("%s %s --samples: worst coefficient rel.err %.3g, scale rel.err %.3g, rel_rmse %.3g (bounds 1e-3, 1e-3, 1e-6), winning start: %s"
+          % ("ok  " if ok else "FAIL", name, worst, sc, fit["rel_rmse"], fit["winning_start"]))
+    bad |= not ok
+sys.exit(bad)
+PY
+exit $fail

@@ -1,0 +1,123 @@
+/* The report's measuring pieces against closed forms: error metrics of a
+ * known perturbation, the Pareto front of a hand-made set, and the standard
+ * views' cameras (centre-pixel directions). */
+#include <math.h>
+#include <stdio.h>
+
+#include "codegen/report.h"
+#include "fit/candidate_metrics.h"
+#include "models/atmosphere_file.h"
+#include "models/views_standard.h"
+#include "tests/check.h"
+#include "util/constants.h"
+
+static void metrics_of_known_perturbation(void) {
+  enum { N = 1000 };
+  double ref[N], model[N];
+  double sq = 0.0;
+  for (int i = 0; i < N; ++i) {
+    ref[i] = 0.5 + 0.4 * sin(0.37 * i);
+    sq += ref[i] * ref[i];
+    /* +-delta alternating: |error| = delta everywhere */
+    model[i] = ref[i] + (i % 2 ? 0.01 : -0.01);
+  }
+  model[7] = ref[7] + 0.05;   /* one larger error */
+  sf_error_metrics m;
+  size_t bad;
+  sf_error_metrics_compute(model, ref, N, &m, &bad);
+  double want_rmse = sqrt(((N - 1) * 1e-4 + 0.05 * 0.05) / N);
+  printf("rmse %.12g (want %.12g), max %.12g, rel_rmse %.12g\n", m.rmse, want_rmse, m.max_abs, m.rel_rmse);
+  CHECK_REL(m.rmse, want_rmse, 1e-12);
+  CHECK_REL(m.max_abs, 0.05, 1e-9);
+  CHECK_REL(m.rel_rmse, want_rmse / sqrt(sq / N), 1e-12);
+  double rel = 0.0;
+  for (int i = 0; i < N; ++i) rel += fabs(model[i] - ref[i]) / fabs(ref[i]);
+  CHECK_REL(m.mean_rel, rel / N, 1e-12);
+  CHECK(bad == 0);
+  model[3] = NAN;
+  sf_error_metrics_compute(model, ref, N, &m, &bad);
+  CHECK(bad == 1);
+  CHECK(m.n_values == N - 1);
+}
+
+static void pareto(void) {
+  /* (cost, error): a dominates c; b and d are on the front; e ties a. */
+  double cost[] = {1, 2, 3, 0.5, 1}, error[] = {1, 0.5, 2, 3, 1};
+  int front[5];
+  sf_pareto_front(5, cost, error, front);
+  printf("front %d %d %d %d %d\n", front[0], front[1], front[2], front[3], front[4]);
+  CHECK(front[0] == 1 && front[1] == 1 && front[2] == 0 && front[3] == 1 && front[4] == 1);
+}
+
+static void cameras(void) {
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  const sf_view_def *views;
+  int n = sf_standard_radiance_views(&views);
+  CHECK(n == 12);
+  const sf_view_def *noon = &views[2], *space = &views[9], *shadow = &views[11];
+  CHECK(noon->exposure == 1.0 && views[0].exposure == 16.0 && space->exposure == 2.0 && shadow->exposure == 32.0);
+  sf_view_camera cam;
+  double in[4];
+  /* Ground, noon, 3x3: the centre pixel looks along the camera axis,
+   * pitched up 20 deg: mu = sin 20, the sun overhead: mu_s = 1, nu = mu. */
+  sf_view_camera_make(noon, &atm, 3, 3, &cam);
+  sf_view_pixel_inputs(&cam, &atm, 1, 1, in);
+  double s20 = sin(20.0 * SF_PI / 180.0);
+  printf("ground-noon centre: h %.3g mu %.15g mu_s %.15g nu %.15g (sin 20 = %.15g)\n", in[0], in[1], in[2], in[3], s20);
+  CHECK_ABS(in[0], 0.0, 1e-9);
+  CHECK_ABS(in[1], s20, 1e-12);
+  CHECK_ABS(in[2], 1.0, 1e-12);
+  CHECK_ABS(in[3], s20, 1e-12);
+  /* Top-left pixel of a 3x3 view at 60 deg vertical fov: camera-space
+   * direction (-(2/3) tan_h, (2/3) tan_v, 1) with tan_v = tan 30, tan_h =
+   * tan_v (square): its elevation is asin of the normalised up component. */
+  double tv = tan(30.0 * SF_PI / 180.0), x = -2.0 / 3.0 * tv, y = 2.0 / 3.0 * tv;
+  double len = sqrt(1 + x * x + y * y);
+  double c20 = cos(20.0 * SF_PI / 180.0);
+  double want_mu = (s20 + y * c20) / len;
+  sf_view_pixel_inputs(&cam, &atm, 0, 0, in);
+  printf("ground-noon top-left: mu %.15g want %.15g\n", in[1], want_mu);
+  CHECK_ABS(in[1], want_mu, 1e-12);
+  /* Space: the centre pixel looks at the planet's centre: mu = -1; the sun
+   * is perpendicular to the view: nu = 0. */
+  sf_view_camera_make(space, &atm, 5, 5, &cam);
+  sf_view_pixel_inputs(&cam, &atm, 2, 2, in);
+  printf("space centre: h %.6g mu %.15g nu %.3g\n", in[0], in[1], in[3]);
+  CHECK_ABS(in[1], -1.0, 1e-12);
+  CHECK_ABS(in[3], 0.0, 1e-12);
+  CHECK_REL(in[0] + atm.bottom_radius_km, atm.top_radius_km / sin(16.0 * SF_PI / 180.0), 1e-12);
+  /* Planet shadow from 200 km: pitched down to the horizon, so the centre
+   * pixel is the horizon ray, mu = -sqrt(1 - (R/r)^2); the sun 3 deg below
+   * the horizon at azimuth 90 (right): mu_s = sin(-3), and nu = d.s with
+   * d = (cos dip, 0, -sin dip), s = (0, -cos 3, sin(-3)): nu = mu sin(-3). */
+  sf_view_camera_make(shadow, &atm, 3, 3, &cam);
+  sf_view_pixel_inputs(&cam, &atm, 1, 1, in);
+  double r = atm.bottom_radius_km + 200.0;
+  double mu_h = -sqrt(1.0 - (atm.bottom_radius_km / r) * (atm.bottom_radius_km / r));
+  double s3 = sin(-3.0 * SF_PI / 180.0);
+  printf("shadow-orbit centre: mu %.15g want %.15g, mu_s %.15g want %.15g, nu %.15g want %.15g\n", in[1], mu_h,
+         in[2], s3, in[3], mu_h * s3);
+  CHECK_ABS(in[1], mu_h, 1e-12);
+  CHECK_ABS(in[2], s3, 1e-12);
+  CHECK_ABS(in[3], mu_h * s3, 1e-12);
+}
+
+static void tonemap(void) {
+  /* t(1) = 1 - e^-1 = 0.632; sRGB(0.632) = 1.055 * 0.632^(1/2.4) - 0.055 = 0.8138 -> 208 */
+  float px[3] = {1.0f, 0.0f, 100.0f};
+  unsigned char out[3];
+  sf_view_to_srgb8(px, 1, 1, out);
+  double t = 1.0 - exp(-1.0), s = 1.055 * pow(t, 1.0 / 2.4) - 0.055;
+  printf("tonemap 1 -> %d (want %ld), 0 -> %d, 100 -> %d\n", out[0], lround(255 * s), out[1], out[2]);
+  CHECK(out[0] == lround(255 * s));
+  CHECK(out[1] == 0 && out[2] == 255);
+}
+
+int main(void) {
+  metrics_of_known_perturbation();
+  pareto();
+  cameras();
+  tonemap();
+  return check_summary();
+}

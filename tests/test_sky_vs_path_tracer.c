@@ -1,0 +1,136 @@
+/* Sky radiance from the reference tables (data/sky_lookup.h: single
+ * scattering of every constituent times its phase function, plus multiple
+ * scattering) against the Monte Carlo path tracer (models/path_tracer.h, all
+ * orders) at points that cover the scene domain of SPEC §5: ground at noon
+ * and at sunset, 5 km, the top of the atmosphere, a viewer in space, the
+ * planet's shadow, ground albedo 0 and 0.3 (issue 3). Each point and channel
+ * must agree within max(3 standard errors, 2 %).
+ *
+ * The tables are computed at a reduced resolution so that the test stays
+ * short; `test_sky_vs_path_tracer RES SAMPLES` reruns it at another
+ * resolution ("MUxH,HxMUxMU_SxNU") and path count, e.g. the default
+ * resolution, to separate interpolation error from the rest. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "data/sky_lookup.h"
+#include "data/table_set.h"
+#include "models/atmosphere.h"
+#include "models/atmosphere_file.h"
+#include "models/path_tracer.h"
+#include "models/ray_geometry.h"
+#include "tests/check.h"
+
+/* Orders kept in the tables: enough that the orders beyond it (which the
+ * path tracer includes) stay far below the 2 % tolerance. */
+#define TABLE_ORDERS 8
+
+typedef struct sky_point {
+  const char *name;
+  int albedo_case;            /* 0: ground albedo 0; 1: 0.3 */
+  double h, mu, mu_s, nu;
+} sky_point;
+
+static double seconds_now(void) {
+  struct timespec t;
+  timespec_get(&t, TIME_UTC);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static int make_tables(const sf_atmosphere *atm, const char *res, sf_table_set *set) {
+  sf_table_set_options o;
+  sf_table_set_options_default(&o);
+  sf_error err = {0};
+  if (sf_table_resolution_parse(res, &o.res, &err) != SF_OK) {
+    printf("%s\n", err.message);
+    return 1;
+  }
+  o.orders = TABLE_ORDERS;
+  o.run.n_threads = 2;
+  int status = sf_table_set_make(set, atm, &o, &err);
+  if (status) printf("sf_table_set_make failed: %s\n", err.message);
+  return status;
+}
+
+int main(int argc, char **argv) {
+  const char *res = argc > 1 ? argv[1] : "64x16,16x64x32x8";
+  long long samples = argc > 2 ? atoll(argv[2]) : 40000;
+  sf_atmosphere atm[2];
+  sf_atmosphere_default(&atm[0]);
+  atm[1] = atm[0];
+  for (int ch = 0; ch < atm[1].n_channels; ++ch) atm[1].ground_albedo[ch] = 0.3;
+  double R = atm[0].bottom_radius_km;
+
+  double t0 = seconds_now();
+  sf_table_set set[2];
+  for (int a = 0; a < 2; ++a)
+    if (make_tables(&atm[a], res, &set[a])) {
+      CHECK(0);
+      return check_summary();
+    }
+  double t_tables = seconds_now() - t0;
+  sf_sky_tables sky[2];
+  for (int a = 0; a < 2; ++a) sf_sky_tables_of_set(&sky[a], &atm[a], &set[a]);
+
+  /* The horizon cosine of a viewer at 400 km, to aim at the limb. */
+  double mu_limb_400 = sf_horizon_mu(R + 400.0, R);
+  const sky_point points[] = {
+      {"ground, noon, zenith", 0, 0.0, 1.0, 0.999, 0.999},
+      {"ground, noon, low sky", 0, 0.0, 0.1, 0.98, 0.25},
+      {"ground, sunset, towards the sun", 0, 0.0, 0.15, 0.02, 0.95},
+      {"ground, sunset, away from the sun", 0, 0.0, 0.3, 0.02, -0.6},
+      {"5 km, looking down", 0, 5.0, -0.4, 0.6, 0.1},
+      {"5 km, near the horizon", 0, 5.0, 0.02, 0.3, 0.5},
+      {"100 km, looking down", 0, 100.0, -0.6, 0.7, -0.2},
+      {"400 km, nadir", 0, 400.0, -1.0, 0.8, -0.8},
+      {"400 km, limb", 0, 400.0, mu_limb_400 + 0.01, 0.3, 0.2},
+      {"planet shadow, ground, sun -5 deg", 0, 0.0, 0.2, -0.0872, -0.5},
+      {"planet shadow, 20 km, sun -8 deg, away", 0, 20.0, 0.05, -0.139, -0.9},
+      {"albedo 0.3, ground, noon", 1, 0.0, 0.5, 0.95, 0.6},
+      {"albedo 0.3, 5 km, looking down", 1, 5.0, -0.5, 0.7, -0.1},
+      {"albedo 0.3, 400 km, nadir", 1, 400.0, -1.0, 0.8, -0.8},
+      {"albedo 0.3, ground, sunset", 1, 0.0, 0.2, 0.05, 0.3},
+  };
+  int n_points = (int)(sizeof points / sizeof points[0]);
+  printf("tables %s, %d orders, computed in %.1f s (2 atmospheres); path tracer %lld paths per channel\n",
+         res, TABLE_ORDERS, t_tables, samples);
+  printf("%-40s %2s %12s %12s %10s %8s %8s\n", "point", "ch", "table", "path tracer", "sigma", "rel diff",
+         "bound");
+  double t1 = seconds_now();
+  int worst_point = -1;
+  double worst_ratio = 0.0;
+  for (int p = 0; p < n_points; ++p) {
+    const sky_point *pt = &points[p];
+    const sf_atmosphere *a = &atm[pt->albedo_case];
+    sf_sky_sample table;
+    sf_sky_lookup(&sky[pt->albedo_case], pt->h, pt->mu, pt->mu_s, pt->nu, &table);
+    sf_path_tracer_options po = {samples, 1000u + (unsigned)p, 0, 2};
+    sf_path_tracer_result mc;
+    sf_error err = {0};
+    if (sf_path_trace_sky_radiance(a, pt->h, pt->mu, pt->mu_s, pt->nu, &po, &mc, &err) != 0) {
+      printf("%s: path tracer failed: %s\n", pt->name, err.message);
+      CHECK(0);
+      continue;
+    }
+    for (int ch = 0; ch < a->n_channels; ++ch) {
+      double got = table.radiance[ch], want = mc.radiance[ch], sigma = mc.std_error[ch];
+      double bound = fmax(3.0 * sigma, 0.02 * fabs(want));
+      double diff = fabs(got - want);
+      int ok = isfinite(got) && want > 0.0 && diff <= bound;
+      printf("%s %-35s %2d %12.5g %12.5g %10.3g %+7.2f%% %7.2f%%\n", ok ? "ok  " : "FAIL", pt->name, ch, got,
+             want, sigma, 100.0 * (got - want) / want, 100.0 * bound / want);
+      check_report(ok, pt->name, __FILE__, __LINE__);
+      if (diff / bound > worst_ratio) {
+        worst_ratio = diff / bound;
+        worst_point = p;
+      }
+    }
+  }
+  printf("path tracing took %.1f s; largest |difference| / bound %.2f at \"%s\"\n", seconds_now() - t1,
+         worst_ratio, worst_point >= 0 ? points[worst_point].name : "-");
+  for (int a = 0; a < 2; ++a) sf_table_set_free(&set[a]);
+  return check_summary();
+}
