@@ -6,6 +6,7 @@
 
 #include "cli/progress_bar.h"
 #include "fit/build_pipeline.h"
+#include "fit/candidate_fitted.h"
 #include "models/scene_file.h"
 
 static void usage(FILE *out, const char *command, int emit) {
@@ -27,8 +28,12 @@ static void usage(FILE *out, const char *command, int emit) {
           "  --no-views           skip the standard views\n"
           "  --samples N          in-domain samples for the errors (default 20000)\n"
           "  --timing-points N    inputs per timing run (default 1000000)\n"
-          "  --repetitions N      timing runs, the median is reported (default 5)\n"
+          "  --repetitions N      timing runs, the median is reported (default 3)\n"
           "  --seed N             seed of the samples and fits (default 1)\n"
+          "  --mlp-epochs T,S     epochs of the transmittance and scattering networks (default %d,%d;\n"
+          "                       `skyfit fit mlp-*` trains longer)\n"
+          "  --mlp-samples N      training samples of the scattering network (default %ld; 0: every grid\n"
+          "                       point in the domain)\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --quiet              no progress or notes\n"
@@ -37,7 +42,8 @@ static void usage(FILE *out, const char *command, int emit) {
           emit ? "The whole pipeline (SPEC §5, §11): sample, fit, select, emit, report.\n"
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
-               : "builds\nthe candidates, ");
+               : "builds\nthe candidates, ",
+          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_BUILD_MLP_SCATTERING_SAMPLES);
 }
 
 static void print_note(void *ctx, const char *message) {
@@ -108,6 +114,19 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     } else if (!strcmp(a, "--seed") && v) {
       if (parse_count(command, a, argv[++i], 0, 2147483647L, &n)) return 2;
       o.report.seed = (unsigned long long)n;
+    } else if (!strcmp(a, "--mlp-epochs") && v) {
+      int t, sc;
+      char extra;
+      ++i;
+      if (sscanf(v, "%d,%d%c", &t, &sc, &extra) != 2 || t < 1 || sc < 1 || t > 1000000 || sc > 1000000) {
+        fprintf(stderr, "%s: --mlp-epochs: expected T,S (two whole numbers >= 1), got '%s'\n", command, v);
+        return 2;
+      }
+      o.mlp_transmittance_epochs = t;
+      o.mlp_scattering_epochs = sc;
+    } else if (!strcmp(a, "--mlp-samples") && v) {
+      if (parse_count(command, a, argv[++i], 0, 1000000000L, &n)) return 2;
+      o.mlp_scattering_samples = n == 0 ? -1 : n;
     } else if (!strcmp(a, "--threads") && v) {
       if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
       o.report.run.n_threads = (int)n;
@@ -158,9 +177,10 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     free(scene);
     return status == SF_ERR_INPUT ? 2 : 1;
   }
-  printf("%s: scene '%s': tables %d/%d from the cache (%.1f s), candidates %.1f s, report %.1f s, total %.1f s\n",
+  printf("%s: scene '%s': tables %d/%d from the cache (%.1f s), candidates %.1f s, report %.1f s, total %.1f s "
+         "wall; CPU %.1f + %.1f + %.1f s\n",
          command, scene->name, res.tables_from_cache, res.tables_total, res.seconds_tables, res.seconds_fit,
-         res.seconds_report, res.seconds_total);
+         res.seconds_report, res.seconds_total, res.cpu_seconds_tables, res.cpu_seconds_fit, res.cpu_seconds_report);
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     if (!res.asked[q]) continue;
     if (res.chosen[q][0])

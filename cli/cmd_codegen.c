@@ -24,7 +24,7 @@ typedef struct codegen_options {
 
 static void codegen_usage(FILE *out) {
   fprintf(out,
-          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor]\n"
+          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -35,7 +35,12 @@ static void codegen_usage(FILE *out) {
           "options:\n"
           "  --weights FILE     a fitted model's weights file (SPEC §8); repeatable\n"
           "  --baselines LIST   analytic transmittance baselines (SPEC §7.6), comma-separated:\n"
-          "                     naive (N-step raymarch), chapman (Schuler), taylor (Galaj)\n"
+          "                     naive (N-step midpoint raymarch of the densities),\n"
+          "                     chapman (Schuler, seed 000 eq. 22-25), taylor (Galaj, seed 002\n"
+          "                     eq. 17), flat (Leenman's flat/DR-1 model, seed 000 eq. 51, 53,\n"
+          "                     59). Leenman's raymarched model (seed 000 11.2.10) raymarches\n"
+          "                     scattering only and takes its optical depths from the flat\n"
+          "                     model: its transmittance is 'flat', not 'naive'\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
           "                     built-in Earth)\n"
@@ -132,12 +137,12 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
 typedef struct codegen_job {
   sf_scene scene;                  /* large: heap */
   sf_scene_domain domain;
-  sf_baseline baselines[3];
+  sf_baseline baselines[SF_BASELINE_COUNT];
   int n_baselines;
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
-  sf_codegen_part parts[MAX_INPUTS + 3];
+  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT];
   int n_parts;
 } codegen_job;
 
@@ -161,7 +166,7 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
     int kind = sf_baseline_kind_parse(item);
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
-                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor)", item);
+                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat)", item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)
         return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);

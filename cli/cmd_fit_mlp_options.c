@@ -13,6 +13,7 @@ void sf_mlp_cli_default(sf_mlp_cli *o) {
   memset(o, 0, sizeof *o);
   sf_train_options_default(&o->train);
   o->validation_fraction = 0.1;
+  sf_mlp_lm_options_default(&o->polish);
 }
 
 static int parse_long(const char *text, long lo, long hi, long *out) {
@@ -47,7 +48,7 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
                                            "--epochs", "--batch", "--lr", "--lr-decay", "--restarts",
                                            "--patience", "--validation", "--seed", "--threads", "--out",
                                            "--checkpoint", "--init-weights", "--write-init",
-                                           "--stop-after-epochs", NULL};
+                                           "--stop-after-epochs", "--polish", "--polish-samples", NULL};
   int known = 0;
   for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
   if (!known) return 0;
@@ -96,7 +97,10 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     }
     t->seed = (uint64_t)s;
   } else {
-    long lo = strcmp(a, "--batch") == 0 || strcmp(a, "--patience") == 0 ? 0 : 1;
+    long lo = strcmp(a, "--batch") == 0 || strcmp(a, "--patience") == 0 || strcmp(a, "--polish") == 0 ||
+                      strcmp(a, "--polish-samples") == 0
+                  ? 0
+                  : 1;
     if (parse_long(v, lo, 1000000000L, &n)) {
       fprintf(stderr, "%s: %s: expected a whole number >= %ld, got '%s'\n", command, a, lo, v);
       return -1;
@@ -106,6 +110,8 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     else if (strcmp(a, "--restarts") == 0) t->restarts = (int)n;
     else if (strcmp(a, "--patience") == 0) t->patience = (int)n;
     else if (strcmp(a, "--threads") == 0) t->n_threads = (int)n;
+    else if (strcmp(a, "--polish") == 0) o->polish.iterations = (int)n;
+    else if (strcmp(a, "--polish-samples") == 0) o->polish.max_samples = n;
     else t->stop_after_epochs = (int)n;
   }
   return 1;
@@ -132,8 +138,31 @@ void sf_mlp_cli_help(FILE *out) {
           "  --resume                continue from the checkpoint to the uninterrupted result\n"
           "  --init-weights W.json   start restart 0 from this network (same layers)\n"
           "  --write-init W.json     write the seeded initial network and stop\n"
+          "  --polish N              N Levenberg-Marquardt steps after Adam (fit/mlp_lm.h; 0: none)\n"
+          "  --polish-samples N      training samples used by the polish (0: all)\n"
           "  --stop-after-epochs K   behave as if interrupted after K epochs (tests)\n"
           "  --quiet                 no progress line\n");
+}
+
+int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dataset *validation,
+                      sf_train_result *result, sf_mlp_lm_result *lm, sf_error *err) {
+  memset(lm, 0, sizeof *lm);
+  if (o->polish.iterations <= 0) return SF_OK;
+  const sf_train_options *t = &o->train;
+  double delta[SF_MLP_MAX_WIDTH];
+  int n_out = t->shape.sizes[t->shape.n_layers];
+  for (int k = 0; k < n_out; ++k) {
+    double m = 0.0;
+    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
+    delta[k] = t->loss_floor * m > 0.0 ? t->loss_floor * m : 1e-300;
+  }
+  sf_mlp_loss loss = {t->loss, delta};
+  int status = sf_mlp_lm_polish(&t->shape, result->net.params, &loss, train, validation, &o->polish, lm, err);
+  if (status) return status;
+  result->train_loss = sf_mlp_dataset_loss(&t->shape, result->net.params, &loss, train, t->n_threads);
+  if (validation && validation->n > 0)
+    result->validation_loss = sf_mlp_dataset_loss(&t->shape, result->net.params, &loss, validation, t->n_threads);
+  return SF_OK;
 }
 
 static double now_seconds(void) {

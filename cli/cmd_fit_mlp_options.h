@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "cli/progress_bar.h"
+#include "fit/mlp_lm.h"
 #include "fit/train.h"
 
 typedef struct sf_mlp_cli {
@@ -18,6 +19,7 @@ typedef struct sf_mlp_cli {
   const char *init_weights;    /* initial network (a weights file) */
   const char *write_init;      /* write the seeded initial network and stop */
   int quiet;
+  sf_mlp_lm_options polish;    /* --polish N, --polish-samples N (fit/mlp_lm.h) */
 } sf_mlp_cli;
 
 void sf_mlp_cli_default(sf_mlp_cli *o);
@@ -25,6 +27,13 @@ void sf_mlp_cli_default(sf_mlp_cli *o);
  * bad value: -1 after printing "<command>: <problem>". */
 int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv, int *i);
 void sf_mlp_cli_help(FILE *out);
+
+/* Levenberg-Marquardt polish of a trained network (fit/mlp_lm.h) with the
+ * training loss (delta_k = loss_floor * max |y_k| of train, as fit/train.h);
+ * then recomputes result->train_loss and validation_loss. Nothing when
+ * o->polish.iterations is 0. */
+int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dataset *validation,
+                      sf_train_result *result, sf_mlp_lm_result *lm, sf_error *err);
 
 /* The progress line on a terminal: restart, epoch, train and validation
  * loss, ETA. */

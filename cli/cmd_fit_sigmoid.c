@@ -139,7 +139,14 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
       cJSON_AddNumberToObject(mt, "worst_h_km", rep->worst_h_km);
       cJSON_AddNumberToObject(mt, "worst_mu", rep->worst_mu);
       cJSON_AddStringToObject(mt, "worst_channel", atm->channel_names[rep->worst_channel]);
-      cJSON_AddNumberToObject(mt, "points", rep->n_points);
+      cJSON_AddNumberToObject(mt, "points", rep->full.n_points / nk);
+      cJSON_AddNumberToObject(mt, "rmse_ground_rays", rep->full_ground.rmse);
+      cJSON_AddNumberToObject(mt, "rmse_sky_rays", rep->full_sky.rmse);
+      cJSON_AddNumberToObject(mt, "top_rmse", rep->top.rmse);
+      cJSON_AddNumberToObject(mt, "top_max_abs", rep->top.max_abs);
+      cJSON_AddNumberToObject(mt, "top_worst_h_km", rep->top.worst_h_km);
+      cJSON_AddNumberToObject(mt, "top_worst_mu", rep->top.worst_mu);
+      cJSON_AddNumberToObject(mt, "top_points", rep->n_points);
       cJSON *per = cJSON_AddObjectToObject(mt, "per_constituent");
       for (int c = 0; c < nc; ++c) {
         cJSON *cj = cJSON_AddObjectToObject(per, atm->constituents[c].name);
@@ -153,7 +160,11 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
         }
       }
       cJSON *tr = sf_weights_training(doc);
-      cJSON_AddStringToObject(tr, "loss", "least squares on T");
+      cJSON_AddStringToObject(tr, "loss", "least squares on T_top (rays to the top, mu >= 0)");
+      cJSON_AddNumberToObject(tr, "fit_h_min_km", rep->fit_h_min_km);
+      cJSON_AddNumberToObject(tr, "fit_h_max_km", rep->fit_h_max_km);
+      cJSON_AddNumberToObject(tr, "fit_mu_min", rep->fit_mu_min);
+      cJSON_AddNumberToObject(tr, "fit_mu_max", rep->fit_mu_max);
       cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
       cJSON_AddStringToObject(tr, "start", "weighted logit linear least squares");
       cJSON_AddStringToObject(tr, "reference", "exact optical depth (models/optical_depth.h)");
@@ -172,9 +183,12 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
                 COMMAND, atm->constituents[c].name, atm->channel_names[k], e->rmse, e->max_abs,
                 e->worst_h_km, e->worst_mu, e->start_cost, e->final_cost, e->iterations);
       }
-    fprintf(stderr, "%s: total transmittance rmse %.4g, max %.4g at h %.4g km mu %.4g channel %s; wrote %s (%.2f s)\n",
-            COMMAND, rep->rmse, rep->max_abs, rep->worst_h_km, rep->worst_mu,
-            atm->channel_names[rep->worst_channel], out, rep->seconds);
+    fprintf(stderr, "%s: to-top rays (fitted, h %.4g..%.4g km, mu %.4g..%.4g): rmse %.4g, max %.4g at h %.4g km mu %.4g channel %s\n",
+            COMMAND, rep->fit_h_min_km, rep->fit_h_max_km, rep->fit_mu_min, rep->fit_mu_max, rep->top.rmse,
+            rep->top.max_abs, rep->top.worst_h_km, rep->top.worst_mu, atm->channel_names[rep->top.worst_channel]);
+    fprintf(stderr, "%s: full rays over the domain: rmse %.4g (ground-hitting %.4g, sky %.4g), max %.4g at h %.4g km mu %.4g channel %s; wrote %s (%.2f s)\n",
+            COMMAND, rep->rmse, rep->full_ground.rmse, rep->full_sky.rmse, rep->max_abs, rep->worst_h_km,
+            rep->worst_mu, atm->channel_names[rep->worst_channel], out, rep->seconds);
   }
   if (status != SF_OK) fprintf(stderr, "%s: %s\n", COMMAND, err.message);
   free(scene);

@@ -187,7 +187,7 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
     }
   free(published);
   sf_lsq_options lsq;
-  sf_lsq_options_default(&lsq);
+  sf_sky_fit_options_default(&lsq);
   double coeffs[SF_HOSEK_N_COEFFS], final_costs[MAX_STARTS];
   int winner;
   sf_lsq_summary sum;

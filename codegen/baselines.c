@@ -11,16 +11,16 @@
 #include "models/optical_depth_raymarch.h"
 #include "models/optical_depth_taylor.h"
 
-static const char *const kind_names[] = {"naive", "chapman", "taylor"};
+static const char *const kind_names[SF_BASELINE_COUNT] = {"naive", "chapman", "taylor", "flat"};
 
 int sf_baseline_kind_parse(const char *name) {
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < SF_BASELINE_COUNT; ++k)
     if (strcmp(name, kind_names[k]) == 0) return k;
   return -1;
 }
 
 const char *sf_baseline_kind_name(sf_baseline_kind kind) {
-  return (unsigned)kind < 3 ? kind_names[kind] : "?";
+  return (unsigned)kind < SF_BASELINE_COUNT ? kind_names[kind] : "?";
 }
 
 void sf_baseline_describe(const sf_baseline *b, char *out, size_t n) {
@@ -32,6 +32,11 @@ void sf_baseline_describe(const sf_baseline *b, char *out, size_t n) {
     case SF_BASELINE_CHAPMAN:
       snprintf(out, n, "Schuler's Chapman approximation (seed 000 eq. 22-25); "
                        "non-exponential constituents as seed 000 eq. 59 shells");
+      break;
+    case SF_BASELINE_FLAT:
+      snprintf(out, n, "Leenman's flat model (seed 000 eq. 51; eq. 53 at the viewer; ground point "
+                       "as midpoint, 11.3.3; eq. 59 shells); also the transmittance of his "
+                       "raymarched model (11.2.10)");
       break;
     default:
       snprintf(out, n, "Galaj's Taylor transmittance (seed 002 eq. 17, a = b = %.2f); "
@@ -64,6 +69,15 @@ void sf_baseline_depth(const sf_baseline *b, double r, double mu, double t0, dou
       return;
     case SF_BASELINE_CHAPMAN:
       sf_optical_depth_chapman_segment(atm, r, mu, t0, t1, depth);
+      break;
+    case SF_BASELINE_FLAT:
+      for (int i = 0; i < atm->n_constituents; ++i) {
+        double H, d0;
+        depth[i] = sf_constituent_exponential(&atm->constituents[i], &H, &d0)
+                       ? d0 * sf_flat_exponential_segment(atm->bottom_radius_km, atm->top_radius_km,
+                                                          H, SF_FLAT_DESCENT_VIEWER, r, mu, t0, t1)
+                       : NAN;
+      }
       break;
     default:
       sf_optical_depth_taylor_segment(atm, r, mu, t0, t1, SF_TAYLOR_A, SF_TAYLOR_B, depth);
@@ -163,16 +177,18 @@ static void emit_naive_depths(sf_code_writer *w, const sf_baseline *b) {
 
 /* The segment's ends as signed distances s from the line's closest
  * approach, the line itself, and the segment's shape (models/air_segment.c). */
-static void emit_segment_ends(sf_code_writer *w, const sf_atmosphere *atm) {
+static void emit_segment_ends(sf_code_writer *w, const sf_atmosphere *atm, int with_closest) {
   double bottom = atm->bottom_radius_km;
   sf_cw_emit(w,
              "    float r = %F + h_km;\n"
              "    float s0 = seg.x + r * mu, s1 = seg.y + r * mu;\n"
-             "    /* the line's closest approach d and d^2 - bottom^2 = h (r + bottom) - (r mu)^2 */\n"
-             "    float d = r * @sqrt((1.0f - mu) * (1.0f + mu));\n"
+             "    /* the line's closest approach d and d^2 - bottom^2 = h (r + bottom) - (r mu)^2 */\n",
+             bottom);
+  if (with_closest) sf_cw_emit(w, "    float d = r * @sqrt((1.0f - mu) * (1.0f + mu));\n");
+  sf_cw_emit(w,
              "    float dd_bb = h_km * (r + %F) - (r * mu) * (r * mu);\n"
              "    int shape = s0 >= 0.0f ? 0 : (s1 <= 0.0f ? 1 : 2);\n",
-             bottom, bottom);
+             bottom);
 }
 
 static int is_exponential(const sf_constituent *c, double *H, double *d0) {
@@ -192,25 +208,32 @@ static void emit_shells(sf_code_writer *w, const sf_atmosphere *atm) {
 
 static void emit_chapman_depths(sf_code_writer *w, const sf_baseline *b) {
   const sf_atmosphere *atm = b->atmosphere;
-  emit_segment_ends(w, atm);
+  emit_segment_ends(w, atm, 1);
   sf_cw_emit(w,
              "    float h0 = seg.z, h1 = seg.w;\n"
              "    float r0 = %F + h0, r1 = %F + h1;\n"
              "    float c0 = @min(@max(s0 / r0, -1.0f), 1.0f);\n"
              "    float c1 = @min(@max(s1 / r1, -1.0f), 1.0f);\n"
-             "    float hc = dd_bb / (d + %F);\n",
+             "    float hc = dd_bb / (d + %F);\n"
+             "    /* h1 - h0 and c1 - c0 from the ends' distances s (r^2 = d^2 + s^2) */\n"
+             "    float ds = seg.y - seg.x;\n"
+             "    float dh01 = ds * (s1 + s0) / (r1 + r0);\n"
+             "    float dc01 = (ds * r0 - s0 * dh01) / (r0 * r1);\n",
              atm->bottom_radius_km, atm->bottom_radius_km, atm->bottom_radius_km);
   for (int i = 0; i < atm->n_constituents; ++i) {
     double H, d0;
     if (!is_exponential(&atm->constituents[i], &H, &d0)) continue;
-    /* seed 000 eq. 24: rising, falling (reversed), through the closest point */
+    /* seed 000 eq. 24: rising, falling (reversed), through the closest
+     * point; each piece as skyfit_chapman_diff, the difference of the two
+     * ends' eq. 25 values without cancellation (a short segment's depth is
+     * a tiny difference of two large values). */
     sf_cw_emit(w,
                "    {  /* %s */\n"
                "      float H = %F;\n"
-               "      float tau = shape == 0 ? skyfit_chapman_up(H, h0, r0, c0) - skyfit_chapman_up(H, h1, r1, c1)\n"
-               "                : shape == 1 ? skyfit_chapman_up(H, h1, r1, -c1) - skyfit_chapman_up(H, h0, r0, -c0)\n"
-               "                : 2.0f * @sqrt(d / H) * @exp(-hc / H) - skyfit_chapman_up(H, h0, r0, -c0)\n"
-               "                  - skyfit_chapman_up(H, h1, r1, c1);\n"
+               "      float tau = shape == 0 ? skyfit_chapman_diff(H, h0, r0, c0, dh01, dc01)\n"
+               "                : shape == 1 ? skyfit_chapman_diff(H, h1, r1, -c1, -dh01, dc01)\n"
+               "                : skyfit_chapman_diff(H, hc, d, 0.0f, s0 * s0 / (r0 + d), -s0 / r0)\n"
+               "                  + skyfit_chapman_diff(H, hc, d, 0.0f, s1 * s1 / (r1 + d), s1 / r1);\n"
                "      d%d = tau > 0.0f ? %F * tau : 0.0f;\n"
                "    }\n",
                atm->constituents[i].name, H, i, H * d0);
@@ -222,7 +245,7 @@ static void emit_chapman_depths(sf_code_writer *w, const sf_baseline *b) {
 static void emit_taylor_depths(sf_code_writer *w, const sf_baseline *b) {
   const sf_atmosphere *atm = b->atmosphere;
   double bottom = atm->bottom_radius_km, top = atm->top_radius_km;
-  emit_segment_ends(w, atm);
+  emit_segment_ends(w, atm, 1);
   /* seed 002 eq. 12 and the expansion point tau_b (models/optical_depth_taylor.c),
    * with b^2 - d^2 = -dd_bb and R^2 - d^2 = (R - r)(R + r) + (r mu)^2 */
   sf_cw_emit(w,
@@ -245,15 +268,100 @@ static void emit_taylor_depths(sf_code_writer *w, const sf_baseline *b) {
     sf_cw_emit(w,
                "    {  /* %s */\n"
                "      float H = %F;\n"
-               "      float tau_h = shape == 0 ? skyfit_taylor_piece(line, d, %F, H, u0, u1)\n"
-               "                  : shape == 1 ? skyfit_taylor_piece(line, d, %F, H, u1, u0)\n"
-               "                  : skyfit_taylor_piece(line, d, %F, H, t_min, u0)\n"
-               "                    + skyfit_taylor_piece(line, d, %F, H, t_min, u1);\n"
+               "      float tau_h = shape == 0 ? skyfit_taylor_piece(line, d, %F, H, u0, u1, seg.y - seg.x)\n"
+               "                  : shape == 1 ? skyfit_taylor_piece(line, d, %F, H, u1, u0, seg.y - seg.x)\n"
+               "                  : skyfit_taylor_piece(line, d, %F, H, t_min, u0, u0 - t_min)\n"
+               "                    + skyfit_taylor_piece(line, d, %F, H, t_min, u1, u1 - t_min);\n"
                "      d%d = @min(%F * tau_h, 3.4e38f);\n"
                "    }\n",
                atm->constituents[i].name, H, bottom, bottom, bottom, bottom, i, d0);
   }
   sf_cw_need(w, SF_HELPER_TAYLOR_PIECE);
+  emit_shells(w, atm);
+}
+
+
+/* The flat model's pieces in float32 (seed 000 eq. 51, 53), each in units
+ * of d0 = 1, emitted with the flat baseline behind their own guard. A point
+ * is (altitude h, radius r, signed distance s = t + r mu from the line's
+ * closest approach); eq. 51's r cos is s, A = (r + H)^2 - r^2 = H (2 r + H).
+ * Differences between two points of one segment are formed from the exact
+ * differences dh (= dr) and ds, so a short segment keeps its float32
+ * precision instead of being a tiny difference of two columns:
+ *   g = sqrt(A + s^2) - s = A / (q + s),
+ *   g_a - g_b = (ds (g_a + g_b) - 2 H dh) / (q_a + q_b),  b = a + (dh, dh, ds),
+ *   sqrt(A_a) - sqrt(A_b) = -2 H dh / (sqrt(A_a) + sqrt(A_b)). */
+static void emit_flat_helpers(sf_code_writer *w) {
+  sf_cw_emit(w,
+      "#ifndef SKYFIT_HELPER_FLAT\n#define SKYFIT_HELPER_FLAT\n"
+      "/* seed 000 eq. 51: the column of exp(-h/H) from (h, r) along s >= 0,\n"
+      " * exp(-h/H) A / (sqrt(A + s^2) + s), A = H (2 r + H). */\n"
+      "@fn float skyfit_flat_up(float H, float h, float r, float s) {\n"
+      "  float A = H * (2.0f * r + H);\n"
+      "  return @exp(-h / H) * A / (@sqrt(A + s * s) + s);\n"
+      "}\n"
+      "/* skyfit_flat_up(a) - skyfit_flat_up(b), b = a + (dh, dh, ds), both s >= 0. */\n"
+      "@fn float skyfit_flat_up_diff(float H, float h_a, float r_a, float s_a, float dh, float ds) {\n"
+      "  float r_b = r_a + dh, s_b = s_a + ds;\n"
+      "  float A_a = H * (2.0f * r_a + H), A_b = H * (2.0f * r_b + H);\n"
+      "  float q_a = @sqrt(A_a + s_a * s_a), q_b = @sqrt(A_b + s_b * s_b);\n"
+      "  float g_a = A_a / (q_a + s_a), g_b = A_b / (q_b + s_b);\n"
+      "  float dg = (ds * (g_a + g_b) - 2.0f * H * dh) / (q_a + q_b);\n"
+      "  return @exp(-h_a / H) * (dg - g_b * skyfit_expm1(-dh / H));\n"
+      "}\n"
+      "/* twice the horizontal column (eq. 53's 2 sqrt(A)) at a minus at b = a + dh. */\n"
+      "@fn float skyfit_flat_horizontal_diff(float H, float h_a, float r_a, float dh) {\n"
+      "  float R_a = @sqrt(H * (2.0f * r_a + H)), R_b = @sqrt(H * (2.0f * (r_a + dh) + H));\n"
+      "  return 2.0f * @exp(-h_a / H) * (-2.0f * H * dh / (R_a + R_b) - R_b * skyfit_expm1(-dh / H));\n"
+      "}\n"
+      "/* the horizontal column at (h, r) minus the one along s >= 0:\n"
+      " * exp(-h/H) (sqrt(A) - (q - s)) = exp(-h/H) s (q + sqrt(A) - s) / (q + sqrt(A)). */\n"
+      "@fn float skyfit_flat_horizontal_minus_up(float H, float h, float r, float s) {\n"
+      "  float A = H * (2.0f * r + H), q = @sqrt(A + s * s), RA = @sqrt(A);\n"
+      "  return @exp(-h / H) * s * (q + RA - s) / (q + RA);\n"
+      "}\n"
+      "#endif\n\n");
+  sf_cw_need(w, SF_HELPER_EXPM1);
+}
+
+static void emit_flat_depths(sf_code_writer *w, const sf_baseline *b) {
+  const sf_atmosphere *atm = b->atmosphere;
+  emit_segment_ends(w, atm, 0);
+  sf_cw_emit(w,
+             "    float h0 = seg.z, h1 = seg.w;\n"
+             "    float r0 = %F + h0, r1 = %F + h1;\n"
+             "    /* h1 - h0 from the ends' distances s (r^2 = d^2 + s^2) */\n"
+             "    float ds = seg.y - seg.x;\n"
+             "    float dh01 = ds * (s1 + s0) / (r1 + r0);\n"
+             "    int ground = dd_bb <= 0.0f ? 1 : 0;  /* the line hits the ground */\n",
+             atm->bottom_radius_km, atm->bottom_radius_km);
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    if (!is_exponential(&atm->constituents[i], &H, &d0)) continue;
+    /* rising: eq. 51 at both ends; falling onto the ground: reversed with
+     * the ground point as midpoint (§11.3.3); falling otherwise: eq. 53 at
+     * both ends, 2 (sqrt(A_0) - sqrt(A_1)) - (up(0 reversed) - up(1 reversed)),
+     * each difference taken from the lower end 1 (exp(-h/H) times a
+     * bounded factor: no overflow for small H); through the closest point: eq. 53 at the start minus
+     * eq. 51 at the end (models/optical_depth_flat.c, descent VIEWER),
+     * 2 sqrt(A_0) - up(0 reversed) - up(1) regrouped as (sqrt(A_0) - up(0
+     * reversed)) + (sqrt(A_1) - up(1)) + (sqrt(A_0) - sqrt(A_1)): no
+     * cancellation of columns (it cost 6e-4 in T at 1000x extinction). */
+    sf_cw_emit(w,
+               "    {  /* %s */\n"
+               "      float H = %F;\n"
+               "      float tau = shape == 0 ? skyfit_flat_up_diff(H, h0, r0, s0, dh01, ds)\n"
+               "                : shape == 1 && ground != 0 ? skyfit_flat_up_diff(H, h1, r1, -s1, -dh01, ds)\n"
+               "                : shape == 1 ? skyfit_flat_up_diff(H, h1, r1, -s1, -dh01, ds)\n"
+               "                               - skyfit_flat_horizontal_diff(H, h1, r1, -dh01)\n"
+               "                : skyfit_flat_horizontal_minus_up(H, h0, r0, -s0)\n"
+               "                  + skyfit_flat_horizontal_minus_up(H, h1, r1, s1)\n"
+               "                  + (dh01 >= 0.0f ? 0.5f * skyfit_flat_horizontal_diff(H, h0, r0, dh01)\n"
+               "                                  : -0.5f * skyfit_flat_horizontal_diff(H, h1, r1, -dh01));\n"
+               "      d%d = tau > 0.0f ? %F * tau : 0.0f;\n"
+               "    }\n",
+               atm->constituents[i].name, H, i, d0);
+  }
   emit_shells(w, atm);
 }
 
@@ -263,6 +371,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   int n = atm->n_channels;
   char description[256];
   sf_baseline_describe(b, description, sizeof description);
+  if (b->kind == SF_BASELINE_FLAT) emit_flat_helpers(w);
   sf_cw_emit(w, "/* %s: %s. */\n", name, description);
   sf_cw_emit(w,
              "@fn %V skyfit_%s_transmittance_between(float h_km, float mu, float t0, float t1) {\n"
@@ -275,6 +384,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   sf_cw_emit(w, "  if (seg.y > seg.x) {\n");
   if (b->kind == SF_BASELINE_NAIVE) emit_naive_depths(w, b);
   else if (b->kind == SF_BASELINE_CHAPMAN) emit_chapman_depths(w, b);
+  else if (b->kind == SF_BASELINE_FLAT) emit_flat_depths(w, b);
   else emit_taylor_depths(w, b);
   sf_cw_emit(w, "  }\n");
   emit_transmittance_return(w, atm);

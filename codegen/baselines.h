@@ -5,7 +5,15 @@
  *  - chapman: Schuler's Chapman approximation, seed 000 eq. 22-25
  *             (models/optical_depth_chapman.h);
  *  - taylor:  Gałaj's Taylor transmittance, seed 002 eq. 17, a = b = 0.45
- *             (models/optical_depth_taylor.h).
+ *             (models/optical_depth_taylor.h);
+ *  - flat:    Leenman's flat / DR-1 model, seed 000 §10.2-10.5, eq. 51, 53, 59
+ *             and §11.3.3 (models/optical_depth_flat.h, SF_FLAT_DESCENT_VIEWER:
+ *             eq. 53 as written; the ground point as midpoint on lines that
+ *             hit the ground).
+ * Leenman's "raymarched" model (seed 000 §11.2.10) is no separate
+ * transmittance baseline: it raymarches the *scattering* integral (eq. 54-57,
+ * 5 steps) and takes every optical depth from the flat model (§10.1), so its
+ * transmittance is exactly "flat" — not the N-step density raymarch "naive".
  * Chapman and Taylor exist only for exponential constituents; any other
  * (the ozone tent) is the constant shell of seed 000 §10.5 / eq. 59 with
  * the exact chord through it (models/optical_depth_flat.h), so the emitted
@@ -32,7 +40,9 @@
 typedef enum sf_baseline_kind {
   SF_BASELINE_NAIVE = 0,
   SF_BASELINE_CHAPMAN,
-  SF_BASELINE_TAYLOR
+  SF_BASELINE_TAYLOR,
+  SF_BASELINE_FLAT,
+  SF_BASELINE_COUNT          /* the number of kinds, not a kind */
 } sf_baseline_kind;
 
 #define SF_BASELINE_DEFAULT_STEPS 16
@@ -43,7 +53,7 @@ typedef struct sf_baseline {
   const sf_atmosphere *atmosphere;
 } sf_baseline;
 
-/* "naive", "chapman", "taylor" -> kind; -1 for anything else. */
+/* "naive", "chapman", "taylor", "flat" -> kind; -1 for anything else. */
 int sf_baseline_kind_parse(const char *name);
 const char *sf_baseline_kind_name(sf_baseline_kind kind);
 /* One line saying what the model is, for the emitted header comment. */

@@ -1,10 +1,10 @@
 #include "codegen/emit_helpers.h"
 
 unsigned sf_helpers_closure(unsigned needed) {
-  if (needed & SF_HELPER_TAYLOR_PIECE) needed |= SF_HELPER_EXPM1;
+  if (needed & (SF_HELPER_TAYLOR_PIECE | SF_HELPER_CHAPMAN_UP)) needed |= SF_HELPER_EXPM1;
   if (needed & SF_HELPER_SHELL_CHORD) needed |= SF_HELPER_SPHERE_HITS;
   if (needed & SF_HELPER_AIR_CLIP) needed |= SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT;
-  if (needed & SF_HELPER_RAY_ENTER) needed |= SF_HELPER_RAY_SPHERE;
+  if (needed & SF_HELPER_RAY_ENTER) needed |= SF_HELPER_SPHERE_HITS;
   return needed;
 }
 
@@ -115,15 +115,22 @@ static void expm1_helper(sf_code_writer *w) {
   guard_close(w);
 }
 
-static void chapman_up(sf_code_writer *w) {
-  guard_open(w, "CHAPMAN_UP");
+static void chapman_diff(sf_code_writer *w) {
+  guard_open(w, "CHAPMAN_DIFF");
   sf_cw_emit(w,
-      "/* seed 000 eq. 24-25 (Schuler 2012): tau_Ch of exp(-h/H) from the point at\n"
-      " * altitude h, radius `radius`, along upward zenith cosine cos_up >= 0 to\n"
-      " * infinity, in units of H: exp(-h/H) c / (1 + c cos_up), c = sqrt(radius/H). */\n"
-      "@fn float skyfit_chapman_up(float H, float h, float radius, float cos_up) {\n"
-      "  float c = @sqrt(radius / H);\n"
-      "  return @exp(-h / H) * c / (1.0f + c * cos_up);\n"
+      "/* seed 000 eq. 24-25 (Schuler 2012): tau_Ch(a) - tau_Ch(b), in units of H,\n"
+      " * where tau_Ch of exp(-h/H) from the point at altitude h, radius r, along\n"
+      " * upward zenith cosine c to infinity is exp(-h/H) C / (1 + C c), C = sqrt(r/H);\n"
+      " * a = (h_a, r_a, c_a), b = a + (dh, dh, dc). Written as\n"
+      " * exp(-h_a/H) [(g_a - g_b) - g_b expm1(-dh/H)], g = C / (1 + C c), with\n"
+      " * g_a - g_b = (C_a C_b dc - dh / (H (C_a + C_b))) / ((1 + C_a c_a)(1 + C_b c_b)):\n"
+      " * no difference of nearly equal values, so a short segment keeps its\n"
+      " * float32 precision. */\n"
+      "@fn float skyfit_chapman_diff(float H, float h_a, float r_a, float c_a, float dh, float dc) {\n"
+      "  float C_a = @sqrt(r_a / H), C_b = @sqrt((r_a + dh) / H);\n"
+      "  float den_a = 1.0f + C_a * c_a, den_b = 1.0f + C_b * (c_a + dc);\n"
+      "  float dg = (C_a * C_b * dc - dh / (H * (C_a + C_b))) / (den_a * den_b);\n"
+      "  return @exp(-h_a / H) * (dg - C_b / den_b * skyfit_expm1(-dh / H));\n"
       "}\n");
   guard_close(w);
 }
@@ -135,12 +142,13 @@ static void taylor_piece(sf_code_writer *w) {
       " * approach: H / h' exp(-h~(u_lo)/H) (1 - exp(-rise/H)), with h~ the\n"
       " * expansion of the altitude of order 1 + a about tau_b. line = (tau_b,\n"
       " * h(tau_b), h'(tau_b), a h''(tau_b) / 2); d = the line's distance from\n"
-      " * the centre. A piece that would overflow float32 is the exact bound\n"
+      " * the centre; len = u_hi - u_lo, passed apart because u = |t + r mu| of a\n"
+      " * short segment far from the closest approach loses it in float32 (a\n"
+      " * 1e-4 km segment at u ~ 3000 km). A piece that would overflow float32 is the exact bound\n"
       " * length * density at u_lo where the double one overflows too (exponent\n"
       " * past 709.78), else the largest float (its transmittance is 0 either\n"
       " * way). */\n"
-      "@fn float skyfit_taylor_piece(@vec4 line, float d, float bottom, float H, float u_lo, float u_hi) {\n"
-      "  float len = u_hi - u_lo;\n"
+      "@fn float skyfit_taylor_piece(@vec4 line, float d, float bottom, float H, float u_lo, float u_hi, float len) {\n"
       "  if (!(len > 0.0f)) return 0.0f;\n"
       "  if (!(line.z > 0.0f)) return len * @exp(-line.y / H);\n"
       "  float x = u_lo - line.x;\n"
@@ -176,42 +184,57 @@ static void sigmoid(sf_code_writer *w) {
   guard_close(w);
 }
 
-static void ray_sphere(sf_code_writer *w) {
-  guard_open(w, "RAY_SPHERE");
-  sf_cw_emit(w,
-      "/* Distances (near, far) along the ray (r, mu) to the sphere of radius R\n"
-      " * (models/ray_geometry_impl.inc in float, as the models' float path):\n"
-      " * discriminant (R - r)(R + r) + (r mu)^2, small root c / q; (1, -1) when\n"
-      " * the line misses, so near <= far says it does not. */\n"
-      "@fn @vec2 skyfit_ray_sphere(float r, float mu, float R) {\n"
-      "  float disc = (R - r) * (R + r) + (r * mu) * (r * mu);\n"
-      "  if (disc < 0.0f) return @vec2(1.0f, -1.0f);\n"
-      "  float root = @sqrt(disc);\n"
-      "  float q = -(r * mu + (mu >= 0.0f ? root : -root));\n"
-      "  float c = (r - R) * (r + R);\n"
-      "  float b = q != 0.0f ? c / q : 0.0f;\n"
-      "  return q < b ? @vec2(q, b) : @vec2(b, q);\n"
-      "}\n");
-  guard_close(w);
-}
-
 static void ray_enter(sf_code_writer *w) {
   guard_open(w, "RAY_ENTER");
   sf_cw_emit(w,
-      "/* A viewer above the top radius Rt moved to where its ray enters the\n"
-      " * atmosphere (seed 000 §9.6.3): (h, mu, mu_s, distance travelled); the\n"
-      " * distance is -1 when the ray never enters (a ray that only touches\n"
-      " * the top has no path inside). Viewers inside are returned as they are.\n"
-      " * h_top = Rt - R. */\n"
-      "@fn @vec4 skyfit_ray_enter(float R, float Rt, float h_top, float h, float mu, float mu_s, float nu) {\n"
-      "  float r = R + h;\n"
-      "  if (r <= Rt) return @vec4(h, mu, mu_s, 0.0f);\n"
-      "  @vec2 s = skyfit_ray_sphere(r, mu, Rt);\n"
+      "/* A viewer above the top of the atmosphere (altitude h_top above the\n"
+      " * sphere R) moved to where its ray enters it (seed 000 §9.6.3): returns\n"
+      " * (h, mu, mu_s, distance travelled); the distance is -1 when the ray\n"
+      " * never enters (a ray that only touches the top has no path inside).\n"
+      " * Viewers inside are returned as they are. The top's R_t - r comes from\n"
+      " * altitudes (h_top - h), exact where r would cancel (SPEC §10). */\n"
+      "@fn @vec4 skyfit_ray_enter(float R, float h_top, float h, float mu, float mu_s, float nu) {\n"
+      "  if (h <= h_top) return @vec4(h, mu, mu_s, 0.0f);\n"
+      "  float r = R + h, Rt = R + h_top;\n"
+      "  @vec2 s = skyfit_sphere_hits(r, mu, Rt, h_top - h);\n"
       "  if (!(s.y > 0.0f) || !(s.y > s.x)) return @vec4(h, mu, mu_s, -1.0f);\n"
       "  float t = s.x > 0.0f ? s.x : 0.0f;\n"
       "  float m = (r * mu + t) / Rt, ms = (r * mu_s + t * nu) / Rt;\n"
       "  return @vec4(h_top, @min(@max(m, -1.0f), 1.0f), @min(@max(ms, -1.0f), 1.0f), t);\n"
       "}\n");
+  guard_close(w);
+}
+
+static void asin_acos(sf_code_writer *w) {
+  guard_open(w, "ASIN_ACOS");
+  sf_cw_emit(w,
+      "/* asin and acos to ~1e-7, the same arithmetic in C and GLSL (GLSL's own\n"
+      " * asin/acos may be far less precise: Mesa's are ~1e-4). Cephes asinf:\n"
+      " * a polynomial below |x| = 0.5, 2 asin(sqrt((1 - |x|) / 2)) above. */\n"
+      "@fn float skyfit_asin_poly(float z) {\n"
+      "  return (((%F * z + %F) * z + %F) * z + %F) * z + %F;\n"
+      "}\n"
+      "@fn float skyfit_asin(float x) {\n"
+      "  float a = @min(@abs(x), 1.0f), r;\n"
+      "  if (a > 0.5f) {\n"
+      "    float z = 0.5f * (1.0f - a), s = @sqrt(z);\n"
+      "    r = %F - 2.0f * (s + s * z * skyfit_asin_poly(z));\n"
+      "  } else {\n"
+      "    float z = a * a;\n"
+      "    r = a + a * z * skyfit_asin_poly(z);\n"
+      "  }\n"
+      "  return x < 0.0f ? -r : r;\n"
+      "}\n"
+      "@fn float skyfit_acos(float x) {\n"
+      "  float c = @min(@max(x, -1.0f), 1.0f);\n"
+      "  if (c > 0.5f) {\n"
+      "    float z = 0.5f * (1.0f - c), s = @sqrt(z);\n"
+      "    return 2.0f * (s + s * z * skyfit_asin_poly(z));\n"
+      "  }\n"
+      "  return %F - skyfit_asin(c);\n"
+      "}\n",
+      4.2163199048e-2, 2.4181311049e-2, 4.5470025998e-2, 7.4953002686e-2, 1.6666752422e-1,
+      1.5707963267948966, 1.5707963267948966);
   guard_close(w);
 }
 
@@ -244,10 +267,10 @@ void sf_emit_helpers(sf_code_writer *w, unsigned needed) {
   if (needed & SF_HELPER_AIR_CLIP) air_clip(w);
   if (needed & SF_HELPER_SHELL_CHORD) shell_chord(w);
   if (needed & SF_HELPER_EXPM1) expm1_helper(w);
-  if (needed & SF_HELPER_CHAPMAN_UP) chapman_up(w);
+  if (needed & SF_HELPER_CHAPMAN_UP) chapman_diff(w);
   if (needed & SF_HELPER_TAYLOR_PIECE) taylor_piece(w);
   if (needed & SF_HELPER_SIGMOID) sigmoid(w);
-  if (needed & SF_HELPER_RAY_SPHERE) ray_sphere(w);
+  if (needed & SF_HELPER_ASIN_ACOS) asin_acos(w);
   if (needed & SF_HELPER_RAY_ENTER) ray_enter(w);
   if (needed & SF_HELPER_RADIUS_AT) radius_at(w);
   if (needed & SF_HELPER_CLAMP_NU) clamp_nu(w);

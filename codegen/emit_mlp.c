@@ -272,34 +272,34 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
   sf_cw_emit(w,
              "/* to the ground or the top; ground-hitting rays reversed (eq. 43, seed 000 §9.6.3) */\n"
              "@fn %V skyfit_mlp_transmittance(float h_km, float mu) {\n"
-             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, mu, 0.0f, 0.0f);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
              "  if (e.w < 0.0f) return %E;\n"
              "  float h = e.x, m = e.y;\n"
              "  float r = %F + h;\n"
-             "  @vec2 g = skyfit_ray_sphere(r, m, %F);\n"
+             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
              "  if (!(m < 0.0f && g.x <= g.y)) return skyfit_mlp_transmittance_top(h, m);\n"
              "  float d = g.x > 0.0f ? g.x : 0.0f;\n"
              "  float mu_g = @min(@max((r * m + d) / %F, -1.0f), 1.0f);\n"
              "  return skyfit_mlp_transmittance_ratio(0.0f, -mu_g, h, -m);\n"
              "}\n\n",
-             n, g.R, g.Rt, g.h_enter, ones, g.R, g.R, g.R);
+             n, g.R, g.h_top, ones, g.R, g.R, g.R);
   sf_cw_emit(w,
              "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground) */\n"
              "@fn %V skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km) {\n"
-             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, mu, 0.0f, 0.0f);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
              "  float d = t_km - e.w;\n"
              "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
              "  float h = e.x, m = e.y;\n"
              "  float r = %F + h;\n"
-             "  float r_d = skyfit_radius_at(r, m, d);\n"
-             "  float mu_d = @min(@max((r * m + d) / @max(r_d, 1e-6f), -1.0f), 1.0f);\n"
-             "  float h_d = @min(@max(r_d - %F, 0.0f), %F);\n"
-             "  @vec2 g = skyfit_ray_sphere(r, m, %F);\n"
+             "  float h_raw = skyfit_altitude_at(%F, h, m, d);  /* < 0 past the ground */\n"
+             "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
+             "  float mu_d = @min(@max((r * m + d) / @max(%F + h_raw, 1e-6f), -1.0f), 1.0f);\n"
+             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
              "  if (m < 0.0f && g.x <= g.y) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
              "  return skyfit_mlp_transmittance_ratio(h, m, h_d, mu_d);\n"
              "}\n\n",
-             n, g.R, g.Rt, g.h_enter, ones, g.R, g.R, g.h_top, g.R);
-  sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_RAY_SPHERE | SF_HELPER_RADIUS_AT);
+             n, g.R, g.h_top, ones, g.R, g.R, g.h_top, g.R, g.R);
+  sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT);
 }
 
 /* float p<k> = phase of constituent block k at nu (models/phase.c). */
@@ -378,11 +378,11 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "@fn %V skyfit_mlp_sky_radiance(float h_km, float mu, float mu_s, float nu) {\n"
              "  float m = @min(@max(mu, -1.0f), 1.0f), ms = @min(@max(mu_s, -1.0f), 1.0f);\n"
              "  float c = skyfit_clamp_nu(m, ms, nu);\n"
-             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, m, ms, c);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, m, ms, c);\n"
              "  if (e.w < 0.0f) return %E;\n"
              "  return skyfit_mlp_sky_radiance_inside(e.x, e.y, e.z, c);\n"
              "}\n\n",
-             n, g.R, g.Rt, g.h_enter, zeros);
+             n, g.R, g.h_top, zeros);
   sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_CLAMP_NU);
   if (!t) return;
   sf_cw_emit(w,
@@ -390,28 +390,28 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "@fn %V skyfit_mlp_sky_radiance_segment(float h_km, float mu, float mu_s, float nu, float t_km) {\n"
              "  float m = @min(@max(mu, -1.0f), 1.0f), ms = @min(@max(mu_s, -1.0f), 1.0f);\n"
              "  float c = skyfit_clamp_nu(m, ms, nu);\n"
-             "  @vec4 e = skyfit_ray_enter(%F, %F, %F, h_km, m, ms, c);\n"
+             "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, m, ms, c);\n"
              "  float d = t_km - e.w;\n"
              "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
              "  float h = e.x;\n"
              "  m = e.y;\n"
              "  ms = e.z;\n"
              "  float r = %F + h;\n"
-             "  float r_d = skyfit_radius_at(r, m, d);\n"
-             "  float inv_r_d = 1.0f / @max(r_d, 1e-6f);\n"
+             "  float h_raw = skyfit_altitude_at(%F, h, m, d);  /* < 0 past the ground */\n"
+             "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
+             "  float inv_r_d = 1.0f / @max(%F + h_raw, 1e-6f);\n"
              "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
              "  float mu_s_d = @min(@max((r * ms + d * c) * inv_r_d, -1.0f), 1.0f);\n"
-             "  float h_d = @min(@max(r_d - %F, 0.0f), %F);\n"
              "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c);\n"
              "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c);\n"
              "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
              "  return %C",
-             n, g.R, g.Rt, g.h_enter, zeros, g.R, g.R, g.h_top, n, n, n, n);
+             n, g.R, g.h_top, zeros, g.R, g.R, g.h_top, g.R, n, n, n, n);
   for (int c = 0; c < n; ++c) {
     const char *m = member(n, c);
     if (c) sf_cw_emit(w, ",\n              ");
     sf_cw_emit(w, "@max(lv%s - tr%s * lp%s, 0.0f)", m, m, m);
   }
   sf_cw_emit(w, ");\n}\n\n");
-  sf_cw_need(w, SF_HELPER_RADIUS_AT);
+  sf_cw_need(w, SF_HELPER_ALTITUDE_AT);
 }

@@ -45,8 +45,8 @@ void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m) {
              "  float ct = @min(@max(mu, %F), 1.0f);\n"
              "  float ms = @min(@max(mu_s, -1.0f), 1.0f);\n"
              "  float cg = skyfit_clamp_nu(ct, ms, @min(@max(nu, -1.0f), 1.0f));\n"
-             "  float gamma = %s(cg);\n"
-             "  float x = @pow(@min(@max(%s(ms) * %F, 0.0f), 1.0f), %F);\n"
+             "  float gamma = skyfit_acos(cg);\n"
+             "  float x = @pow(@min(@max(skyfit_asin(ms) * %F, 0.0f), 1.0f), %F);\n"
              "  float u = 1.0f - x;\n"
              "  float bw[6];\n"
              "  bw[0] = u * u * u * u * u;\n"
@@ -63,8 +63,7 @@ void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m) {
              "      for (int j = 0; j < 6; ++j) s += bw[j] * P[(k * 6 + j) * %d + i];\n"
              "      c[i] = s;\n"
              "    }\n",
-             hosek ? 0.0 : SF_SKY_PEREZ_MIN_MU, w->lang == SF_CODE_C ? "acosf" : "acos",
-             w->lang == SF_CODE_C ? "asinf" : "asin", 2.0 / SF_PI, 1.0 / 3.0, n, stride, stride, stride);
+             hosek ? 0.0 : SF_SKY_PEREZ_MIN_MU, 2.0 / SF_PI, 1.0 / 3.0, n, stride, stride, stride);
   if (hosek)
     sf_cw_emit(w,
                "    float q = 1.0f + c[7] * c[7] - 2.0f * c[7] * cg;\n"
@@ -80,5 +79,5 @@ void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m) {
   else if (n == 2) sf_cw_emit(w, "  return @vec2(L[0], L[1]);\n}\n\n");
   else if (n == 3) sf_cw_emit(w, "  return @vec3(L[0], L[1], L[2]);\n}\n\n");
   else sf_cw_emit(w, "  return @vec4(L[0], L[1], L[2], L[3]);\n}\n\n");
-  sf_cw_need(w, SF_HELPER_CLAMP_NU);
+  sf_cw_need(w, SF_HELPER_CLAMP_NU | SF_HELPER_ASIN_ACOS);
 }

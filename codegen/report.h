@@ -80,7 +80,7 @@ typedef struct sf_report_selection {
 typedef struct sf_report_options {
   size_t domain_samples;           /* default 20000 */
   size_t timing_points;            /* default 1000000 (SPEC §12) */
-  int timing_repetitions;          /* default 5 */
+  int timing_repetitions;          /* default 3 */
   int view_width, view_height;     /* default 192 x 108 */
   int render_views;                /* default 1 */
   unsigned long long seed;         /* default 1 */
@@ -127,6 +127,7 @@ typedef struct sf_report {
   char views_note[512];
   double seconds_total;                       /* filled by the caller (build) */
   sf_report_spectral4 spectral4;              /* filled by the caller (build) */
+  char notes[4096];                           /* models not fitted or skipped, and why; one per line */
 } sf_report;
 
 /* Measures every candidate of list (which must hold the reference of each

@@ -25,7 +25,7 @@ void sf_report_options_default(sf_report_options *o) {
   memset(o, 0, sizeof *o);
   o->domain_samples = 20000;
   o->timing_points = 1000000;
-  o->timing_repetitions = 5;
+  o->timing_repetitions = 3;
   o->view_width = SF_VIEW_DEFAULT_WIDTH;
   o->view_height = SF_VIEW_DEFAULT_HEIGHT;
   o->render_views = 1;
@@ -122,7 +122,9 @@ static int cost_cache_path(const sf_report *rep, const sf_candidate *c, int prec
   if (!o->cost_cache_dir) return SF_OK;
   sf_cache_key k;
   k.text[0] = '\0';
-  sf_cache_key_add_text(&k, "code", SF_CANDIDATE_CODE_VERSION);
+  char code[256];
+  sf_cache_code_identity(code, sizeof code);
+  sf_cache_key_add_text(&k, "code", code);
   sf_cache_key_add_text(&k, "candidate", c->name);
   sf_cache_key_add_text(&k, "quantity", sf_candidate_quantity_name(c->quantity));
   sf_cache_key_add_text(&k, "label", c->label);

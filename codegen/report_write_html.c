@@ -35,7 +35,9 @@ static void scatter(FILE *f, const sf_report *rep, int q) {
   for (int i = 0; i < rep->n_models && n < 256; ++i) {
     const sf_report_model *m = &rep->models[i];
     if ((int)m->candidate->quantity != q || !m->has_cost || !m->has_errors) continue;
-    if (!(m->cost_ratio_naive16 > 0.0) || !(m->budget_metric > 0.0)) continue;
+    if (!(m->cost_ratio_naive16 > 0.0) || !(m->budget_metric > 0.0) || !isfinite(m->cost_ratio_naive16) ||
+        !isfinite(m->budget_metric))
+      continue;
     cost[n] = m->cost_ratio_naive16;
     error[n] = m->budget_metric;
     idx[n++] = i;
@@ -52,6 +54,13 @@ static void scatter(FILE *f, const sf_report *rep, int q) {
     y0 = fmin(y0, log10(error[i])); y1 = fmax(y1, log10(error[i]));
   }
   x0 = floor(x0 - 0.2); x1 = ceil(x1 + 0.2); y0 = floor(y0 - 0.2); y1 = ceil(y1 + 0.2);
+  /* At most 24 decades per axis (a wildly wrong model would squash the
+   * rest); points beyond are drawn on the edge. */
+  x0 = fmax(x0, x1 - 24.0); y0 = fmax(y0, y1 - 24.0);
+  for (int i = 0; i < n; ++i) {
+    cost[i] = fmax(cost[i], pow(10.0, x0));
+    error[i] = fmax(error[i], pow(10.0, y0));
+  }
   const double W = 640, H = 380, L = 70, R = 20, T = 20, B = 50;
   #define PX(v) (L + ((v) - x0) / (x1 - x0) * (W - L - R))
   #define PY(v) (T + (y1 - (v)) / (y1 - y0) * (H - T - B))
@@ -256,6 +265,11 @@ static void write_page(FILE *f, const sf_report *rep) {
     if (rep->views_rendered) views_section(f, rep, q);
   }
   if (rep->views_note[0]) { fputs("<p>", f); esc(f, rep->views_note); fputs("</p>\n", f); }
+  if (rep->notes[0]) {
+    fputs("<h2>Notes from the build</h2>\n<pre>", f);
+    esc(f, rep->notes);
+    fputs("</pre>\n", f);
+  }
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
     fprintf(f, "<h2>Colour: 4 wavelengths (seed 003 &sect;5.4)</h2>\n<p>Fitted wavelengths %.1f, %.1f, %.1f, %.1f nm "

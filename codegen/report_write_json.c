@@ -123,6 +123,7 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
     if (s->emit_note[0]) cJSON_AddStringToObject(j, "emit_note", s->emit_note);
   }
   if (rep->views_note[0]) cJSON_AddStringToObject(root, "views_note", rep->views_note);
+  if (rep->notes[0]) cJSON_AddStringToObject(root, "notes", rep->notes);
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
     cJSON *o = cJSON_AddObjectToObject(root, "spectral4");

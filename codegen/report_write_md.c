@@ -113,6 +113,7 @@ static void write_md(FILE *f, const sf_report *rep) {
     }
   }
   if (rep->views_note[0]) fprintf(f, "\n%s\n", rep->views_note);
+  if (rep->notes[0]) fprintf(f, "\n## Notes from the build\n\n%s", rep->notes);
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
     fprintf(f, "\n## Colour: 4 wavelengths (seed 003 §5.4)\n\nFitted wavelengths %.1f, %.1f, %.1f, %.1f nm with "

@@ -26,6 +26,13 @@ static double now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* CPU seconds of the process, every thread. */
+static double cpu_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* "dir/base.ext" -> dir, base. */
 static void split_output(const char *path, char *dir, size_t dn, char *base, size_t bn) {
   const char *slash = strrchr(path, '/');
@@ -104,9 +111,23 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   return SF_OK;
 }
 
+/* The user's notes, also kept for the report. */
+typedef struct note_log {
+  char text[4096];
+  sf_candidate_note_fn forward;
+  void *forward_ctx;
+} note_log;
+
+static void log_note(void *ctx, const char *message) {
+  note_log *l = ctx;
+  size_t len = strlen(l->text);
+  snprintf(l->text + len, sizeof l->text - len, "%s\n", message);
+  if (l->forward) l->forward(l->forward_ctx, message);
+}
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
-  double t_start = now();
+  double t_start = now(), c_start = cpu_now();
   sf_scene_domain domain;
   if (sf_scene_get_domain(scene, &domain, err) != SF_OK) return err->status;
   char cache[SF_REPORT_PATH_LEN + 16], work[SF_REPORT_PATH_LEN + 16];
@@ -134,33 +155,41 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];
   res->tables_total = set.n_tables;
-  double t_tables = now();
+  double t_tables = now(), c_tables = cpu_now();
   res->seconds_tables = t_tables - t_start;
+  res->cpu_seconds_tables = c_tables - c_start;
 
   sf_sky_tables sky;
   sf_sky_tables_of_set(&sky, &scene->atmosphere, &set);
+  note_log *notes = calloc(1, sizeof *notes);
+  if (!notes) {
+    sf_table_set_free(&set);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  notes->forward = o->note;
+  notes->forward_ctx = o->note_ctx;
   sf_candidate_inputs in = {.scene = scene, .domain = domain, .atm = &scene->atmosphere, .tables = &set,
                             .sky = &sky, .work_dir = work, .cache_dir = cache,
                             .orders = topt.orders, .seed = o->report.seed, .quick = o->quick,
                             .mlp_transmittance_epochs = o->mlp_transmittance_epochs,
                             .mlp_scattering_epochs = o->mlp_scattering_epochs,
                             .mlp_scattering_samples = o->mlp_scattering_samples, .run = o->report.run,
-                            .note = o->note, .note_ctx = o->note_ctx};
+                            .note = log_note, .note_ctx = notes};
   sf_candidate_list list;
   sf_candidate_list_init(&list);
-  int status = sf_candidates_make_all(&in, &list, o->note, o->note_ctx, err);
-  double t_fit = now();
-  res->seconds_fit = t_fit - t_tables;
+  int status = sf_candidates_make_all(&in, &list, log_note, notes, err);
 
   /* A spectral4 scene: the 4-wavelength colour model (SPEC §7.3). */
   sf_report_spectral4 spectral4;
   memset(&spectral4, 0, sizeof spectral4);
   if (status == SF_OK && scene->color == SF_COLOR_SPECTRAL4 && (scene->quantities & SF_QUANTITY_SKY_RADIANCE)) {
     sf_build_spectral4_options so = {.cache_dir = cache, .work_dir = work, .quick = o->quick, .run = o->report.run,
-                                     .note = o->note, .note_ctx = o->note_ctx};
+                                     .note = log_note, .note_ctx = notes};
     status = sf_build_spectral4(scene, &so, &spectral4, err);
   }
-  res->seconds_fit = now() - t_tables;
+  double t_fit = now(), c_fit = cpu_now();
+  res->seconds_fit = t_fit - t_tables;
+  res->cpu_seconds_fit = c_fit - c_tables;
 
   sf_report rep;
   memset(&rep, 0, sizeof rep);
@@ -168,11 +197,14 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   ropt.cost_cache_dir = cache;
   if (status == SF_OK) status = sf_report_evaluate(&rep, scene, &list, &ropt, o->out_dir, err);
   rep.spectral4 = spectral4;
+  snprintf(rep.notes, sizeof rep.notes, "%s", notes->text);
+  free(notes);
   if (status == SF_OK) {
     sf_report_select(&rep, scene);
     if (o->emit) status = emit_selection(&rep, scene, o, res, err);
   }
   res->seconds_report = now() - t_fit;
+  res->cpu_seconds_report = cpu_now() - c_fit;
   res->seconds_total = now() - t_start;
   rep.seconds_total = res->seconds_total;
   if (status == SF_OK) status = sf_report_write_all(&rep, err);

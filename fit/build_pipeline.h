@@ -29,7 +29,8 @@ void sf_build_options_default(sf_build_options *o);
 
 typedef struct sf_build_result {
   int tables_from_cache, tables_total;
-  double seconds_tables, seconds_fit, seconds_report, seconds_total;
+  double seconds_tables, seconds_fit, seconds_report, seconds_total;   /* wall clock */
+  double cpu_seconds_tables, cpu_seconds_fit, cpu_seconds_report;      /* process CPU, all threads */
   char report_html[SF_REPORT_PATH_LEN + 32];
   char chosen[SF_CANDIDATE_N_QUANTITIES][48];
   int meets_budget[SF_CANDIDATE_N_QUANTITIES];

@@ -82,7 +82,9 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
   sf_cache_key k;
   k.text[0] = '\0';
   sf_cache_key_add_text(&k, "model", "spectral4");
-  sf_cache_key_add_text(&k, "code", SF_CANDIDATE_CODE_VERSION);
+  char code[256];
+  sf_cache_code_identity(code, sizeof code);
+  sf_cache_key_add_text(&k, "code", code);
   sf_cache_key_add_text(&k, "atmosphere", hash);
   sf_cache_key_add_number(&k, "h0", scene->viewer_altitude_km[0]);
   sf_cache_key_add_number(&k, "h1", scene->viewer_altitude_km[1]);

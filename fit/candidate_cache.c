@@ -22,12 +22,23 @@ void sf_cache_key_add_number(sf_cache_key *k, const char *name, double v) {
   append(k, name, text);
 }
 
+void sf_cache_code_identity(char *out, size_t n) {
+  struct stat st;
+  if (stat("/proc/self/exe", &st) == 0)
+    snprintf(out, n, "%s; exe %lld bytes, modified %lld.%09ld", SF_CANDIDATE_CODE_VERSION, (long long)st.st_size,
+             (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec);
+  else
+    snprintf(out, n, "%s", SF_CANDIDATE_CODE_VERSION);
+}
+
 void sf_cache_key_begin(sf_cache_key *k, const char *model, const sf_candidate_inputs *in) {
   k->text[0] = '\0';
   char hash[17];
   sf_atmosphere_hash_hex(in->atm, hash);
   append(k, "model", model);
-  append(k, "code", SF_CANDIDATE_CODE_VERSION);
+  char code[256];
+  sf_cache_code_identity(code, sizeof code);
+  append(k, "code", code);
   append(k, "atmosphere", hash);
   const sf_scene_domain *d = &in->domain;
   sf_cache_key_add_number(k, "h_min", d->h_min_km);

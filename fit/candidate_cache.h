@@ -7,7 +7,9 @@
  * resolution. A cached file that fails to load is reported and refitted.
  * Costs (ns per evaluation, fit/candidate_metrics.h) are cached the same
  * way under CACHE/costs/ by codegen/report_evaluate.c, so that a rerun's
- * report is byte-identical. */
+ * report is byte-identical. A freshly fitted model is evaluated as loaded
+ * back from its weights file, so a fresh run and a cached one compute
+ * with the same numbers. */
 #ifndef SKYFIT_FIT_CANDIDATE_CACHE_H
 #define SKYFIT_FIT_CANDIDATE_CACHE_H
 
@@ -16,8 +18,16 @@
 #include "fit/candidate_registry.h"
 #include "util/error.h"
 
-/* Bump whenever a change to a candidate's fit changes its parameters. */
-#define SF_CANDIDATE_CODE_VERSION "skyfit-candidates 2"
+/* Bump whenever a change to a candidate's fit changes its parameters. The
+ * key also holds the running executable's size and modification time
+ * (sf_cache_code_identity): fitters and models live in other files that
+ * change on their own, so any rebuild of skyfit refits and retimes rather
+ * than reusing a result the new code would not produce. */
+#define SF_CANDIDATE_CODE_VERSION "skyfit-candidates 3"
+
+/* SF_CANDIDATE_CODE_VERSION plus the executable's identity ("" parts when
+ * /proc/self/exe cannot be read). */
+void sf_cache_code_identity(char *out, size_t n);
 
 /* A key text being built: "name=value;" pairs. */
 typedef struct sf_cache_key {

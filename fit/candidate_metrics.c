@@ -80,7 +80,9 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
   double floor = ref_rms > 0.0 ? 1e-3 * ref_rms : 1e-300;
   double sq = 0.0, rel = 0.0, mx = 0.0;
   for (size_t i = 0; i < n_values; ++i) {
-    if (!isfinite(model[i]) || !isfinite(reference[i])) {
+    /* |value| > SF_METRICS_MAX_VALUE counts as non-finite: its square
+     * would overflow the sums (a model that blew up). */
+    if (!isfinite(model[i]) || !isfinite(reference[i]) || fabs(model[i]) > SF_METRICS_MAX_VALUE) {
       ++bad;
       continue;
     }

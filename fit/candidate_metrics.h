@@ -49,7 +49,10 @@ typedef struct sf_error_metrics {
 
 /* Over n_values pairs. Non-finite model values count as an error of
  * +infinity would: they make the result non-finite, and are reported by
- * n_non_finite instead (the figures then use the finite ones). */
+ * n_non_finite instead (the figures then use the finite ones). So are
+ * values beyond +-SF_METRICS_MAX_VALUE (a model that blew up; their squares
+ * would overflow the sums). */
+#define SF_METRICS_MAX_VALUE 1e100
 void sf_error_metrics_compute(const double *model, const double *reference, size_t n_values,
                               sf_error_metrics *out, size_t *n_non_finite);
 

@@ -202,6 +202,15 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     free(m);
     return err->status;
   }
+  /* Fresh fits too are evaluated as loaded from the file: a rerun computes the same. */
+  if (!loaded && path[0]) {
+    sf_mlp_sky_free(m);
+    memset(m, 0, sizeof *m);
+    if (sf_mlp_sky_load(path, m, err) != SF_OK) {
+      free_mlp(m);
+      return err->status;
+    }
+  }
   char weights[4400] = "";
   if (path[0] && in->work_dir) {
     snprintf(weights, sizeof weights, "%s/%s.json", in->work_dir, job->name);

@@ -39,10 +39,15 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   sf_candidate c;
   if (sf_candidate_reference_transmittance(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
     return err->status;
-  if (in->sky && sf_candidate_table_transmittance(in->sky, &c, err) == SF_OK && add(list, &c, err) != SF_OK)
+  if ((in->scene->quantities & SF_QUANTITY_TRANSMITTANCE) && in->sky &&
+      sf_candidate_table_transmittance(in->sky, &c, err) == SF_OK && add(list, &c, err) != SF_OK)
     return err->status;
+  /* naive16 always: it is the cost unit of SPEC §12. The other
+   * transmittance models only when the scene asks for transmittance. */
+  int want_transmittance = (in->scene->quantities & SF_QUANTITY_TRANSMITTANCE) != 0;
   static const sf_transmittance_baseline kinds[] = {SF_TB_NAIVE, SF_TB_CHAPMAN, SF_TB_TAYLOR, SF_TB_FLAT};
-  for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+  size_t n_kinds = want_transmittance ? sizeof kinds / sizeof kinds[0] : 1;
+  for (size_t k = 0; k < n_kinds; ++k) {
     sf_error why = {0};
     if (sf_candidate_transmittance_baseline(in->atm, kinds[k], SF_NAIVE_COST_UNIT_STEPS, &c, &why) == SF_OK) {
       if (add(list, &c, err) != SF_OK) return err->status;
@@ -62,6 +67,7 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   int n = sf_candidate_factories(&f);
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     if (q == SF_CANDIDATE_SKY_RADIANCE && !want_radiance) continue;
+    if (q == SF_CANDIDATE_TRANSMITTANCE && !want_transmittance) continue;
     for (int i = 0; i < n; ++i) {
       if ((int)f[i].quantity != q) continue;
       char why[512] = "";

@@ -59,9 +59,10 @@ int sf_candidate_factories(const sf_candidate_factory **out);
 typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
 
 /* The references (transmittance: exact; sky radiance: tables — only if
- * the scene asks for sky radiance), the transmittance table lookup, the
- * analytic baselines (naive16 always: it is the cost unit), then every
- * registered factory that applies. */
+ * the scene asks for sky radiance), the naive16 raymarch (always: it is the
+ * cost unit), the transmittance table lookup and the other analytic
+ * baselines (if the scene asks for transmittance), then every registered
+ * factory of a quantity the scene asks for that applies. */
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err);
 

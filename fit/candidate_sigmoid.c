@@ -113,7 +113,9 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
       in->note(in->note_ctx, text);
     }
   }
-  if (!loaded && fit_and_store(in, &o, path, &s->model, err) != SF_OK) {
+  /* Fresh fits too are evaluated as loaded from the file: a rerun computes the same. */
+  if (!loaded && (fit_and_store(in, &o, path, &s->model, err) != SF_OK ||
+                  (path[0] && sf_sigmoid_model_load(path, &s->model, NULL, err) != SF_OK))) {
     free(s);
     return err->status;
   }

@@ -184,7 +184,9 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
       in->note(in->note_ctx, text);
     }
   }
-  if (!loaded && fit_and_store(in, &o, &valid, path, &s->model, err) != SF_OK) {
+  /* Fresh fits too are evaluated as loaded from the file: a rerun computes the same. */
+  if (!loaded && (fit_and_store(in, &o, &valid, path, &s->model, err) != SF_OK ||
+                  (path[0] && sf_elevation_sky_load(path, form, &s->model, NULL, err) != SF_OK))) {
     free(s);
     return err->status;
   }

@@ -58,6 +58,10 @@ void sf_lsq_options_default(sf_lsq_options *o) {
   o->parameter_tolerance = 1e-12;
   o->n_threads = 1;
   o->normal_equations = 0;
+  o->initial_trust_region_radius = 1e4;
+  o->dogleg = 0;
+  o->nonmonotonic_steps = 0;
+  o->jacobi_scaling = 1;
 }
 
 const char *sf_lsq_termination_name(sf_lsq_termination t) {
@@ -119,7 +123,15 @@ int sf_lsq_solve(sf_lsq_problem *p, const sf_lsq_options *o, sf_lsq_summary *s) 
   if (!o) o = &defaults;
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.trust_region_strategy_type = o->dogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+  if (o->initial_trust_region_radius > 0.0) {
+    options.initial_trust_region_radius = o->initial_trust_region_radius;
+    if (options.max_trust_region_radius < o->initial_trust_region_radius)
+      options.max_trust_region_radius = o->initial_trust_region_radius;
+  }
+  options.use_nonmonotonic_steps = o->nonmonotonic_steps != 0;
+  options.jacobi_scaling = o->jacobi_scaling != 0;
+  options.check_gradients = false;
   options.linear_solver_type = o->normal_equations ? ceres::DENSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
   options.max_num_iterations = o->max_iterations;
   options.function_tolerance = o->function_tolerance;

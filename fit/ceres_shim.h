@@ -40,6 +40,14 @@ typedef struct sf_lsq_options {
   int normal_equations;        /* 0 (default): dense QR of the Jacobian; 1: dense
                                   Cholesky of J^T J, faster for tall problems,
                                   squares the condition number */
+  double initial_trust_region_radius;  /* default 1e4 (Ceres'); a small one (1..100)
+                                  makes the first steps short, as MINPACK's
+                                  step bound does, which can keep a non-convex
+                                  fit in the basin of its start */
+  int dogleg;                  /* 0 (default): Levenberg-Marquardt; 1: Powell's dogleg */
+  int nonmonotonic_steps;      /* 0 (default); 1: accept steps that raise the cost
+                                  within Ceres' window (escapes narrow valleys) */
+  int jacobi_scaling;          /* 1 (default): scale columns of J to unit norm */
 } sf_lsq_options;
 
 typedef enum sf_lsq_termination {
@@ -84,7 +92,7 @@ int sf_lsq_set_constant(sf_lsq_problem *p, int block);
 int sf_lsq_add_residuals(sf_lsq_problem *p, sf_lsq_residual_fn fn, void *user, int n_residuals,
                          int n_blocks, const int *blocks, sf_lsq_loss loss, double loss_scale);
 
-/* Solves with a trust-region Levenberg-Marquardt and dense QR. Returns 0
+/* Solves with a dense trust-region method (the options say which). Returns 0
  * when the result is usable (summary->usable), 1 otherwise; the summary is
  * always filled. */
 int sf_lsq_solve(sf_lsq_problem *p, const sf_lsq_options *o, sf_lsq_summary *summary);

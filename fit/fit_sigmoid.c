@@ -7,8 +7,7 @@
 
 #include "fit/linear_lsq.h"
 #include "models/optical_depth.h"
-
-#define CHUNK 256
+#include "models/ray_geometry.h"
 
 void sf_sigmoid_fit_options_default(sf_sigmoid_fit_options *o) {
   memset(o, 0, sizeof *o);
@@ -17,19 +16,19 @@ void sf_sigmoid_fit_options_default(sf_sigmoid_fit_options *o) {
   sf_lsq_options_default(&o->lsq);
 }
 
-typedef struct sigmoid_chunk {
+typedef struct sigmoid_points {
+  int n;
   const double *h, *mu, *t;
-  int begin, count;
-} sigmoid_chunk;
+} sigmoid_points;
 
+/* All residuals in one block: one callback per evaluation, no per-block overhead. */
 static int sigmoid_residuals(void *user, const double *const *params, double *r, double **jac) {
-  const sigmoid_chunk *c = user;
-  for (int q = 0; q < c->count; ++q) {
-    int i = c->begin + q;
+  const sigmoid_points *s = user;
+  for (int i = 0; i < s->n; ++i) {
     double grad[SF_SIGMOID_N_COEFFS];
-    r[q] = sf_sigmoid_transmittance_grad(params[0], c->h[i], c->mu[i], grad) - c->t[i];
+    r[i] = sf_sigmoid_transmittance_grad(params[0], s->h[i], s->mu[i], grad) - s->t[i];
     if (jac && jac[0])
-      for (int k = 0; k < SF_SIGMOID_N_COEFFS; ++k) jac[0][q * SF_SIGMOID_N_COEFFS + k] = grad[k];
+      for (int k = 0; k < SF_SIGMOID_N_COEFFS; ++k) jac[0][i * SF_SIGMOID_N_COEFFS + k] = grad[k];
   }
   return 1;
 }
@@ -63,6 +62,35 @@ static void logit_start(int n, const double *h, const double *mu, const double *
   free(w);
 }
 
+static void error_add(sf_sigmoid_error *e, double *sse, double d, double h, double mu, int k) {
+  *sse += d * d;
+  e->n_points++;
+  if (!(fabs(d) <= e->max_abs)) {
+    e->max_abs = fabs(d);
+    e->worst_h_km = h;
+    e->worst_mu = mu;
+    e->worst_channel = k;
+  }
+}
+
+/* The to-top grid (fit_sigmoid.h): only rays with mu >= 0 are asked for. */
+static void top_grid(const sf_scene_domain *dom, double h0, double h1, int n_h, int n_mu, double *h,
+                     double *mu, sf_sigmoid_fit_report *rep) {
+  int down = dom->mu_min < 0.0;
+  double h_lo = down ? 0.0 : h0;
+  double lo = down ? 0.0 : dom->mu_min;
+  double hi = down ? fmin(1.0, fmax(dom->mu_max, -dom->mu_min)) : dom->mu_max;
+  rep->fit_h_min_km = h_lo;
+  rep->fit_h_max_km = h1;
+  rep->fit_mu_min = lo;
+  rep->fit_mu_max = hi;
+  for (int i = 0; i < n_h; ++i)
+    for (int j = 0; j < n_mu; ++j) {
+      h[i * n_mu + j] = h_lo + (h1 - h_lo) * i / (n_h - 1);
+      mu[i * n_mu + j] = lo + (hi - lo) * j / (n_mu - 1);
+    }
+}
+
 int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
                    const sf_sigmoid_fit_options *o, sf_sigmoid_model *out,
                    sf_sigmoid_fit_report *rep, sf_error *err) {
@@ -78,25 +106,26 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
   if (h1 < h0) h0 = h1;
   out->n_constituents = nc;
   out->n_channels = nk;
+  out->bottom_radius_km = atm->bottom_radius_km;
+  out->top_radius_km = atm->top_radius_km;
   rep->n_points = n;
   double *h = malloc(sizeof *h * (size_t)n), *mu = malloc(sizeof *mu * (size_t)n);
   double *depth = malloc(sizeof *depth * (size_t)n * (size_t)nc);
   double *t = malloc(sizeof *t * (size_t)n);
   double *model_total = malloc(sizeof *model_total * (size_t)n * (size_t)nk);
   double *ref_total = malloc(sizeof *ref_total * (size_t)n * (size_t)nk);
-  int n_chunks = (n + CHUNK - 1) / CHUNK;
-  sigmoid_chunk *chunks = calloc((size_t)n_chunks, sizeof *chunks);
-  int status = (h && mu && depth && t && model_total && ref_total && chunks)
+  int status = (h && mu && depth && t && model_total && ref_total)
                    ? SF_OK
                    : sf_fail(err, SF_ERR_INTERNAL, "out of memory for the sigmoid fit");
+  if (status == SF_OK) top_grid(domain, h0, h1, o->n_h, o->n_mu, h, mu, rep);
   for (int i = 0; status == SF_OK && i < o->n_h; ++i) {
     for (int j = 0; j < o->n_mu; ++j) {
       int p = i * o->n_mu + j;
-      h[p] = h0 + (h1 - h0) * i / (o->n_h - 1);
-      mu[p] = domain->mu_min + (domain->mu_max - domain->mu_min) * j / (o->n_mu - 1);
-      sf_optical_depth_ray(atm, h[p], mu[p], SF_RAY_END_NEAREST, &depth[(size_t)p * nc]);
+      if (sf_optical_depth_ray(atm, h[p], mu[p], SF_RAY_END_TOP, &depth[(size_t)p * nc]) != 0)
+        status = sf_fail(err, SF_ERR_INTERNAL, "sigmoid fit: to-top ray at h %g km mu %.17g hits the ground",
+                         h[p], mu[p]);
     }
-    if (o->progress) o->progress(o->progress_ctx, "reference optical depth", (double)(i + 1) / o->n_h);
+    if (o->progress) o->progress(o->progress_ctx, "reference optical depth", (double)(i + 1) / (2 * o->n_h));
   }
   for (int p = 0; status == SF_OK && p < n * nk; ++p) model_total[p] = ref_total[p] = 1.0;
   for (int c = 0; c < nc && status == SF_OK; ++c) {
@@ -116,12 +145,9 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
           status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
           break;
         }
+        sigmoid_points pts = {n, h, mu, t};
         int block = sf_lsq_add_block(prob, a, SF_SIGMOID_N_COEFFS);
-        for (int q = 0; q < n_chunks; ++q) {
-          chunks[q] = (sigmoid_chunk){h, mu, t, q * CHUNK, n - q * CHUNK < CHUNK ? n - q * CHUNK : CHUNK};
-          sf_lsq_add_residuals(prob, sigmoid_residuals, &chunks[q], chunks[q].count, 1, &block,
-                               SF_LSQ_LOSS_NONE, 0.0);
-        }
+        sf_lsq_add_residuals(prob, sigmoid_residuals, &pts, n, 1, &block, SF_LSQ_LOSS_NONE, 0.0);
         sf_lsq_summary sum;
         int rc = sf_lsq_solve(prob, &o->lsq, &sum);
         sf_lsq_problem_free(prob);
@@ -153,17 +179,39 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
   if (status == SF_OK) {
     double sse = 0;
     for (int p = 0; p < n; ++p)
+      for (int k = 0; k < nk; ++k)
+        error_add(&rep->top, &sse, model_total[(size_t)p * nk + k] - ref_total[(size_t)p * nk + k], h[p],
+                  mu[p], k);
+    rep->top.rmse = sqrt(sse / rep->top.n_points);
+  }
+  /* full rays over the domain box, exact reference */
+  double sse_full = 0, sse_ground = 0, sse_sky = 0;
+  for (int i = 0; status == SF_OK && i < o->n_h; ++i) {
+    double hh = h0 + (h1 - h0) * i / (o->n_h - 1);
+    for (int j = 0; j < o->n_mu; ++j) {
+      double mm = domain->mu_min + (domain->mu_max - domain->mu_min) * j / (o->n_mu - 1);
+      double dep[SF_MAX_CONSTITUENTS], ref[SF_MAX_CHANNELS], mod[SF_MAX_CHANNELS];
+      sf_optical_depth_ray(atm, hh, mm, SF_RAY_END_NEAREST, dep);
+      sf_transmittance_from_depth(atm, dep, ref);
+      sf_sigmoid_model_eval(out, hh, mm, mod);
+      int ground = sf_ray_hits_sphere_from_above(atm->bottom_radius_km + hh, mm, atm->bottom_radius_km);
       for (int k = 0; k < nk; ++k) {
-        double d = model_total[(size_t)p * nk + k] - ref_total[(size_t)p * nk + k];
-        sse += d * d;
-        if (!(fabs(d) <= rep->max_abs)) {
-          rep->max_abs = fabs(d);
-          rep->worst_h_km = h[p];
-          rep->worst_mu = mu[p];
-          rep->worst_channel = k;
-        }
+        error_add(&rep->full, &sse_full, mod[k] - ref[k], hh, mm, k);
+        if (ground) error_add(&rep->full_ground, &sse_ground, mod[k] - ref[k], hh, mm, k);
+        else error_add(&rep->full_sky, &sse_sky, mod[k] - ref[k], hh, mm, k);
       }
-    rep->rmse = sqrt(sse / ((double)n * nk));
+    }
+    if (o->progress) o->progress(o->progress_ctx, "full-ray error", (double)(i + 1) / o->n_h);
+  }
+  if (status == SF_OK) {
+    rep->full.rmse = sqrt(sse_full / rep->full.n_points);
+    if (rep->full_ground.n_points) rep->full_ground.rmse = sqrt(sse_ground / rep->full_ground.n_points);
+    if (rep->full_sky.n_points) rep->full_sky.rmse = sqrt(sse_sky / rep->full_sky.n_points);
+    rep->rmse = rep->full.rmse;
+    rep->max_abs = rep->full.max_abs;
+    rep->worst_h_km = rep->full.worst_h_km;
+    rep->worst_mu = rep->full.worst_mu;
+    rep->worst_channel = rep->full.worst_channel;
   }
   free(h);
   free(mu);
@@ -171,7 +219,6 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
   free(t);
   free(model_total);
   free(ref_total);
-  free(chunks);
   rep->seconds = seconds_now() - t0;
   if (status != SF_OK) memset(out, 0, sizeof *out);
   return status;

@@ -1,16 +1,27 @@
 /* Fit of the sigmoid-polynomial transmittance (SPEC §7.1, seed 000 §9.5,
- * models/sigmoid_transmittance.h) per constituent and channel over a
- * scene's (h, mu) domain.
+ * models/sigmoid_transmittance.h) per constituent and channel.
  *
- * Reference: the exact per-constituent optical depth (models/optical_depth.h,
- * adaptive quadrature to 1e-11) of the ray from (h, mu) to its end (ground
- * or top), T_ck = exp(-extinction_ck depth_c), on an n_h x n_mu grid
- * spanning the domain's box (end points included). The exact integrals are
- * cheap at this size, so no table interpolation error enters the fit.
+ * What is fitted: T_top, the transmittance of rays to the TOP boundary,
+ * on the rays the full-ray rule (models/sigmoid_transmittance.h: rays
+ * looking down are reversed, eq. 43 and the tangent-point split) asks for,
+ * which all look up or horizontally:
+ *   h in [h_lo, h1]: h1 the domain's top (at most the atmosphere's);
+ *     h_lo = 0 when the domain has rays looking down (their ground points
+ *     and tangent points go down to 0), else the domain's h_min;
+ *   mu in [lo, hi]: with rays looking down lo = 0, hi = max(mu_max,
+ *     -mu_min) (the reversed viewer ray looks along -mu); else the
+ *     domain's [mu_min, mu_max].
+ * Reference: the exact per-constituent optical depth (models/optical_depth.h)
+ * of each to-top ray, T_ck = exp(-extinction_ck depth_c), on an n_h x n_mu
+ * grid (end points included).
  *
- * Start: the weighted linear least-squares fit of logit(T) with weights
- * T(1 - T) (the linearisation of the sigmoid), then Ceres on the residuals
- * T_model - T_ref with analytic Jacobians. */
+ * Start: weighted linear least squares on logit(T) with weights T(1 - T)
+ * (the linearisation of the sigmoid), then Ceres (one residual block
+ * holding all residuals, analytic Jacobian) on T_model - T_ref.
+ *
+ * Evaluation (the report): the to-top fit on its grid, and full rays (to
+ * the ground or the top, models/sigmoid_transmittance.h) on the domain's
+ * n_h x n_mu (h, mu) box against the exact optical depth. */
 #ifndef SKYFIT_FIT_FIT_SIGMOID_H
 #define SKYFIT_FIT_FIT_SIGMOID_H
 
@@ -20,7 +31,7 @@
 #include "util/error.h"
 
 typedef struct sf_sigmoid_fit_options {
-  int n_h, n_mu;           /* default 48 x 96 */
+  int n_h, n_mu;           /* default 48 x 96 (both grids) */
   sf_lsq_options lsq;
   void (*progress)(void *ctx, const char *stage, double fraction);
   void *progress_ctx;
@@ -28,7 +39,7 @@ typedef struct sf_sigmoid_fit_options {
 
 void sf_sigmoid_fit_options_default(sf_sigmoid_fit_options *o);
 
-/* Per constituent c and channel k. */
+/* Per constituent c and channel k: the to-top fit. */
 typedef struct sf_sigmoid_fit_entry {
   double rmse, max_abs, worst_h_km, worst_mu;
   double start_cost, final_cost;
@@ -36,10 +47,21 @@ typedef struct sf_sigmoid_fit_entry {
   int transparent;          /* zero extinction: not fitted */
 } sf_sigmoid_fit_entry;
 
-typedef struct sf_sigmoid_fit_report {
+/* Error of the total transmittance (product over constituents), all channels. */
+typedef struct sf_sigmoid_error {
   int n_points;
+  double rmse, max_abs, worst_h_km, worst_mu;
+  int worst_channel;
+} sf_sigmoid_error;
+
+typedef struct sf_sigmoid_fit_report {
+  int n_points;             /* to-top fit points */
   sf_sigmoid_fit_entry entry[SF_MAX_CONSTITUENTS][SF_MAX_CHANNELS];
-  /* the total transmittance (product over constituents), all channels */
+  double fit_h_min_km, fit_h_max_km, fit_mu_min, fit_mu_max;   /* the to-top region fitted */
+  sf_sigmoid_error top;     /* to-top rays, the fit grid */
+  sf_sigmoid_error full;    /* full rays over the domain box */
+  sf_sigmoid_error full_ground, full_sky;   /* its rays that hit the ground / do not */
+  /* = full, kept for callers of the earlier report */
   double rmse, max_abs, worst_h_km, worst_mu;
   int worst_channel;
   double seconds;

@@ -36,6 +36,10 @@ typedef struct sf_sky_fit_data {
   double weight;
 } sf_sky_fit_data;
 
+/* The solver settings of the sky fits (measured by bench/ceres_vs_scipy.sh):
+ * sf_lsq_options_default with the choices below. */
+void sf_sky_fit_options_default(sf_lsq_options *o);
+
 /* Bounds of coefficient i (i == n_coeffs: the scale). */
 void sf_sky_coeff_bounds(sf_sky_form form, sf_sky_bounds bounds, int i, double *lower,
                          double *upper);

@@ -25,7 +25,7 @@ void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form f
   o->n_elevations = 10;
   o->n_theta = 16;
   o->n_phi = 24;
-  sf_lsq_options_default(&o->lsq);
+  sf_sky_fit_options_default(&o->lsq);
 }
 
 static double monotonic_seconds(void) {

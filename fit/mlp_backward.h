@@ -10,7 +10,21 @@
  *   log: (log(p_k + delta_k) - log(y_k + delta_k))^2
  * delta_k > 0 keeps rel and log finite where the target is 0; the fitters
  * take it as a small fraction of the output's RMS (fit/dataset.h). log needs
- * p_k > -delta_k: use it with a positive output (exp_neg, sigmoid). */
+ * p_k > -delta_k: use it with a positive output (exp_neg, sigmoid).
+ *
+ * Speed. Samples are processed in blocks (a power of two, at most 256,
+ * chosen from the shape so that a block's arrays stay in the first cache
+ * levels), layer by layer, as dense arrays stored unit-major
+ * (block[unit][sample], samples contiguous): every inner loop runs over the
+ * samples with the same operations for each, so the compiler vectorises it
+ * whatever the layer widths (2, 4, 8, ...), and the exponentials use
+ * fit/exp_lanes.h. Summation order, fixed by the samples alone: a gradient
+ * entry is summed in 8 lanes (lane = sample index mod 8 within the block,
+ * blocks in order) and the lanes added in a fixed tree at the end; the loss
+ * of a block is summed by halving, the block sums in order. So the result
+ * does not depend on the vector width the CPU offers (the hot function is
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at run time, in
+ * C11 mode, hence without fused multiply-adds) nor on who calls. */
 #ifndef SKYFIT_FIT_MLP_BACKWARD_H
 #define SKYFIT_FIT_MLP_BACKWARD_H
 
@@ -32,11 +46,47 @@ int sf_mlp_loss_parse(const char *name, sf_mlp_loss_kind *out);
 double sf_mlp_sample_loss(const sf_mlp_loss *loss, int n_out, const double *pred, const double *target,
                           double *dloss_dpred);
 
+/* Scratch memory of the block computation for one network shape (one per
+ * thread). block: samples per block, a multiple of 8 chosen from the shape
+ * so that a block's arrays stay in the first cache levels. */
+typedef struct sf_mlp_workspace {
+  sf_mlp_shape shape;
+  int block;
+  double *mem;
+} sf_mlp_workspace;
+
+/* -1 when out of memory. */
+int sf_mlp_workspace_init(sf_mlp_workspace *ws, const sf_mlp_shape *shape);
+void sf_mlp_workspace_free(sf_mlp_workspace *ws);
+
 /* Sum over samples s = index[begin..end-1] (index NULL: s = begin..end-1) of
  * the sample loss; x is row-major n x sizes[0], y n x sizes[n_layers]. If
  * grad is not NULL, adds the gradient of that sum (flat parameter order of
- * models/mlp.h) to grad[0..n_params-1]. The sum runs in sample order, so
- * the result depends only on the samples, never on who calls. */
+ * models/mlp.h) to grad[0..n_params-1]. The summation order is fixed by the
+ * samples alone (see above). ws was made for this shape. */
+double sf_mlp_loss_range_ws(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                            const double *x, const double *y, const int *index, long begin, long end,
+                            double *grad, sf_mlp_workspace *ws);
+
+/* A data set stored unit-major for passes over contiguous samples without
+ * gathering rows (full batches, validation): x holds n_in rows and a row of
+ * ones (the biases' input), y n_out rows, each stride long (zero padded past
+ * n). The same sums as sf_mlp_loss_range_ws with index NULL. */
+typedef struct sf_mlp_columns {
+  long n, stride;
+  int n_in, n_out;
+  double *x, *y;   /* owned */
+} sf_mlp_columns;
+
+/* From row-major x (n x n_in) and y (n x n_out); -1 when out of memory. */
+int sf_mlp_columns_make(sf_mlp_columns *c, const double *x, const double *y, long n, int n_in, int n_out);
+void sf_mlp_columns_free(sf_mlp_columns *c);
+/* Samples begin..end-1 of c. */
+double sf_mlp_loss_columns_ws(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                              const sf_mlp_columns *c, long begin, long end, double *grad, sf_mlp_workspace *ws);
+
+/* The same with a workspace of its own (allocated and freed here; NAN when
+ * out of memory). */
 double sf_mlp_loss_range(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
                          const double *x, const double *y, const int *index, long begin, long end,
                          double *grad);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "models/optical_depth.h"
+#include "models/views_standard.h"
 #include "models/phase.h"
 #include "models/rng.h"
 #include "util/constants.h"
@@ -115,4 +116,59 @@ void sf_mlp_error_radiance(const sf_mlp_sky *s, const sf_sky_tables *sky, const 
     error_add(out, model, ref.radiance);
   }
   error_end(out);
+}
+
+int sf_mlp_error_transmittance_views(const sf_mlp_sky *t, const sf_atmosphere *atm, int width, int height,
+                                     sf_mlp_error *out, int max_views) {
+  const sf_view_def *views;
+  int nv = sf_standard_transmittance_views(&views);
+  if (nv > max_views) nv = max_views;
+  int nch = atm->n_channels;
+  double model[SF_MAX_CHANNELS], ref[SF_MAX_CHANNELS], depth[SF_MAX_CONSTITUENTS];
+  for (int v = 0; v < nv; ++v) {
+    sf_view_camera cam;
+    sf_view_camera_make(&views[v], atm, width, height, &cam);
+    error_begin(&out[v], nch);
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i) {
+        double in[4];
+        sf_view_pixel_inputs(&cam, atm, i, j, in);
+        sf_optical_depth_ray(atm, in[0], in[1], SF_RAY_END_NEAREST, depth);
+        sf_transmittance_from_depth(atm, depth, ref);
+        sf_mlp_transmittance(t, in[0], in[1], model);
+        error_add(&out[v], model, ref);
+      }
+    error_end(&out[v]);
+  }
+  return nv;
+}
+
+int sf_mlp_error_radiance_views(const sf_mlp_sky *s, const sf_sky_tables *sky, const sf_atmosphere *atm,
+                                int width, int height, sf_mlp_error *out, int max_views) {
+  const sf_view_def *views;
+  int nv = sf_standard_radiance_views(&views);
+  if (nv > max_views) nv = max_views;
+  int nch = atm->n_channels;
+  double model[SF_MAX_CHANNELS], ref[SF_MAX_CHANNELS];
+  for (int v = 0; v < nv; ++v) {
+    sf_view_camera cam;
+    sf_view_camera_make(&views[v], atm, width, height, &cam);
+    double scale = views[v].exposure * SF_VIEW_SUN_IRRADIANCE;
+    error_begin(&out[v], nch);
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i) {
+        double in[4];
+        sf_view_pixel_inputs(&cam, atm, i, j, in);
+        sf_sky_sample r;
+        sf_sky_lookup(sky, in[0], in[1], in[2], in[3], &r);
+        sf_mlp_scattering(s, in[0], in[1], in[2], in[3], model);
+        for (int c = 0; c < nch; ++c) {
+          model[c] *= scale;
+          ref[c] = r.radiance[c] * scale;
+        }
+        error_add(&out[v], model, ref);
+      }
+    error_end(&out[v]);
+  }
+  return nv;
 }

@@ -34,4 +34,19 @@ void sf_mlp_error_transmittance(const sf_mlp_sky *t, const sf_atmosphere *atm, c
 void sf_mlp_error_radiance(const sf_mlp_sky *s, const sf_sky_tables *sky, const sf_scene_domain *dom,
                            double elevation_deg, long n, uint64_t seed, sf_mlp_error *out);
 
+/* Full-ray transmittance on the 5 standard transmittance views of seed 000
+ * App. C/D (models/views_standard.h; width x height pixels, every pixel,
+ * exposure 1) against the exact reference (models/optical_depth.h): one
+ * error per view, out[0..n-1] in sf_standard_transmittance_views' order.
+ * Returns the number of views (<= max_views). */
+int sf_mlp_error_transmittance_views(const sf_mlp_sky *t, const sf_atmosphere *atm, int width, int height,
+                                     sf_mlp_error *out, int max_views);
+
+/* Sky radiance on the 12 standard views of seed 000 App. A/B, every pixel
+ * (no sun disc, no ground), both sides scaled by the view's exposure times
+ * SF_VIEW_SUN_IRRADIANCE as the report renders them, against the tables
+ * (data/sky_lookup.h). out[0..n-1] in sf_standard_radiance_views' order. */
+int sf_mlp_error_radiance_views(const sf_mlp_sky *s, const sf_sky_tables *sky, const sf_atmosphere *atm,
+                                int width, int height, sf_mlp_error *out, int max_views);
+
 #endif

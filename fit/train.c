@@ -27,6 +27,7 @@ void sf_train_options_default(sf_train_options *o) {
   o->restarts = 1;
   o->patience = 0;
   o->seed = 1;
+  o->parallel_work = SF_TRAIN_PARALLEL_WORK;
 }
 
 void sf_mlp_init_xavier(const sf_mlp_shape *s, uint64_t seed, int restart, double *params) {
@@ -47,45 +48,67 @@ static double now_seconds(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Scratch for chunked sums: one gradient and one loss per chunk. */
+/* Scratch for chunked sums: one gradient and one loss per chunk, and one
+ * block workspace per thread (fit/mlp_backward.h). */
 typedef struct chunk_sums {
   long n_chunks;
   int n_params;
+  int n_threads;
+  double parallel_work;   /* sf_train_options.parallel_work */
   double *grad;   /* n_chunks x n_params */
   double *loss;   /* n_chunks */
+  sf_mlp_workspace *ws;   /* n_threads */
 } chunk_sums;
 
-static int chunk_sums_init(chunk_sums *c, long max_samples, int n_params) {
+static int thread_count(int n_threads) { return n_threads > 0 ? n_threads : omp_get_max_threads(); }
+
+static int chunk_sums_init(chunk_sums *c, const sf_mlp_shape *s, long max_samples, int n_params, int n_threads) {
+  memset(c, 0, sizeof *c);
   c->n_chunks = (max_samples + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
   if (c->n_chunks < 1) c->n_chunks = 1;
   c->n_params = n_params;
+  c->parallel_work = SF_TRAIN_PARALLEL_WORK;
   c->grad = malloc((size_t)c->n_chunks * (size_t)n_params * sizeof(double));
   c->loss = malloc((size_t)c->n_chunks * sizeof(double));
-  return c->grad && c->loss ? 0 : -1;
+  c->ws = calloc((size_t)n_threads, sizeof *c->ws);
+  if (!c->grad || !c->loss || !c->ws) return -1;
+  c->n_threads = n_threads;
+  for (int t = 0; t < n_threads; ++t)
+    if (sf_mlp_workspace_init(&c->ws[t], s)) return -1;
+  return 0;
 }
 
 static void chunk_sums_free(chunk_sums *c) {
   free(c->grad);
   free(c->loss);
+  for (int t = 0; c->ws && t < c->n_threads; ++t) sf_mlp_workspace_free(&c->ws[t]);
+  free(c->ws);
 }
 
 /* Sum of the loss (and, if grad, of its gradient) over samples
- * index[begin..end-1], in fixed chunks added in chunk order. */
+ * index[begin..end-1] (index NULL: begin..end-1, read from columns when
+ * given: the same sums), in fixed chunks added in chunk order. */
 static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
-                           const sf_dataset *d, const int *index, long begin, long end, double *grad,
-                           chunk_sums *cs, int n_threads) {
+                           const sf_dataset *d, const sf_mlp_columns *columns, const int *index, long begin,
+                           long end, double *grad, chunk_sums *cs) {
   long n = end - begin;
   long n_chunks = (n + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
   int np = cs->n_params;
-  int threads = n_threads > 0 ? n_threads : omp_get_max_threads();
+  int threads = cs->n_threads;
   if (threads > n_chunks) threads = (int)(n_chunks > 0 ? n_chunks : 1);
+  /* Starting and joining threads costs microseconds (much more on a loaded
+   * machine, where a waiting thread spins): a small batch of a small
+   * network is faster on one. The chunks, hence the result, are the same. */
+  if ((double)n * (double)sf_mlp_param_count(s) < cs->parallel_work) threads = 1;
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
   for (long c = 0; c < n_chunks; ++c) {
     long b = begin + c * SF_TRAIN_CHUNK;
     long e = b + SF_TRAIN_CHUNK < end ? b + SF_TRAIN_CHUNK : end;
     double *g = grad ? cs->grad + c * np : NULL;
     if (g) memset(g, 0, (size_t)np * sizeof(double));
-    cs->loss[c] = sf_mlp_loss_range(s, params, loss, d->x, d->y, index, b, e, g);
+    sf_mlp_workspace *ws = &cs->ws[omp_get_thread_num()];
+    cs->loss[c] = columns && columns->x && !index ? sf_mlp_loss_columns_ws(s, params, loss, columns, b, e, g, ws)
+                                    : sf_mlp_loss_range_ws(s, params, loss, d->x, d->y, index, b, e, g, ws);
   }
   double total = 0.0;
   if (grad) memset(grad, 0, (size_t)np * sizeof(double));
@@ -103,11 +126,11 @@ double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf
                            const sf_dataset *d, int n_threads) {
   if (d->n <= 0) return NAN;
   chunk_sums cs;
-  if (chunk_sums_init(&cs, d->n, 1)) {
+  if (chunk_sums_init(&cs, s, d->n, 1, thread_count(n_threads))) {
     chunk_sums_free(&cs);
     return NAN;
   }
-  double total = chunked_loss(s, params, loss, d, NULL, 0, d->n, NULL, &cs, n_threads);
+  double total = chunked_loss(s, params, loss, d, NULL, NULL, 0, d->n, NULL, &cs);
   chunk_sums_free(&cs);
   return total / (double)d->n;
 }
@@ -241,14 +264,25 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   st.params = malloc((size_t)np * sizeof(double));
   st.restart_best = malloc((size_t)np * sizeof(double));
   st.overall_best = malloc((size_t)np * sizeof(double));
-  chunk_sums cs;
+  chunk_sums cs, val_cs;
   memset(&cs, 0, sizeof cs);
+  memset(&val_cs, 0, sizeof val_cs);
+  /* Unit-major copies for the passes over contiguous samples: the full
+   * batch (not shuffled) and the validation set, read every epoch. */
+  sf_mlp_columns train_columns, val_columns;
+  memset(&train_columns, 0, sizeof train_columns);
+  memset(&val_columns, 0, sizeof val_columns);
   int status = SF_OK;
   if (!delta || !grad || !perm || !st.params || !st.restart_best || !st.overall_best ||
-      sf_adam_init(&st.adam, np) || chunk_sums_init(&cs, batch, np) || sf_mlp_init(&result->net, s)) {
+      sf_adam_init(&st.adam, np) || chunk_sums_init(&cs, s, batch, np, thread_count(o->n_threads)) ||
+      (has_val && chunk_sums_init(&val_cs, s, val->n, 1, thread_count(o->n_threads))) ||
+      (batch >= train->n && sf_mlp_columns_make(&train_columns, train->x, train->y, train->n, train->n_in, train->n_out)) ||
+      (has_val && sf_mlp_columns_make(&val_columns, val->x, val->y, val->n, val->n_in, val->n_out)) ||
+      sf_mlp_init(&result->net, s)) {
     status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     goto done;
   }
+  cs.parallel_work = val_cs.parallel_work = o->parallel_work;
   /* rel/log floors from the training targets (fit/mlp_backward.h). */
   for (int k = 0; k < train->n_out; ++k) {
     double m = 0.0;
@@ -256,7 +290,8 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     delta[k] = o->loss_floor * m > 1e-300 ? o->loss_floor * m : 1e-300;
   }
   sf_mlp_loss loss = {o->loss, delta};
-  uint64_t fingerprint = run_fingerprint(train, val, o);
+  /* Hashing the data costs about a second per 100 MB: only checkpoints need it. */
+  uint64_t fingerprint = o->checkpoint_path ? run_fingerprint(train, val, o) : 0;
 
   st.best_loss = INFINITY;
   st.best_restart = 0;
@@ -283,17 +318,21 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
         goto done;
       }
       double lr = sf_adam_lr(&o->adam, st.epoch);
-      sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
+      /* A full batch needs no shuffling: its gradient is the same sum in
+       * any order (and in sample order the rows are read sequentially). */
+      const int *order = batch < train->n ? perm : NULL;
+      if (order)
+        sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
       double epoch_loss = 0.0;
       for (long b = 0; b < train->n; b += batch) {
         long e = b + batch < train->n ? b + batch : train->n;
         double inv = 1.0 / (double)(e - b);
-        epoch_loss += chunked_loss(s, st.params, &loss, train, perm, b, e, grad, &cs, o->n_threads);
+        epoch_loss += chunked_loss(s, st.params, &loss, train, &train_columns, order, b, e, grad, &cs);
         for (int k = 0; k < np; ++k) grad[k] *= inv;
         sf_adam_step(&st.adam, &o->adam, lr, st.params, grad);
       }
       epoch_loss /= (double)train->n;
-      double val_loss = has_val ? sf_mlp_dataset_loss(s, st.params, &loss, val, o->n_threads) : NAN;
+      double val_loss = has_val ? chunked_loss(s, st.params, &loss, val, &val_columns, NULL, 0, val->n, NULL, &val_cs) / (double)val->n : NAN;
       st.epoch += 1;
       st.epochs_run += 1;
       epochs_this_call += 1;
@@ -354,5 +393,8 @@ done:
   free(st.overall_best);
   sf_adam_free(&st.adam);
   chunk_sums_free(&cs);
+  chunk_sums_free(&val_cs);
+  sf_mlp_columns_free(&train_columns);
+  sf_mlp_columns_free(&val_columns);
   return status;
 }

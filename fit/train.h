@@ -6,7 +6,9 @@
  * restart, epoch) (models/rng.h), so nothing depends on what ran before; a
  * batch gradient is summed over fixed chunks of SF_TRAIN_CHUNK samples,
  * each chunk in sample order, the chunk sums added in chunk order - the
- * result is byte-identical for any thread count.
+ * result is byte-identical for any thread count. A full batch is not
+ * shuffled (its gradient is the same sum in any order); a batch with little
+ * work runs on one thread (parallel_work).
  *
  * Checkpoints: when *interrupt becomes nonzero (a SIGINT handler sets it) or
  * after stop_after_epochs epochs (for tests), training stops at the end of
@@ -26,6 +28,9 @@
 #include "models/mlp.h"
 
 #define SF_TRAIN_CHUNK 256
+/* A batch is split among threads only when samples x parameters reaches
+ * this (below, one thread is faster than starting the others). */
+#define SF_TRAIN_PARALLEL_WORK 1048576.0
 
 typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
                                      double train_loss, double validation_loss);
@@ -41,6 +46,8 @@ typedef struct sf_train_options {
   int patience;             /* epochs without a better validation loss before stopping; 0 = never */
   uint64_t seed;
   int n_threads;            /* <= 0: OpenMP's default */
+  double parallel_work;     /* a batch (or the validation set) with fewer samples x parameters runs on one
+                               thread; 0: always split; default SF_TRAIN_PARALLEL_WORK */
   const double *init_params;   /* optional initial network of restart 0 (n_params values) */
   const char *checkpoint_path; /* NULL: no checkpoints */
   int resume;               /* continue from checkpoint_path */

@@ -4,8 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+static double poly(const double a[SF_SIGMOID_N_COEFFS], double h_km, double mu) {
+  return a[0] + a[1] * h_km + a[2] * mu + a[3] * mu * mu;   /* seed 000 §9.5 */
+}
+
 double sf_sigmoid_transmittance(const double a[SF_SIGMOID_N_COEFFS], double h_km, double mu) {
-  return 1.0 / (1.0 + exp(-(a[0] + a[1] * h_km + a[2] * mu + a[3] * mu * mu)));
+  return 1.0 / (1.0 + exp(-poly(a, h_km, mu)));
 }
 
 double sf_sigmoid_transmittance_grad(const double a[SF_SIGMOID_N_COEFFS], double h_km, double mu,
@@ -19,13 +23,56 @@ double sf_sigmoid_transmittance_grad(const double a[SF_SIGMOID_N_COEFFS], double
   return t;
 }
 
-void sf_sigmoid_model_eval(const sf_sigmoid_model *m, double h_km, double mu,
-                           double *transmittance) {
+double sf_sigmoid_log_transmittance(const double a[SF_SIGMOID_N_COEFFS], double h_km, double mu) {
+  double y = -poly(a, h_km, mu);
+  return -(fmax(y, 0.0) + log1p(exp(-fabs(y))));   /* -softplus(-x) */
+}
+
+void sf_sigmoid_model_eval_top(const sf_sigmoid_model *m, double h_km, double mu,
+                               double *transmittance) {
   for (int k = 0; k < m->n_channels; ++k) {
     double t = 1.0;
     for (int c = 0; c < m->n_constituents; ++c) t *= sf_sigmoid_transmittance(m->a[c][k], h_km, mu);
     transmittance[k] = t;
   }
+}
+
+static double log_top(const sf_sigmoid_model *m, int k, double h_km, double mu) {
+  double s = 0.0;
+  for (int c = 0; c < m->n_constituents; ++c) s += sf_sigmoid_log_transmittance(m->a[c][k], h_km, mu);
+  return s;
+}
+
+void sf_sigmoid_model_eval(const sf_sigmoid_model *m, double h_km, double mu,
+                           double *transmittance) {
+  double R = m->bottom_radius_km, Rt = m->top_radius_km, H = Rt - R;
+  for (int k = 0; k < m->n_channels; ++k) transmittance[k] = 1.0;
+  if (!(h_km > 0.0)) h_km = 0.0;
+  mu = fmin(fmax(mu, -1.0), 1.0);
+  if (h_km > H) {
+    /* viewer above the top: moved to where its ray enters (step 1) */
+    double r = R + h_km, disc_t = (Rt - r) * (Rt + r) + (r * mu) * (r * mu);
+    if (mu >= 0.0 || disc_t < 0.0) return;
+    double t_enter = (r - Rt) * (r + Rt) / (sqrt(disc_t) - r * mu);
+    mu = fmin(fmax((r * mu + t_enter) / Rt, -1.0), 1.0);
+    h_km = H;
+  }
+  if (mu >= 0.0) {   /* step 3 */
+    for (int k = 0; k < m->n_channels; ++k) transmittance[k] = exp(log_top(m, k, h_km, mu));
+    return;
+  }
+  double r = R + h_km, disc = (R - r) * (R + r) + (r * mu) * (r * mu);
+  if (disc < 0.0) {
+    /* step 4: down to the tangent point and up again, reversed */
+    double h_t = -disc / (sqrt(r * r * ((1.0 - mu) * (1.0 + mu))) + R);
+    for (int k = 0; k < m->n_channels; ++k)
+      transmittance[k] = exp(fmin(0.0, 2.0 * log_top(m, k, h_t, 0.0) - log_top(m, k, h_km, -mu)));
+    return;
+  }
+  /* step 5: eq. 43 with reversed rays (seed 000 §9.6.3), ground point back up through the viewer */
+  double mu_g = -sqrt(disc) / R;
+  for (int k = 0; k < m->n_channels; ++k)
+    transmittance[k] = exp(fmin(0.0, log_top(m, k, 0.0, -mu_g) - log_top(m, k, h_km, -mu)));
 }
 
 int sf_sigmoid_model_load(const char *path, sf_sigmoid_model *out, sf_weights *w_out,
@@ -39,6 +86,8 @@ int sf_sigmoid_model_load(const char *path, sf_sigmoid_model *out, sf_weights *w
                      w.quantity);
   out->n_constituents = w.atmosphere.n_constituents;
   out->n_channels = w.atmosphere.n_channels;
+  out->bottom_radius_km = w.atmosphere.bottom_radius_km;
+  out->top_radius_km = w.atmosphere.top_radius_km;
   int shape[3] = {out->n_constituents, out->n_channels, SF_SIGMOID_N_COEFFS};
   int n_values = SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS * SF_SIGMOID_N_COEFFS;
   double *values = malloc(sizeof *values * (size_t)n_values);

@@ -16,8 +16,8 @@ TAB=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4 --orders 2)
 "$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 1 --out "$TMP/t1.json" --quiet
 "$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 2 --out "$TMP/t2.json" --quiet
 if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identical for 1 and 2 threads"; else fail "thread count changed the weights"; fi
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --threads 1 --out "$TMP/s1.json" --quiet
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --threads 2 --out "$TMP/s2.json" --quiet
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
 if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
 
 # interruption by the test hook, twice, then --resume
@@ -42,6 +42,12 @@ header=$(head -1 "$TMP/t.csv")
 json=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 200 --batch 64 --quiet)
 mse=$(echo "$json" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 awk -v m="$mse" 'BEGIN { exit !(m > 0 && m < 0.03) }' && pass "fit mlp prints final_train_mse $mse" || fail "fit mlp: $json"
+# Levenberg-Marquardt polish (fit/mlp_lm.h) after the same Adam run: lower loss
+plain=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 50 --batch 64 --quiet)
+polished=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 50 --batch 64 --polish 20 --quiet)
+m0=$(echo "$plain" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
+m1=$(echo "$polished" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
+awk -v a="$m0" -v b="$m1" 'BEGIN { exit !(b > 0 && b < 0.8 * a) }' && pass "polish: training MSE $m0 -> $m1" || fail "polish: $m0 -> $m1"
 "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m_straight.json" --quiet >/dev/null
 "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m.json" --quiet >/dev/null &
 pid=$!
@@ -70,6 +76,7 @@ expect_error() {
   if [ "$rc" = 2 ] && echo "$err" | grep -q -- "$pattern" && [ ! -e "$TMP/bad.json" ]; then pass "$name: $err"; else fail "$name: rc $rc, '$err'"; fi
 }
 expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3 --out "$TMP/bad.json"
+expect_error "bad polish" "--polish" "$BIN" fit mlp-transmittance --polish -3 --out "$TMP/bad.json"
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
 expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"

@@ -45,7 +45,32 @@ assert "naive16" in names and "reference" in names, names
 naive = [m for m in doc["models"] if m["name"] == "naive16"][0]
 assert abs(naive["cost"]["ratio_to_naive16"] - 1.0) < 1e-12, naive["cost"]
 print(f"metrics.json: {count} figures, all finite; models {names}")
+# Every fitted model of SPEC §7 that applies to the default scene is a candidate.
+for want in ("sigmoid", "mlp-transmittance", "preetham", "hosek", "mlp-scattering"):
+    assert want in names, f"FAIL {want} is not a candidate: {names}"
+by = {m["name"]: m for m in doc["models"]}
+for ground_only in ("preetham", "hosek"):
+    m = by[ground_only]
+    assert not m["valid_over_domain"] and m["errors"]["over"] == "its valid part of the domain", m
+    d = m["errors"]["domain"]
+    assert d["h_max_km"] == 0 and d["mu_s_min"] >= 0, d
+    print(f"{ground_only}: rel RMSE {m['errors']['rel_rmse']:.3g} on the ground, sun up ({m['errors']['values']} values)")
 PY
+for w in sigmoid mlp-transmittance preetham hosek mlp-scattering; do
+  [ -s "$tmp/out/weights/$w.json" ] || { echo "FAIL no weights file for $w"; fail=1; }
+done
+
+# A second run with nothing changed reuses the cache: tables, fits and
+# timings; the report is byte-identical.
+cp "$tmp/out/metrics.json" "$tmp/metrics-first.json"
+cp "$tmp/out/report.md" "$tmp/report-first.md"
+start=$(date +%s.%N)
+"$bin" build "${small[@]}" --out "$tmp/out" > "$tmp/stdout2" 2> "$tmp/stderr2" || { echo "FAIL rerun"; cat "$tmp/stderr2"; fail=1; }
+end=$(date +%s.%N)
+echo "rerun: $(head -1 "$tmp/stdout2") (wall $(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.2f", b - a}') s)"
+grep -q "tables 5/5 from the cache" "$tmp/stdout2" || { echo "FAIL rerun did not take the tables from the cache"; fail=1; }
+cmp -s "$tmp/metrics-first.json" "$tmp/out/metrics.json" || { echo "FAIL metrics.json differs on a rerun"; diff "$tmp/metrics-first.json" "$tmp/out/metrics.json" | head -5; fail=1; }
+cmp -s "$tmp/report-first.md" "$tmp/out/report.md" || { echo "FAIL report.md differs on a rerun"; fail=1; }
 
 # Headless Chromium: a screenshot that is not blank, and no script errors.
 if command -v chromium >/dev/null; then
@@ -79,6 +104,43 @@ PY
 else
   echo "FAIL chromium is not installed (scripts/setup.sh installs it)"; fail=1
 fi
+
+# The example scenes (examples/scenes/): ground-only picks Preetham or Hosek;
+# the dusty Mars-like atmosphere is retrained end to end; spectral4 fits the
+# 4 wavelengths and beats plain RGB at 680/550/440 nm in ΔE2000.
+tiny=(--resolution 32x16,8x16x8x4 --no-views --samples 2000 --timing-points 2000 --repetitions 1 --mlp-epochs 10,1 --quick --quiet)
+src=${SKYFIT_SOURCE_DIR:?}
+"$bin" build "$src/examples/scenes/ground.json" "${tiny[@]}" --out "$tmp/ground" > "$tmp/ground.out" 2>&1
+rc=$?
+grep "chose" "$tmp/ground.out"
+[ $rc -eq 0 ] && grep -Eq "sky_radiance: chose (preetham|hosek) \(meets the budget\)" "$tmp/ground.out" \
+  || { echo "FAIL ground scene: Preetham/Hosek should win"; cat "$tmp/ground.out"; fail=1; }
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --out "$tmp/mars" > "$tmp/mars.out" 2>&1
+rc=$?
+grep "chose" "$tmp/mars.out"
+python3 - "$tmp/mars/metrics.json" <<'PY' || fail=1
+import json, math, sys
+doc = json.load(open(sys.argv[1]))
+assert doc["atmosphere"]["name"] == "mars-dusty", doc["atmosphere"]
+fitted = [m for m in doc["models"] if m["role"] == "fitted"]
+names = sorted(m["name"] for m in fitted)
+assert names == ["hosek", "mlp-scattering", "mlp-transmittance", "preetham", "sigmoid"], names
+for m in fitted:
+    assert all(math.isfinite(m["errors"][k]) for k in ("rmse", "max_abs", "rel_rmse")), m
+print("mars: fitted " + ", ".join(f"{m['name']} (rel RMSE {m['errors']['rel_rmse']:.3g})" for m in fitted))
+PY
+[ $rc -eq 0 ] || { echo "FAIL mars build exited $rc"; cat "$tmp/mars.out"; fail=1; }
+"$bin" build "$src/examples/scenes/spectral4.json" "${tiny[@]}" --out "$tmp/s4" > "$tmp/s4.out" 2>&1
+rc=$?
+[ $rc -eq 0 ] || { echo "FAIL spectral4 build exited $rc"; cat "$tmp/s4.out"; fail=1; }
+python3 - "$tmp/s4/metrics.json" <<'PY' || fail=1
+import json, sys
+s4 = json.load(open(sys.argv[1]))["spectral4"]
+fit, rgb = s4["without_aerosols"]["spectral4"], s4["without_aerosols"]["rgb_680_550_440"]
+print(f"spectral4: {s4['wavelengths_nm']} nm; mean dE2000 {fit['mean_delta_e2000']:.3g} vs plain RGB {rgb['mean_delta_e2000']:.3g}")
+assert fit["mean_delta_e2000"] < rgb["mean_delta_e2000"], s4
+PY
+grep -q "Colour: 4 wavelengths" "$tmp/s4/report.md" || { echo "FAIL no spectral4 section in the report"; fail=1; }
 
 # Bad input: exit 2 with a message, nothing written.
 printf '{"atmosphere": "no-such-file.json"}' > "$tmp/missing.json"

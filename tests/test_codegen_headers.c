@@ -1,6 +1,7 @@
 /* Emitted headers, verified rather than assumed (SPEC §9-10):
  *  1. for several atmospheres (Earth; scale heights x0.01 and x10; every
- *     coefficient x1e-3 and x1e3) the analytic baselines, and for Earth
+ *     coefficient x1e-3 and x1e3) the analytic baselines (naive, chapman,
+ *     taylor, flat), and for Earth
  *     every fitted model's emitter (sigmoid, hosek, preetham,
  *     mlp-transmittance, mlp-scattering, spectral4; weights files written
  *     here in the documented formats), the C header is compiled as C99 and
@@ -11,15 +12,23 @@
  *  2. the GLSL is compiled by glslangValidator as a vertex, fragment and
  *     compute shader;
  *  3. the GLSL runs as a compute shader on Mesa's llvmpipe (headless EGL,
- *     no GPU; tests/gl/compute_runner.c) and is compared with the C header
- *     at EVERY point: |GL - C| <= 1e-5 max(|C|, scale) per channel, or
- *     <= an absolute floor for tiny values (GL_ABS_FLOOR); scale is the
- *     un-cancelled full-ray value for eq. 44 segments, else 0. The only
- *     exception: points whose mu lies within HORIZON_ULP float ulps of
+ *     no GPU; tests/gl/compute_runner.c), each result stored in a
+ *     `precise` variable as the emitted file's comment asks (without it
+ *     Mesa reassociates the arithmetic: up to 4e-2 relative in the dense
+ *     atmosphere's baselines), and is compared with the C header (compiled
+ *     in ISO mode: no contraction) at EVERY point:
+ *     |GL - C| <= 1e-5 max(|C|, scale) per channel, or <= an absolute floor
+ *     for tiny values (GL_ABS_FLOOR); scale is the un-cancelled full-ray
+ *     value for eq. 44 segments, else 0. Two exceptions, counted:
+ *     (a) GL lies within the spread of the C header's results when its exp,
+ *     log and pow are perturbed within the GLSL 4.60 §4.7.1 precision
+ *     rules (driver_prelude: the header's own condition under what GLSL
+ *     allows; llvmpipe's exp is measured at up to 31.5 ulp, 0.86 of the
+ *     rule), (b) points whose mu lies within HORIZON_ULP float ulps of
  *     where the float ground/top hit test flips (the horizon
- *     discontinuity); such a GL value is accepted iff it meets the same
- *     bound against the C header evaluated at mu shifted by 1..HORIZON_ULP
- *     ulps, and they are counted. No NaN or Inf anywhere.
+ *     discontinuity): accepted iff GL meets the same bound against the C
+ *     header (and its variants) at mu shifted by 1..HORIZON_ULP ulps.
+ *     No NaN or Inf anywhere.
  * Needs cc, c++, glslangValidator (glslang-tools) and EGL/GL with Mesa
  * (libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri): scripts/setup.sh. */
 #include <float.h>
@@ -41,7 +50,7 @@
 #include "models/weights_file.h"
 
 #define POINTS_PER_FUNCTION 10000
-#define MAX_FUNCTIONS 24
+#define MAX_FUNCTIONS 28
 #define GL_REL_BOUND 1e-5
 #define GL_ABS_FLOOR 1e-9
 #define HORIZON_ULP 4
@@ -66,8 +75,8 @@ typedef struct tested_function {
 typedef struct test_case {
   const char *name;
   sf_atmosphere atm;
-  sf_baseline baselines[3];
-  double bound[3];                  /* naive, chapman, taylor: |T_float - T_double| */
+  sf_baseline baselines[SF_BASELINE_COUNT];
+  double bound[SF_BASELINE_COUNT];  /* naive, chapman, taylor, flat: |T_float - T_double| */
   int with_fitted;
   int n_fitted;
   sf_weights weights[8];
@@ -94,42 +103,45 @@ static void eval_baseline(const void *ctx, const float *p, double *out) {
   sf_baseline_transmittance(ctx, p[0], p[1], 0.0, INFINITY, out);
 }
 
-/* Sigmoid in double: the viewer moved into the atmosphere with double ray
- * geometry (models/ray_geometry.h), the model's own evaluation, segments as
- * the ratio T(h, mu) / T(h_t, mu_t) (emit_sigmoid.h), clamped at 1. */
-static int sigmoid_enter(const sf_sigmoid_emit *s, double *h, double *mu, double *t) {
-  double R = s->bottom_radius_km, Rt = s->top_radius_km, r = R + *h;
-  if (r <= Rt) return 1;
-  double t0, t1;
-  int ground;
-  if (!sf_ray_atmosphere_segment(r, *mu, R, Rt, &t0, &t1, &ground)) return 0;
-  *mu = fmin(fmax((r * *mu + t0) / Rt, -1.0), 1.0);
-  *h = Rt - R;
-  if (t) *t -= t0;
-  return 1;
+/* Sigmoid in double: the model's own full ray (sf_sigmoid_model_eval);
+ * segments as models/sigmoid_transmittance.h states them, with double ray
+ * geometry (models/ray_geometry.h), the segment cut at the ray's end. */
+static double sigmoid_log_top(const sf_sigmoid_model *m, int k, double h, double mu) {
+  double s = 0.0;
+  for (int c = 0; c < m->n_constituents; ++c) s += sf_sigmoid_log_transmittance(m->a[c][k], h, mu);
+  return s;
 }
 static void eval_sigmoid(const void *ctx, const float *p, double *out) {
-  const sf_sigmoid_emit *s = ctx;
-  double h = p[0], mu = p[1];
-  for (int k = 0; k < s->model.n_channels; ++k) out[k] = 1.0;
-  if (sigmoid_enter(s, &h, &mu, NULL)) sf_sigmoid_model_eval(&s->model, h, mu, out);
+  sf_sigmoid_model_eval(&((const sf_sigmoid_emit *)ctx)->model, p[0], p[1], out);
 }
 static void eval_sigmoid_segment(const void *ctx, const float *p, double *out) {
-  const sf_sigmoid_emit *s = ctx;
-  double h = p[0], mu = p[1], d = p[2];
-  int n = s->model.n_channels;
+  const sf_sigmoid_model *m = &((const sf_sigmoid_emit *)ctx)->model;
+  double R = m->bottom_radius_km, Rt = m->top_radius_km;
+  double h = fmax(p[0], 0.0), mu = fmin(fmax(p[1], -1.0), 1.0), d = p[2];
+  int n = m->n_channels;
   for (int k = 0; k < n; ++k) out[k] = 1.0;
-  if (!sigmoid_enter(s, &h, &mu, &d) || !(d > 0.0)) return;
-  double R = s->bottom_radius_km, r = R + h, t0, t1;
+  double r = R + h, t0, t1;
   int ground;
-  sf_ray_atmosphere_segment(r, mu, R, s->top_radius_km, &t0, &t1, &ground);
-  sf_sigmoid_model_eval(&s->model, h, mu, out);
-  if (d >= t1) return;
+  if (!sf_ray_atmosphere_segment(r, mu, R, Rt, &t0, &t1, &ground)) return;
+  if (r > Rt) {
+    mu = fmin(fmax((r * mu + t0) / Rt, -1.0), 1.0);
+    h = Rt - R;
+    r = Rt;
+    d -= t0;
+    t1 -= t0;
+  }
+  if (!(d > 0.0)) return;
+  d = fmin(d, t1);
   double r_d = sf_ray_radius_at(r, mu, d);
-  double mu_d = fmin(fmax((r * mu + d) / r_d, -1.0), 1.0);
-  double h_d = fmin(fmax(r_d - R, 0.0), s->top_radius_km - R), far[SF_MAX_CHANNELS];
-  sf_sigmoid_model_eval(&s->model, h_d, mu_d, far);
-  for (int k = 0; k < n; ++k) out[k] = fmin(out[k] / far[k], 1.0);
+  double mu_d = fmin(fmax((r * mu + d) / r_d, -1.0), 1.0), h_d = fmin(fmax(r_d - R, 0.0), Rt - R);
+  double a[SF_MAX_CHANNELS], b[SF_MAX_CHANNELS];
+  sf_sigmoid_model_eval(m, h, mu, a);
+  sf_sigmoid_model_eval(m, h_d, mu_d, b);
+  for (int k = 0; k < n; ++k) {
+    double la = ground ? sigmoid_log_top(m, k, h_d, -mu_d) : log(a[k]);
+    double lb = ground ? sigmoid_log_top(m, k, h, -mu) : log(b[k]);
+    out[k] = exp(fmin(la - lb, 0.0));
+  }
 }
 
 static void eval_sky(const void *ctx, const float *p, double *out) {
@@ -155,6 +167,14 @@ static void eval_spectral_srgb(const void *ctx, const float *p, double *out) {
   for (int i = 0; i < 3; ++i) {
     out[i] = 0.0;
     for (int j = 0; j < 4; ++j) out[i] += s->to_linear_srgb[i][j] * p[j];
+  }
+}
+/* sum_j |M_ij L_j|: what the float sum may cancel */
+static void eval_spectral_srgb_abs(const void *ctx, const float *p, double *out) {
+  const sf_spectral4_emit *s = ctx;
+  for (int i = 0; i < 3; ++i) {
+    out[i] = 0.0;
+    for (int j = 0; j < 4; ++j) out[i] += fabs(s->to_linear_srgb[i][j] * p[j]);
   }
 }
 static void eval_spectral_xyz(const void *ctx, const float *p, double *out) {
@@ -199,13 +219,59 @@ static void call_text(const tested_function *f, int glsl, char *out, size_t n) {
   snprintf(out + k, n - (size_t)k, ")");
 }
 
+/* The C driver can run the header with its transcendental functions
+ * perturbed within the GLSL 4.60 precision rules (§4.7.1): exp (3 + 2|x|)
+ * ulp, log 3 ulp (absolute 2^-21 on [0.5, 2]), pow as exp2(y log2 x):
+ * (3 + 5|y log2 x|) ulp. Variant 0 is the header as it is; 1 moves every
+ * result up, 2 down, 3 and 4 up or down by a hash of the argument's bits
+ * (opposite in 3 and 4), so that differences of two results see both
+ * signs. sqrt, division, +, -, * are not perturbed: llvmpipe rounds them
+ * correctly and does not contract a * b + c (measured: 0.5 ulp, no fused
+ * results in 1e5 trials), while its exp is off by up to 0.86 of the spec's
+ * bound (31.5 ulp at x ~ -15), log 2.4 ulp, pow 79 ulp. The spread of the
+ * variants is the header's own sensitivity to what GLSL allows. */
+static const char *const driver_prelude =
+    "#include <math.h>\n#include <string.h>\n"
+    "static int skyfit_test_variant = 0;\n"
+    "static float skyfit_test_nudge(float v, float arg, double ulps) {\n"
+    "  unsigned int bits, up;\n  float u;\n"
+    "  if (skyfit_test_variant == 0 || !(v == v) || v - v != 0.0f) return v;\n"
+    "  memcpy(&bits, &arg, sizeof bits);\n"
+    "  bits *= 2654435761u;\n"
+    "  up = skyfit_test_variant == 1 ? 1u : skyfit_test_variant == 2 ? 0u\n"
+    "     : ((bits >> 16) & 1u) ^ (skyfit_test_variant == 4 ? 1u : 0u);\n"
+    "  u = nextafterf(fabsf(v), INFINITY) - fabsf(v);\n"
+    "  return (float)((double)v + (up ? ulps : -ulps) * (double)u);\n"
+    "}\n"
+    "static float skyfit_test_exp(float x) { return skyfit_test_nudge((expf)(x), x, 3.0 + 2.0 * fabs(x)); }\n"
+    "static float skyfit_test_log(float x) {\n"
+    "  float v = (logf)(x);\n"
+    "  if (x >= 0.5f && x <= 2.0f && skyfit_test_variant != 0) {\n"
+    "    unsigned int bits, up;\n"
+    "    memcpy(&bits, &x, sizeof bits);\n"
+    "    bits *= 2654435761u;\n"
+    "    up = skyfit_test_variant == 1 ? 1u : skyfit_test_variant == 2 ? 0u\n"
+    "       : ((bits >> 16) & 1u) ^ (skyfit_test_variant == 4 ? 1u : 0u);\n"
+    "    return (float)((double)v + (up ? 1.0 : -1.0) * 4.76837158203125e-7);\n"
+    "  }\n"
+    "  return skyfit_test_nudge(v, x, 3.0);\n"
+    "}\n"
+    "static float skyfit_test_pow(float x, float y) {\n"
+    "  double z = x > 0.0f ? fabs((double)y * log2((double)x)) : 0.0;\n"
+    "  return skyfit_test_nudge((powf)(x, y), x * 0.5f + y, 3.0 + 5.0 * z);\n"
+    "}\n"
+    "#define expf(x) skyfit_test_exp(x)\n#define logf(x) skyfit_test_log(x)\n#define powf(x, y) skyfit_test_pow(x, y)\n";
+
 static void write_c_driver(const char *path, const char *header, const tested_function *fs, int n) {
   FILE *f = fopen(path, "w");
   fprintf(f,
+          "%s"
           "#include \"%s\"\n#include <stdio.h>\n#include <stdlib.h>\n\n"
           "int main(int argc, char **argv) {\n"
           "  FILE *in, *out;\n  int n, i, *fn;\n  float *p8;\n"
-          "  if (argc != 3) return 2;\n"
+          "  if (argc != 3 && argc != 4) return 2;\n"
+          "  if (argc == 4) skyfit_test_variant = atoi(argv[3]);\n"
+          "  (void)skyfit_test_exp;\n  (void)skyfit_test_log;\n  (void)skyfit_test_pow;\n"
           "  in = fopen(argv[1], \"rb\");\n  out = fopen(argv[2], \"wb\");\n"
           "  if (!in || !out || fread(&n, 4, 1, in) != 1) return 2;\n"
           "  fn = (int *)malloc(sizeof(int) * (size_t)n);\n"
@@ -216,7 +282,7 @@ static void write_c_driver(const char *path, const char *header, const tested_fu
           "    const float *p = p8 + 8 * i;\n"
           "    float o[4] = {0.0f, 0.0f, 0.0f, 0.0f};\n"
           "    switch (fn[i]) {\n",
-          header);
+          driver_prelude, header);
   char call[512];
   for (int k = 0; k < n; ++k) {
     call_text(&fs[k], 0, call, sizeof call);
@@ -257,7 +323,7 @@ static void write_glsl_stage(const char *path, const char *stage, const char *gl
   fprintf(f, "  }\n  return vec4(0.0);\n}\n\nvoid main() {\n");
   if (strcmp(stage, "comp") == 0)
     fprintf(f, "  uint i = gl_GlobalInvocationID.x;\n  if (i >= count) return;\n"
-               "  outputs[i] = evaluate(fn[i], inputs[2u * i], inputs[2u * i + 1u]);\n}\n");
+               "  precise vec4 v = evaluate(fn[i], inputs[2u * i], inputs[2u * i + 1u]);\n  outputs[i] = v;\n}\n");
   else if (strcmp(stage, "vert") == 0)
     fprintf(f, "  o = evaluate(gl_VertexID %% %d, q, q2);\n  gl_Position = vec4(q.xy, 0.0, 1.0);\n}\n", n);
   else fprintf(f, "  o = evaluate(int(gl_FragCoord.x) %% %d, q, q2);\n}\n", n);
@@ -324,7 +390,11 @@ static void add_test_point(point_set *s, int fn, const tested_function *f, const
     hi = nextafterf(hi, 2.0f);
     if (hit_state(atm, v[0], lo) != here || hit_state(atm, v[0], hi) != here) near = 1;
   }
+  /* Only points within HORIZON_ULP of a flip get shifted copies: with the
+   * GLSL evaluated `precise` (as the emitted file's comment asks) nothing
+   * else needs them (measured: 0 such acceptances at 1.3e6 ray points). */
   if (!near) return;
+  s->shadow_of[i] = -2 - i;   /* marked: near the flip */
   for (int dir = -1; dir <= 1; dir += 2) {
     float q[8];
     memcpy(q, v, sizeof(float) * (size_t)nv);
@@ -490,14 +560,31 @@ static int gl_close(const tested_function *f, const float *g, const float *c, do
   return ok;
 }
 
+#define N_VARIANTS 4
+
+/* Widens [lo, hi] by the C header's results at point j under the GLSL
+ * precision variants (non-finite ones, from perturbing past the float
+ * range, are left out). */
+static void envelope_add(float *const *rv, int j, int ch, double *lo, double *hi) {
+  for (int v = 0; v < N_VARIANTS; ++v) {
+    float x = rv[v][4 * j + ch];
+    if (!isfinite(x)) continue;
+    *lo = fmin(*lo, x);
+    *hi = fmax(*hi, x);
+  }
+}
+
 static void compare(const tested_function *fs, int n_fs, const point_set *pts, const float *rc,
-                    const float *rgl) {
+                    float *const *rv, const float *rgl) {
   for (int k = 0; k < n_fs; ++k) {
     const tested_function *f = &fs[k];
     double worst_c = 0.0, worst_gl_rel = 0.0;
-    int bad = 0, count = 0, worst_at = -1, c_shifted = 0, gl_horizon = 0, gl_far = 0;
+    int bad = 0, count = 0, worst_at = -1, c_shifted = 0, gl_horizon = 0, gl_shifted = 0, gl_far = 0;
+    int gl_envelope = 0;
+    double worst_envelope = 0.0;   /* largest GL - C accepted by the variants, relative */
     for (int i = 0; i < pts->n; ++i) {
       if (pts->fn[i] != k || pts->shadow_of[i] >= 0) continue;
+      int near_flip = pts->shadow_of[i] < -1;
       ++count;
       const float *p = pts->p + 8 * i;
       double want[SF_MAX_CHANNELS], scale = 0.0;
@@ -516,12 +603,15 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
         continue;
       }
       double e_c = c_error(f, c, want, scale);
+      if (getenv("SKYFIT_CODEGEN_DEBUG") && e_c > 0.5)
+        printf("  debug %s at %.9g %.9g %.9g: C %.9g %.9g %.9g want %.9g %.9g %.9g\n", f->name, p[0], p[1], p[2], c[0],
+               c[1], c[2], want[0], want[1], want[2]);
       if (e_c > f->bound && f->kind <= 1) {
         /* float32 and double put the horizon (ground hit or not) at inputs
          * a few ulp apart: accept the double model at mu within 4 ulp. */
         double e_near = neighbour_error(f, p, c, scale);
         if (e_near <= f->bound) ++c_shifted;
-        e_c = e_near;
+        e_c = fmin(e_c, e_near);
       }
       if (e_c > worst_c) {
         worst_c = e_c;
@@ -532,10 +622,38 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
         worst_gl_rel = fmax(worst_gl_rel, worst_here);
         continue;
       }
-      int accepted = 0;
-      for (int j = i + 1; j < pts->n && pts->shadow_of[j] == i; ++j)
-        if (gl_close(f, g, rc + 4 * j, scale, NULL)) accepted = 1;
-      if (accepted) ++gl_horizon;
+      /* accepted at the point itself iff, per channel, GL lies within the
+       * C header's results under the GLSL precision variants (widened by
+       * the same bound): the header's own sensitivity to what GLSL allows. */
+      int in_envelope = 1;
+      for (int ch = 0; in_envelope && ch < f->n_out; ++ch) {
+        double lo = c[ch], hi = c[ch];
+        envelope_add(rv, i, ch, &lo, &hi);
+        double tol = fmax(GL_ABS_FLOOR, GL_REL_BOUND * fmax(fmax(fabs(lo), fabs(hi)), scale));
+        if (!(g[ch] >= lo - tol && g[ch] <= hi + tol)) in_envelope = 0;
+      }
+      if (in_envelope) {
+        ++gl_envelope;
+        worst_envelope = fmax(worst_envelope, worst_here);
+        continue;
+      }
+      /* else accepted iff, per channel, GL lies within the C values (and
+       * their variants) at mu and at mu shifted by 1..HORIZON_ULP ulps: the
+       * function is that ill-conditioned there, or discontinuous. */
+      int accepted = pts->shadow_of[i + 1 < pts->n ? i + 1 : i] == i;
+      for (int ch = 0; accepted && ch < f->n_out; ++ch) {
+        double lo = c[ch], hi = c[ch];
+        envelope_add(rv, i, ch, &lo, &hi);
+        for (int j = i + 1; j < pts->n && pts->shadow_of[j] == i; ++j) {
+          lo = fmin(lo, rc[4 * j + ch]);
+          hi = fmax(hi, rc[4 * j + ch]);
+          envelope_add(rv, j, ch, &lo, &hi);
+        }
+        double tol = fmax(GL_ABS_FLOOR, GL_REL_BOUND * fmax(fmax(fabs(lo), fabs(hi)), scale));
+        if (!(g[ch] >= lo - tol && g[ch] <= hi + tol)) accepted = 0;
+      }
+      if (accepted && near_flip) ++gl_horizon;
+      else if (accepted) ++gl_shifted;
       else {
         if (gl_far++ < 3)
           printf("  GL vs C off at %.9g %.9g %.9g %.9g %.9g: GL %.9g C %.9g (rel %.3g)\n", p[0], p[1], p[2], p[3],
@@ -549,14 +667,16 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
       printf(" at (%.9g, %.9g, %.9g, %.9g, %.9g)", pts->p[8 * worst_at], pts->p[8 * worst_at + 1],
              pts->p[8 * worst_at + 2], pts->p[8 * worst_at + 3], pts->p[8 * worst_at + 4]);
     printf(", %d matched at mu within 4 ulp\n", c_shifted);
-    printf("%-40s GL vs C: worst rel %.3g (bound %.0e, abs floor %.0e); %d points within %d ulp of the horizon "
-           "matched C at shifted mu; %d points off\n",
-           "", worst_gl_rel, GL_REL_BOUND, GL_ABS_FLOOR, gl_horizon, HORIZON_ULP, gl_far);
+    printf("%-40s GL vs C: within rel %.0e / abs %.0e at %d points (worst rel %.3g); within the GLSL-precision "
+           "spread of C at %d (worst rel %.3g); matched C at mu shifted by <= %d ulp: %d within %d ulp of the "
+           "horizon flip, %d elsewhere; %d points off\n",
+           "", GL_REL_BOUND, GL_ABS_FLOOR, count - gl_envelope - gl_horizon - gl_shifted - gl_far, worst_gl_rel,
+           gl_envelope, worst_envelope, HORIZON_ULP, gl_horizon, HORIZON_ULP, gl_shifted, gl_far);
     CHECK(count >= POINTS_PER_FUNCTION);
     CHECK(bad == 0);
     CHECK(worst_c <= f->bound);
     CHECK(gl_far == 0);
-    CHECK(c_shifted <= count / 100 && gl_horizon <= count / 100);
+    CHECK(c_shifted <= count / 100 && gl_horizon + gl_shifted <= count / 20 && gl_envelope <= count / 20);
   }
 }
 
@@ -699,6 +819,55 @@ static int load_fitted(test_case *tc, const char *path, sf_codegen_part *part) {
   return 0;
 }
 
+/* The C header under the GLSL precision variants (driver_prelude), run
+ * only where it is needed: test points where GL and C are not within
+ * gl_close's bound, with their shifted-mu copies.
+ * rv[v] gets the results for every point, NAN where not run. */
+static int run_variants(const tested_function *fs, const point_set *pts, const float *rc, const float *rgl,
+                        const char *base, float **rv) {
+  point_set sub = {0};
+  int *from = malloc(sizeof(int) * (size_t)pts->n);
+  for (int i = 0; i < pts->n; ++i) {
+    if (pts->shadow_of[i] >= 0) continue;
+    const tested_function *f = &fs[pts->fn[i]];
+    double scale = 0.0;
+    if (f->scale_eval) {
+      double full[SF_MAX_CHANNELS];
+      f->scale_eval(f->ctx, pts->p + 8 * i, full);
+      for (int ch = 0; ch < f->n_out; ++ch) scale = fmax(scale, fabs(full[ch]));
+    }
+    int differs = !gl_close(f, rgl + 4 * i, rc + 4 * i, scale, NULL);
+    for (int j = i; differs && j < pts->n && (j == i || pts->shadow_of[j] == i); ++j) {
+      from[sub.n] = j;
+      add_point(&sub, pts->fn[j], pts->p + 8 * j, 8, -1);
+    }
+  }
+  int status = 0;
+  for (int v = 0; v < N_VARIANTS; ++v) {
+    rv[v] = malloc(16 * (size_t)pts->n);
+    for (int k = 0; k < 4 * pts->n; ++k) rv[v][k] = NAN;
+  }
+  if (sub.n > 0) {
+    char in_path[512], out_path[512], cmd[2048];
+    snprintf(in_path, sizeof in_path, "%s/%s.variants.in", tmp_dir, base);
+    if (write_points(in_path, &sub) != 0) status = -1;
+    for (int v = 0; v < N_VARIANTS && status == 0; ++v) {
+      snprintf(out_path, sizeof out_path, "%s/%s.c.v%d.out", tmp_dir, base, v + 1);
+      snprintf(cmd, sizeof cmd, "cd %s && ./%s_c %s %s %d", tmp_dir, base, in_path, out_path, v + 1);
+      float *o = run(cmd) == 0 ? read_results(out_path, sub.n) : NULL;
+      if (!o) status = -1;
+      for (int k = 0; o && k < sub.n; ++k) memcpy(rv[v] + 4 * from[k], o + 4 * k, 16);
+      free(o);
+    }
+  }
+  printf("GLSL-precision variants of the C header run at %d points\n", sub.n);
+  free(from);
+  free(sub.fn);
+  free(sub.shadow_of);
+  free(sub.p);
+  return status;
+}
+
 /* ---- one atmosphere ------------------------------------------------------------ */
 
 static tested_function *add_fn(tested_function *fs, int *n, const char *name, const char *args, int n_out, int kind,
@@ -722,11 +891,11 @@ static void check_case(test_case *tc) {
   sf_error err;
   sf_error_clear(&err);
   sf_scene_domain domain = {0.0, tc->atm.top_radius_km - tc->atm.bottom_radius_km, -1, 1, -0.2, 1};
-  sf_codegen_part parts[12];
+  sf_codegen_part parts[16];
   int n_parts = 0;
   tested_function fs[MAX_FUNCTIONS];
   int n_fs = 0;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < SF_BASELINE_COUNT; ++k) {
     sf_baseline *b = &tc->baselines[k];
     b->kind = (sf_baseline_kind)k;
     b->steps = 16;
@@ -752,18 +921,19 @@ static void check_case(test_case *tc) {
     /* Stated float32 bounds (C header vs the double model), ~2x the measured. */
     const sf_fitted_model *sig = tc->fitted[0], *hos = tc->fitted[1], *pre = tc->fitted[2];
     const sf_fitted_model *mt = tc->fitted[3], *ms = tc->fitted[4], *sp = tc->fitted[5];
-    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance", "ff", 3, 0, eval_sigmoid, &sig->sigmoid, 1.0, 1e-6);
+    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance", "ff", 3, 0, eval_sigmoid, &sig->sigmoid, 1.0, 3e-4);
     add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance_segment", "fff", 3, 0, eval_sigmoid_segment, &sig->sigmoid,
-           1.0, 1e-3);
-    add_fn(fs, &n_fs, "skyfit_hosek_sky_radiance", "fff", 3, 2, eval_sky, &hos->sky, 1e-6, 2e-5);
-    add_fn(fs, &n_fs, "skyfit_preetham_sky_radiance", "fff", 3, 2, eval_sky, &pre->sky, 1e-6, 2e-5);
-    add_fn(fs, &n_fs, "skyfit_mlp_transmittance", "ff", 3, 0, eval_mlp_t, &mt->mlp, 1.0, 2e-6);
+           1.0, 2e-3);
+    add_fn(fs, &n_fs, "skyfit_hosek_sky_radiance", "fff", 3, 2, eval_sky, &hos->sky, 1e-6, 6e-5);
+    add_fn(fs, &n_fs, "skyfit_preetham_sky_radiance", "fff", 3, 2, eval_sky, &pre->sky, 1e-6, 2e-4);
+    add_fn(fs, &n_fs, "skyfit_mlp_transmittance", "ff", 3, 0, eval_mlp_t, &mt->mlp, 1.0, 2e-4);
     add_fn(fs, &n_fs, "skyfit_mlp_transmittance_segment", "fff", 3, 0, eval_mlp_t_segment, &mt->mlp, 1.0, 1e-3);
     add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance", "ffff", 3, 1, eval_mlp_s, ms, 1e-6, 2e-5);
     tested_function *seg = add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance_segment", "fffff", 3, 1, eval_mlp_s_segment,
                                   ms, 1e-6, 1e-3);
     seg->scale_eval = eval_mlp_s;
-    add_fn(fs, &n_fs, "skyfit_spectral4_to_linear_srgb", "v", 3, 3, eval_spectral_srgb, &sp->spectral4, 1e-6, 1e-5);
+    add_fn(fs, &n_fs, "skyfit_spectral4_to_linear_srgb", "v", 3, 3, eval_spectral_srgb, &sp->spectral4, 1e-6, 1e-5)
+        ->scale_eval = eval_spectral_srgb_abs;
     add_fn(fs, &n_fs, "skyfit_spectral4_to_xyz", "v", 3, 3, eval_spectral_xyz, &sp->spectral4, 1e-6, 1e-5);
     add_fn(fs, &n_fs, "skyfit_spectral4_scattering", "i", 4, 4, eval_spectral_scattering, &sp->spectral4, 1e-9,
            1e-7);
@@ -845,10 +1015,13 @@ static void check_case(test_case *tc) {
   float *rc = read_results(out_c, pts.n), *rcpp = read_results(out_cpp, pts.n);
   float *rgl = read_results(out_gl, pts.n);
   CHECK(rc && rcpp && rgl);
+  float *rv[N_VARIANTS] = {NULL};
   if (rc && rcpp && rgl) {
     CHECK(memcmp(rc, rcpp, 16 * (size_t)pts.n) == 0);  /* C and C++: the same code */
-    compare(fs, n_fs, &pts, rc, rgl);
+    CHECK(run_variants(fs, &pts, rc, rgl, base, rv) == 0);
+    compare(fs, n_fs, &pts, rc, rv, rgl);
   }
+  for (int v = 0; v < N_VARIANTS; ++v) free(rv[v]);
   free(rc);
   free(rcpp);
   free(rgl);
@@ -876,16 +1049,16 @@ int main(void) {
     tc->name = names[i];
     sf_atmosphere_default(&tc->atm);
     /* Stated float32 bounds on |T_float - T_double| (naive, chapman,
-     * taylor), measured with ~1.5x margin. They are set by viewers far in
+     * taylor, flat), measured with ~1.5x margin. They are set by viewers far in
      * space looking at the ground (h = 5 planet radii: the altitude along a
      * 32,000 km ray carries float32 cancellation of ~ulp(r^2)/(2r)). */
-    static const double bounds[5][3] = {
-        {1.5e-3, 2e-3, 5e-4},     /* earth */
-        {0.02, 0.06, 0.06},       /* thin */
-        {0.015, 0.015, 0.015},    /* thick */
-        {0.015, 0.012, 0.008},    /* faint */
-        {3e-3, 3e-3, 0.015}};     /* dense */
-    for (int m = 0; m < 3; ++m) tc->bound[m] = bounds[i][m];
+    static const double bounds[5][SF_BASELINE_COUNT] = {
+        {1.5e-3, 2e-3, 5e-4, 1.5e-3},  /* earth (flat measured 9.4e-4) */
+        {0.02, 0.06, 0.015, 0.014},    /* thin  (flat 9.0e-3) */
+        {0.015, 0.015, 0.015, 2.5e-3}, /* thick (flat 1.7e-3) */
+        {0.015, 0.012, 0.008, 0.014},  /* faint (flat 9.4e-3) */
+        {3e-3, 3e-3, 3e-3, 5.5e-3}};   /* dense (flat 3.6e-3) */
+    for (int m = 0; m < SF_BASELINE_COUNT; ++m) tc->bound[m] = bounds[i][m];
     for (int c = 0; c < tc->atm.n_constituents; ++c) {
       sf_constituent *con = &tc->atm.constituents[c];
       for (int l = 0; l < con->n_layers; ++l) {

@@ -75,6 +75,7 @@ int main(void) {
   o.shape.output = SF_ACT_EXP_NEG;
   o.epochs = 12;
   o.batch = 300;   /* several chunks per batch: the threads split them */
+  o.parallel_work = 0.0;   /* even a batch this small */
   o.restarts = 2;
   o.patience = 4;
   o.seed = 7;

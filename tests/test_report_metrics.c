@@ -3,8 +3,12 @@
  * views' cameras (centre-pixel directions). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "codegen/report.h"
+#include "fit/candidate_cache.h"
 #include "fit/candidate_metrics.h"
 #include "models/atmosphere_file.h"
 #include "models/views_standard.h"
@@ -114,10 +118,64 @@ static void tonemap(void) {
   CHECK(out[1] == 0 && out[2] == 255);
 }
 
+/* A model that blew up (1e150: its square overflows) counts as non-finite;
+ * the figures are those of the other values, exactly. */
+static void metrics_of_a_blown_up_value(void) {
+  enum { N = 100 };
+  double ref[N], model[N];
+  for (int i = 0; i < N; ++i) {
+    ref[i] = 1.0 + 0.01 * i;
+    model[i] = ref[i] + 0.02;
+  }
+  model[10] = 1e150;
+  sf_error_metrics m;
+  size_t bad;
+  sf_error_metrics_compute(model, ref, N, &m, &bad);
+  printf("blown-up value: non-finite %zu, rmse %.17g (want 0.02), max %.17g\n", bad, m.rmse, m.max_abs);
+  CHECK(bad == 1);
+  CHECK(m.n_values == N - 1);
+  CHECK_REL(m.rmse, 0.02, 1e-12);
+  CHECK_REL(m.max_abs, 0.02, 1e-12);
+}
+
+/* The fit cache's key: equal inputs, equal paths; any change, another. */
+static void cache_keys(void) {
+  sf_scene *scene = malloc(sizeof *scene);
+  if (!scene) { CHECK(0); return; }
+  sf_scene_default(scene);
+  sf_candidate_inputs in;
+  memset(&in, 0, sizeof in);
+  in.scene = scene;
+  in.atm = &scene->atmosphere;
+  sf_error err = {0};
+  CHECK(sf_scene_get_domain(scene, &in.domain, &err) == SF_OK);
+  char p[4][4400], dir[] = "/tmp/skyfit-cache-keys-XXXXXX", sub[64];
+  if (!mkdtemp(dir)) { CHECK(0); free(scene); return; }
+  sf_cache_key k;
+  for (int v = 0; v < 4; ++v) {
+    sf_candidate_inputs x = in;
+    if (v == 2) x.domain.mu_s_min += 1e-12;   /* a change in the 12th digit */
+    sf_cache_key_begin(&k, "sigmoid", &x);
+    sf_cache_key_add_number(&k, "n_h", v == 3 ? 49 : 48);
+    CHECK(sf_cache_path(dir, "fits", "sigmoid", &k, p[v], sizeof p[v], &err) == SF_OK);
+  }
+  printf("cache paths: %s %s %s %s\n", p[0], p[1], p[2], p[3]);
+  CHECK(strcmp(p[0], p[1]) == 0);
+  CHECK(strcmp(p[0], p[2]) != 0);
+  CHECK(strcmp(p[0], p[3]) != 0);
+  CHECK(strcmp(p[2], p[3]) != 0);
+  snprintf(sub, sizeof sub, "%s/fits", dir);
+  rmdir(sub);
+  rmdir(dir);
+  free(scene);
+}
+
 int main(void) {
   metrics_of_known_perturbation();
   pareto();
   cameras();
   tonemap();
+  metrics_of_a_blown_up_value();
+  cache_keys();
   return check_summary();
 }

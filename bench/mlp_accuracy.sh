@@ -1,0 +1,113 @@
+#!/bin/bash
+# Accuracy of the neural sky (issue: neural sky, targets): the long
+# trainings behind the figures of the closing note, nice'd.
+#   bench/mlp_accuracy.sh [--tables DIR] [--quick]
+# Data: the built-in atmosphere and scene (ground to space, every view
+# direction, sun -10..90 deg), tables at the default resolution (Bruneton's
+# parameterisation, 256x64 and 32x128x32x8), computed into DIR if missing
+# (minutes). Validation: a seeded 10 % of the tables' grid points inside
+# the domain, never trained on (fit/dataset.h sf_dataset_split).
+# Printed per run (from the weights file's metrics):
+#   transmittance: validation RMSE / max of T_top per channel (the network's
+#     own quantity at held-out grid points); full rays (eq. 43, reversed rays
+#     toward the ground) at 20000 random (sqrt h uniform, mu uniform) points
+#     against the exact optical depth, double and float32; the RMSE on the 5
+#     standard transmittance views of seed 000 App. D (192x108, every pixel).
+#   scattering: validation RMSE (radiance, phase applied) and the radiance
+#     RMSE per channel at noon (90 deg), sunrise (+6) and dawn (-6) over
+#     20000 random viewers/directions of the domain against the tables,
+#     sun irradiance 1 (seed 000 App. B renders with irradiance 6 and
+#     exposure; its figures are per view, not comparable one to one).
+# --quick: fewer epochs (a smoke run of this script, numbers not meaningful).
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD:-$here/build-bench}
+tables=/tmp/skyfit-bench-tables
+quick=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --tables) tables=$2; shift 2 ;;
+    --quick) quick=1; shift ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j2 --target skyfit >/dev/null 2>&1 || { echo "build failed" >&2; exit 1; }
+skyfit=$build/skyfit
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$tables"
+echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg); timings are noisy on a shared machine"
+e() { if [ "$quick" = 1 ]; then echo $(( ($1 + 9) / 10 )); else echo "$1"; fi; }
+
+summary() {
+  /usr/bin/python3 - "$@" <<'EOF'
+import json, sys
+for f in sys.argv[1:]:
+    d = json.load(open(f)); m = d["metrics"]; t = d["training"]
+    print("%s: layers %s loss %s epochs %s lr %s decay %s batch %s polish %s; train loss %.4g validation loss %.4g"
+          % (f.split("/")[-1], "-".join(str(x) for x in t["layers"]), t["loss"], t["epochs_run"], t["lr"],
+             t["lr_decay_per_epoch"], t["batch"], t.get("polish_iterations", 0), m["train_loss"],
+             m.get("validation_loss", float("nan"))))
+    for k in ("validation", "full_ray_random", "full_ray_random_float32", "radiance_noon", "radiance_sunrise",
+              "radiance_dawn"):
+        if k in m:
+            x = m[k]
+            print("    %-24s RMSE %s (all %.3g), max %.3g, mean reference %.3g"
+                  % (k, " ".join("%s %.3g" % (c, v) for c, v in x["rmse"].items()), x["rmse_all"],
+                     x["max_abs_all"], x["mean_reference"]))
+    if "views_rmse" in m:
+        print("    views RMSE (App. %s)     " % ("D" if "full_ray_random" in m else "B") + ", ".join("%s %.3g" % (k, v) for k, v in m["views_rmse"].items()))
+EOF
+}
+
+tfit() {
+  local name=$1
+  shift
+  local t0=$(date +%s)
+  nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --out "$work/$name.json" "$@"
+  summary "$work/$name.json"
+  echo "    ($(($(date +%s) - t0)) s wall including table loading)"
+}
+sfit() {
+  local name=$1
+  shift
+  local t0=$(date +%s)
+  nice "$skyfit" fit mlp-scattering --tables "$tables" --quiet --out "$work/$name.json" "$@"
+  summary "$work/$name.json"
+  echo "    ($(($(date +%s) - t0)) s wall including table loading)"
+}
+
+echo "== transmittance network (target: validation RMSE <= 7e-5) =="
+tfit t243_adam --layers 2,4,3 --output exp_neg --epochs "$(e 400)" --lr-decay 1 --polish 0
+tfit t243_polish --layers 2,4,3 --output exp_neg --epochs "$(e 500)" --lr-decay 0.995 --polish 60
+tfit t243_polish_exp_neg_exp --layers 2,4,3 --epochs "$(e 500)" --polish 60
+tfit t2883_default --epochs "$(e 500)"
+tfit t2883_build --epochs "$(e 50)"
+tfit t2883_exp_neg --output exp_neg --epochs "$(e 500)"
+tfit t216163 --layers 2,16,16,3 --polish 40 --epochs "$(e 500)"
+
+echo "== transmittance inputs: (sqrt h, mu) against Bruneton's (x_r, x_mu), same CSV trainer =="
+nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --dump-dataset "$work/t.csv"
+# Bruneton & Neyret 2008's transmittance coordinates from the dumped
+# (normalised) inputs; the built-in atmosphere: R 6360 km, top 6460 km, so
+# sqrt h = x0 / 0.2 + 5 and mu = x1.
+awk -F, 'NR == 1 { print "xr,xmu,T_r,T_g,T_b"; next }
+  { R = 6360; Rt = 6460; s = $1 / 0.2 + 5; h = s * s; r = R + h; mu = $2;
+    H = sqrt(Rt * Rt - R * R); rho = sqrt(r * r - R * R); q = r * r * (mu * mu - 1) + Rt * Rt; if (q < 0) q = 0;
+    d = -r * mu + sqrt(q); dmin = Rt - r; dmax = rho + H; xm = dmax > dmin ? (d - dmin) / (dmax - dmin) : 0;
+    printf "%.17g,%.17g,%s,%s,%s\n", 2 * rho / H - 1, 2 * xm - 1, $3, $4, $5 }' "$work/t.csv" >"$work/tb.csv"
+for data in t tb; do
+  for layers in 2,4,3 2,8,8,3; do
+    printf '%-3s %-8s ' "$data" "$layers"
+    nice "$skyfit" fit mlp --data "$work/$data.csv" --inputs 2 --layers "$layers" --epochs "$(e 500)" --batch 256 \
+      --lr-decay 0.995 --validation 0.1 --polish 60 --quiet
+  done
+done
+
+echo "== scattering network 4-8-8-9 (target separate), MSE and relative loss; 4-16-16-9 =="
+sfit s4889_default --epochs "$(e 60)"
+sfit s4889_adam_only --epochs "$(e 30)" --polish 0
+sfit s4889_rel --loss rel --epochs "$(e 30)" --polish 0
+sfit s4889_build --epochs "$(e 15)" --lr-decay 0.9 --polish 30
+sfit s416169 --layers 4,16,16,9 --epochs "$(e 30)" --polish 0

@@ -1,0 +1,232 @@
+#include "fit/mlp_lm.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit/train.h"
+
+void sf_mlp_lm_options_default(sf_mlp_lm_options *o) {
+  o->iterations = 0;
+  o->max_samples = 0;
+  o->lambda0 = 1e-3;
+}
+
+/* f'(z) from z and a = f(z). */
+static double activation_slope(sf_mlp_activation f, double z, double a) {
+  switch (f) {
+    case SF_ACT_SIGMOID: return a * (1.0 - a);
+    case SF_ACT_TANH: return 1.0 - a * a;
+    case SF_ACT_RELU: return z > 0.0 ? 1.0 : 0.0;
+    case SF_ACT_LINEAR: return 1.0;
+    case SF_ACT_EXP_NEG: return -a;
+    case SF_ACT_EXP_NEG_EXP: return a * exp(-z);
+  }
+  return 0.0;
+}
+
+/* Residual of one output (fit/mlp_backward.h) and its slope in pred. */
+static double residual(const sf_mlp_loss *loss, int k, double pred, double target, double *slope) {
+  switch (loss->kind) {
+    case SF_LOSS_REL: {
+      double w = 1.0 / (fabs(target) + loss->delta[k]);
+      *slope = w;
+      return (pred - target) * w;
+    }
+    case SF_LOSS_LOG: {
+      double p = pred + loss->delta[k];
+      if (p < 1e-300) p = 1e-300;
+      *slope = 1.0 / p;
+      return log(p) - log(target + loss->delta[k]);
+    }
+    case SF_LOSS_MSE:
+    default:
+      *slope = 1.0;
+      return pred - target;
+  }
+}
+
+typedef struct lm_work {
+  int P, L;
+  double z[SF_MLP_MAX_LAYERS][SF_MLP_MAX_WIDTH], a[SF_MLP_MAX_LAYERS + 1][SF_MLP_MAX_WIDTH];
+  double g[2][SF_MLP_MAX_WIDTH];
+  double *row;
+} lm_work;
+
+static void forward_store(const sf_mlp_shape *s, const double *params, const double *x, lm_work *w) {
+  memcpy(w->a[0], x, (size_t)s->sizes[0] * sizeof(double));
+  const double *p = params;
+  for (int l = 0; l < s->n_layers; ++l) {
+    int n_in = s->sizes[l], n_out = s->sizes[l + 1];
+    const double *W = p, *b = p + n_out * n_in;
+    sf_mlp_activation f = l + 1 == s->n_layers ? s->output : s->hidden;
+    for (int i = 0; i < n_out; ++i) {
+      double sum = b[i];
+      for (int j = 0; j < n_in; ++j) sum += W[i * n_in + j] * w->a[l][j];
+      w->z[l][i] = sum;
+      w->a[l + 1][i] = sf_mlp_activate(f, sum);
+    }
+    p += n_out * (n_in + 1);
+  }
+}
+
+/* w->row = d out_k / d params (flat order of models/mlp.h) * scale. */
+static void jacobian_row(const sf_mlp_shape *s, const double *params, int k, double scale, lm_work *w) {
+  int L = s->n_layers;
+  memset(w->row, 0, (size_t)w->P * sizeof(double));
+  double *g = w->g[0], *g_prev = w->g[1];
+  int n_last = s->sizes[L];
+  for (int i = 0; i < n_last; ++i) g[i] = 0.0;
+  g[k] = scale * activation_slope(s->output, w->z[L - 1][k], w->a[L][k]);
+  for (int l = L - 1; l >= 0; --l) {
+    int n_in = s->sizes[l], n_out = s->sizes[l + 1];
+    int wo = sf_mlp_weight_offset(s, l), bo = sf_mlp_bias_offset(s, l);
+    const double *W = params + wo;
+    for (int i = 0; i < n_out; ++i) {
+      if (g[i] == 0.0) continue;
+      for (int j = 0; j < n_in; ++j) w->row[wo + i * n_in + j] = g[i] * w->a[l][j];
+      w->row[bo + i] = g[i];
+    }
+    if (l == 0) break;
+    for (int j = 0; j < n_in; ++j) {
+      double sum = 0.0;
+      for (int i = 0; i < n_out; ++i) sum += W[i * n_in + j] * g[i];
+      g_prev[j] = sum * activation_slope(s->hidden, w->z[l - 1][j], w->a[l][j]);
+    }
+    double *t = g;
+    g = g_prev;
+    g_prev = t;
+  }
+}
+
+/* Sum of squared residuals over the first n samples. */
+static double total_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_dataset *d,
+                         long n) {
+  double out[SF_MLP_MAX_WIDTH], sum = 0.0, slope;
+  int n_out = s->sizes[s->n_layers];
+  for (long i = 0; i < n; ++i) {
+    sf_mlp_forward(s, params, d->x + i * d->n_in, out);
+    for (int k = 0; k < n_out; ++k) {
+      double e = residual(loss, k, out[k], d->y[i * d->n_out + k], &slope);
+      sum += e * e;
+    }
+  }
+  return sum;
+}
+
+/* Solves A x = b for symmetric positive definite A (P x P, upper triangle
+ * used) by Cholesky; -1 when A is not positive definite. */
+static int cholesky_solve(int P, const double *A, const double *b, double *Lw, double *x) {
+  for (int i = 0; i < P; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double sum = A[j * P + i];
+      for (int k = 0; k < j; ++k) sum -= Lw[i * P + k] * Lw[j * P + k];
+      if (i == j) {
+        if (!(sum > 0.0)) return -1;
+        Lw[i * P + i] = sqrt(sum);
+      } else {
+        Lw[i * P + j] = sum / Lw[j * P + j];
+      }
+    }
+  for (int i = 0; i < P; ++i) {
+    double sum = b[i];
+    for (int k = 0; k < i; ++k) sum -= Lw[i * P + k] * x[k];
+    x[i] = sum / Lw[i * P + i];
+  }
+  for (int i = P - 1; i >= 0; --i) {
+    double sum = x[i];
+    for (int k = i + 1; k < P; ++k) sum -= Lw[k * P + i] * x[k];
+    x[i] = sum / Lw[i * P + i];
+  }
+  return 0;
+}
+
+int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_loss *loss, const sf_dataset *train,
+                     const sf_dataset *validation, const sf_mlp_lm_options *o, sf_mlp_lm_result *result,
+                     sf_error *err) {
+  memset(result, 0, sizeof *result);
+  int P = sf_mlp_param_count(shape);
+  long n = o->max_samples > 0 && o->max_samples < train->n ? o->max_samples : train->n;
+  int n_out = shape->sizes[shape->n_layers];
+  int has_val = validation && validation->n > 0;
+  size_t PP = (size_t)P * (size_t)P;
+  double *JTJ = malloc(PP * sizeof(double)), *Lw = malloc(PP * sizeof(double));
+  double *JTe = malloc((size_t)P * sizeof(double)), *step = malloc((size_t)P * sizeof(double));
+  double *trial = malloc((size_t)P * sizeof(double)), *best = malloc((size_t)P * sizeof(double));
+  double *A = malloc(PP * sizeof(double));
+  lm_work *w = malloc(sizeof *w);
+  double *row = malloc((size_t)P * sizeof(double));
+  if (!JTJ || !Lw || !JTe || !step || !trial || !best || !A || !w || !row) {
+    free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(w); free(row);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  w->P = P;
+  w->row = row;
+  double cost = total_loss(shape, params, loss, train, n);
+  double norm = (double)n * n_out;
+  result->initial_loss = result->final_loss = cost / norm;
+  double best_val = has_val ? sf_mlp_dataset_loss(shape, params, loss, validation, 1) : NAN;
+  result->initial_validation = result->final_validation = best_val;
+  memcpy(best, params, (size_t)P * sizeof(double));
+  double lambda = o->lambda0;
+  int need_jacobian = 1;
+  for (int it = 0; it < o->iterations; ++it) {
+    if (need_jacobian) {
+      memset(JTJ, 0, PP * sizeof(double));
+      memset(JTe, 0, (size_t)P * sizeof(double));
+      double out[SF_MLP_MAX_WIDTH];
+      for (long s = 0; s < n; ++s) {
+        forward_store(shape, params, train->x + s * train->n_in, w);
+        memcpy(out, w->a[shape->n_layers], (size_t)n_out * sizeof(double));
+        for (int k = 0; k < n_out; ++k) {
+          double slope, e = residual(loss, k, out[k], train->y[s * train->n_out + k], &slope);
+          jacobian_row(shape, params, k, slope, w);
+          for (int i = 0; i < P; ++i) {
+            double ri = row[i];
+            if (ri == 0.0) continue;
+            JTe[i] += ri * e;
+            double *Ai = JTJ + (size_t)i * P;
+            for (int j = i; j < P; ++j) Ai[j] += ri * row[j];
+          }
+        }
+      }
+      need_jacobian = 0;
+    }
+    /* damped normal equations; the floor keeps parameters no sample sees solvable */
+    memcpy(A, JTJ, PP * sizeof(double));
+    double max_diag = 0.0;
+    for (int i = 0; i < P; ++i) max_diag = fmax(max_diag, JTJ[(size_t)i * P + i]);
+    for (int i = 0; i < P; ++i) A[(size_t)i * P + i] += lambda * JTJ[(size_t)i * P + i] + 1e-12 * max_diag + 1e-300;
+    for (int i = 0; i < P; ++i) JTe[i] = -JTe[i];
+    int bad = cholesky_solve(P, A, JTe, Lw, step);
+    for (int i = 0; i < P; ++i) JTe[i] = -JTe[i];
+    result->iterations = it + 1;
+    double trial_cost = INFINITY;
+    if (!bad) {
+      for (int i = 0; i < P; ++i) trial[i] = params[i] + step[i];
+      trial_cost = total_loss(shape, trial, loss, train, n);
+    }
+    if (!bad && trial_cost < cost) {
+      memcpy(params, trial, (size_t)P * sizeof(double));
+      cost = trial_cost;
+      lambda = fmax(lambda / 3.0, 1e-12);
+      result->accepted += 1;
+      need_jacobian = 1;
+      if (has_val) {
+        double v = sf_mlp_dataset_loss(shape, params, loss, validation, 1);
+        if (v < best_val) {
+          best_val = v;
+          memcpy(best, params, (size_t)P * sizeof(double));
+        }
+      }
+    } else {
+      lambda *= 4.0;
+      if (lambda > 1e12) break;
+    }
+  }
+  if (has_val) memcpy(params, best, (size_t)P * sizeof(double));
+  result->final_loss = total_loss(shape, params, loss, train, n) / norm;
+  result->final_validation = best_val;
+  free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(w); free(row);
+  return SF_OK;
+}

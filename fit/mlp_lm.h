@@ -1,0 +1,46 @@
+/* Levenberg-Marquardt polish of a trained network (SPEC §7.4-7.5): after
+ * Adam (fit/train.h) has found the basin, a few damped Gauss-Newton steps
+ * on the same loss bring a small network to the bottom of it, where Adam's
+ * mini-batch noise stalls orders of magnitude above (measured in
+ * bench/mlp_accuracy.sh). Written by hand like Adam: the loss is
+ *   sum over samples s and outputs k of e_sk^2,
+ * e the residual of fit/mlp_backward.h (mse: p - y; rel: (p - y)/(|y| + d_k);
+ * log: log(p + d_k) - log(y + d_k)), so minimising it minimises the training
+ * loss. Each iteration forms J^T J and J^T e over the samples (the Jacobian
+ * rows by back-propagation of each output, one sample at a time, in sample
+ * order: deterministic, independent of threads), solves
+ *   (J^T J + lambda diag(J^T J) + lambda_floor I) step = -J^T e
+ * by Cholesky, and accepts the step if the loss drops (lambda / 3), else
+ * rejects it (lambda * 4). The validation loss, when given, picks the best
+ * iterate (early stopping), so polishing cannot over-fit unnoticed. */
+#ifndef SKYFIT_FIT_MLP_LM_H
+#define SKYFIT_FIT_MLP_LM_H
+
+#include "fit/dataset.h"
+#include "fit/mlp_backward.h"
+#include "models/mlp.h"
+#include "util/error.h"
+
+typedef struct sf_mlp_lm_options {
+  int iterations;          /* accepted or rejected steps; 0: nothing */
+  long max_samples;        /* samples used to form J^T J (the first ones); <= 0: all */
+  double lambda0;          /* initial damping, default 1e-3 */
+} sf_mlp_lm_options;
+
+void sf_mlp_lm_options_default(sf_mlp_lm_options *o);
+
+typedef struct sf_mlp_lm_result {
+  double initial_loss, final_loss;          /* mean loss on the training samples used */
+  double initial_validation, final_validation;   /* NAN without validation */
+  int iterations, accepted;
+} sf_mlp_lm_result;
+
+/* Polishes params (in place; the best iterate by validation loss if
+ * validation is given and not empty, else the last accepted one). loss as
+ * in training (delta per output for rel and log). SF_ERR_INTERNAL when out
+ * of memory. */
+int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_loss *loss, const sf_dataset *train,
+                     const sf_dataset *validation, const sf_mlp_lm_options *o, sf_mlp_lm_result *result,
+                     sf_error *err);
+
+#endif
