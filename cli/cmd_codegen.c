@@ -24,7 +24,7 @@ typedef struct codegen_options {
 
 static void codegen_usage(FILE *out) {
   fprintf(out,
-          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat]\n"
+          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat,spline]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -38,7 +38,8 @@ static void codegen_usage(FILE *out) {
           "                     naive (N-step midpoint raymarch of the densities),\n"
           "                     chapman (Schuler, seed 000 eq. 22-25), taylor (Galaj, seed 002\n"
           "                     eq. 17), flat (Leenman's flat/DR-1 model, seed 000 eq. 51, 53,\n"
-          "                     59). Leenman's raymarched model (seed 000 11.2.10) raymarches\n"
+          "                     59), spline (Galaj, seed 002 IV.E: Hermite meshes 50 x 20 as\n"
+          "                     constant arrays). Leenman's raymarched model (seed 000 11.2.10) raymarches\n"
           "                     scattering only and takes its optical depths from the flat\n"
           "                     model: its transmittance is 'flat', not 'naive'\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
@@ -139,6 +140,7 @@ typedef struct codegen_job {
   sf_scene_domain domain;
   sf_baseline baselines[SF_BASELINE_COUNT];
   int n_baselines;
+  sf_spline_model spline;          /* the spline baseline's meshes, if asked */
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
@@ -166,7 +168,7 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
     int kind = sf_baseline_kind_parse(item);
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
-                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat)", item);
+                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline)", item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)
         return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
@@ -174,6 +176,12 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
     b->kind = (sf_baseline_kind)kind;
     b->steps = o->naive_steps;
     b->atmosphere = &job->scene.atmosphere;
+    if (b->kind == SF_BASELINE_SPLINE) {
+      if (sf_spline_model_make(b->atmosphere, SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS,
+                               &job->spline) != 0)
+        return sf_fail(err, SF_ERR_INTERNAL, "--baselines spline: out of memory");
+      b->spline = &job->spline;
+    }
     if (sf_baseline_part(b, &job->domain, &job->parts[job->n_parts], err) != SF_OK)
       return err->status;
     ++job->n_parts;
@@ -225,6 +233,7 @@ int sf_cmd_codegen(int argc, char **argv) {
     sf_fitted_free(job->fitted[i]);
     sf_weights_free(&job->weights[i]);
   }
+  sf_spline_model_free(&job->spline);
   free(job);
   return status;
 }

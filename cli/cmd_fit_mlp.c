@@ -229,6 +229,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (result.interrupted) {
     fprintf(stderr, "%s: interrupted after %d epochs; checkpoint %s; continue with --resume\n", command,
             result.epochs_run, t->checkpoint_path);
+    sf_mlp_free(&result.net);
     status = 130;
     goto done;
   }

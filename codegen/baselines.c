@@ -9,9 +9,12 @@
 #include "models/optical_depth_chapman.h"
 #include "models/optical_depth_flat.h"
 #include "models/optical_depth_raymarch.h"
+#include "models/optical_depth_spline.h"
 #include "models/optical_depth_taylor.h"
+#include "codegen/baseline_spline.h"
 
-static const char *const kind_names[SF_BASELINE_COUNT] = {"naive", "chapman", "taylor", "flat"};
+static const char *const kind_names[SF_BASELINE_COUNT] = {"naive", "chapman", "taylor", "flat",
+                                                               "spline"};
 
 int sf_baseline_kind_parse(const char *name) {
   for (int k = 0; k < SF_BASELINE_COUNT; ++k)
@@ -38,6 +41,11 @@ void sf_baseline_describe(const sf_baseline *b, char *out, size_t n) {
                        "as midpoint, 11.3.3; eq. 59 shells); also the transmittance of his "
                        "raymarched model (11.2.10)");
       break;
+    case SF_BASELINE_SPLINE:
+      snprintf(out, n, "Galaj's spline transmittance (seed 002 IV.E, Hermite meshes %d x %d); "
+                       "non-exponential constituents as seed 000 eq. 59 shells",
+               SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS);
+      break;
     default:
       snprintf(out, n, "Galaj's Taylor transmittance (seed 002 eq. 17, a = b = %.2f); "
                        "non-exponential constituents as seed 000 eq. 59 shells",
@@ -54,6 +62,9 @@ int sf_baseline_check(const sf_baseline *b, sf_error *err) {
                    sf_baseline_kind_name(b->kind), atm->n_channels);
   if (b->kind == SF_BASELINE_NAIVE && b->steps < 1)
     return sf_fail(err, SF_ERR_INPUT, "baseline naive: steps must be >= 1, got %d", b->steps);
+  if (b->kind == SF_BASELINE_SPLINE &&
+      (!b->spline || b->spline->n_constituents != atm->n_constituents))
+    return sf_fail(err, SF_ERR_INTERNAL, "baseline spline: no spline model for its atmosphere");
   return SF_OK;
 }
 
@@ -70,6 +81,9 @@ void sf_baseline_depth(const sf_baseline *b, double r, double mu, double t0, dou
     case SF_BASELINE_CHAPMAN:
       sf_optical_depth_chapman_segment(atm, r, mu, t0, t1, depth);
       break;
+    case SF_BASELINE_SPLINE:
+      sf_optical_depth_spline_segment(b->spline, r, mu, t0, t1, depth);  /* shells included */
+      return;
     case SF_BASELINE_FLAT:
       for (int i = 0; i < atm->n_constituents; ++i) {
         double H, d0;
@@ -365,6 +379,12 @@ static void emit_flat_depths(sf_code_writer *w, const sf_baseline *b) {
   emit_shells(w, atm);
 }
 
+static void emit_spline_depths(sf_code_writer *w, const sf_baseline *b) {
+  emit_segment_ends(w, b->atmosphere, 1);
+  sf_emit_spline_depths(w, b->atmosphere, b->spline);
+  emit_shells(w, b->atmosphere);
+}
+
 void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   const sf_atmosphere *atm = b->atmosphere;
   const char *name = sf_baseline_kind_name(b->kind);
@@ -372,6 +392,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   char description[256];
   sf_baseline_describe(b, description, sizeof description);
   if (b->kind == SF_BASELINE_FLAT) emit_flat_helpers(w);
+  if (b->kind == SF_BASELINE_SPLINE) sf_emit_spline_tables(w, b->spline);
   sf_cw_emit(w, "/* %s: %s. */\n", name, description);
   sf_cw_emit(w,
              "@fn %V skyfit_%s_transmittance_between(float h_km, float mu, float t0, float t1) {\n"
@@ -385,6 +406,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   if (b->kind == SF_BASELINE_NAIVE) emit_naive_depths(w, b);
   else if (b->kind == SF_BASELINE_CHAPMAN) emit_chapman_depths(w, b);
   else if (b->kind == SF_BASELINE_FLAT) emit_flat_depths(w, b);
+  else if (b->kind == SF_BASELINE_SPLINE) emit_spline_depths(w, b);
   else emit_taylor_depths(w, b);
   sf_cw_emit(w, "  }\n");
   emit_transmittance_return(w, atm);

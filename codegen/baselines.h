@@ -9,12 +9,15 @@
  *  - flat:    Leenman's flat / DR-1 model, seed 000 §10.2-10.5, eq. 51, 53, 59
  *             and §11.3.3 (models/optical_depth_flat.h, SF_FLAT_DESCENT_VIEWER:
  *             eq. 53 as written; the ground point as midpoint on lines that
- *             hit the ground).
+ *             hit the ground);
+ *  - spline:  Gałaj's spline transmittance, seed 002 §IV.E, Hermite meshes
+ *             of 50 x 20 points (models/optical_depth_spline.h; the meshes
+ *             become constant float arrays, codegen/baseline_spline.h).
  * Leenman's "raymarched" model (seed 000 §11.2.10) is no separate
  * transmittance baseline: it raymarches the *scattering* integral (eq. 54-57,
  * 5 steps) and takes every optical depth from the flat model (§10.1), so its
  * transmittance is exactly "flat" — not the N-step density raymarch "naive".
- * Chapman and Taylor exist only for exponential constituents; any other
+ * Chapman, Taylor and spline exist only for exponential constituents; any other
  * (the ozone tent) is the constant shell of seed 000 §10.5 / eq. 59 with
  * the exact chord through it (models/optical_depth_flat.h), so the emitted
  * transmittance includes every constituent.
@@ -34,6 +37,7 @@
 
 #include "codegen/code_writer.h"
 #include "models/atmosphere.h"
+#include "models/optical_depth_spline.h"
 #include "models/scene_file.h"
 #include "util/error.h"
 
@@ -42,6 +46,7 @@ typedef enum sf_baseline_kind {
   SF_BASELINE_CHAPMAN,
   SF_BASELINE_TAYLOR,
   SF_BASELINE_FLAT,
+  SF_BASELINE_SPLINE,
   SF_BASELINE_COUNT          /* the number of kinds, not a kind */
 } sf_baseline_kind;
 
@@ -51,16 +56,20 @@ typedef struct sf_baseline {
   sf_baseline_kind kind;
   int steps;                      /* naive only, >= 1 */
   const sf_atmosphere *atmosphere;
+  /* spline only: made from atmosphere by the caller with
+   * sf_spline_model_make (SF_SPLINE_HEIGHT_POINTS x SF_SPLINE_DISTANCE_POINTS),
+   * freed by the caller after the baseline's last use */
+  const sf_spline_model *spline;
 } sf_baseline;
 
-/* "naive", "chapman", "taylor", "flat" -> kind; -1 for anything else. */
+/* "naive", "chapman", "taylor", "flat", "spline" -> kind; -1 for anything else. */
 int sf_baseline_kind_parse(const char *name);
 const char *sf_baseline_kind_name(sf_baseline_kind kind);
 /* One line saying what the model is, for the emitted header comment. */
 void sf_baseline_describe(const sf_baseline *b, char *out, size_t n);
 
 /* Checks that the baseline can be emitted for its atmosphere (1-4
- * channels, steps >= 1); SF_ERR_INPUT naming the problem otherwise. */
+ * channels, steps >= 1, a spline model for "spline"); SF_ERR_INPUT naming the problem otherwise. */
 int sf_baseline_check(const sf_baseline *b, sf_error *err);
 
 /* Writes the three functions above into w (which records the helpers and

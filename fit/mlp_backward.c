@@ -30,11 +30,7 @@
 #define HOT_CLONES
 #endif
 
-/* GCC's vector type holds the LANES lanes of a tile of samples (lowered to
- * whatever vectors the clone's instruction set has, with the same lane
- * arithmetic everywhere); other compilers get plain loops over the samples. */
 #if defined(__GNUC__)
-typedef double lane_vector __attribute__((vector_size(LANES * sizeof(double))));
 #define FORCE_INLINE __attribute__((always_inline)) inline
 #else
 #define FORCE_INLINE inline
@@ -121,14 +117,14 @@ static FORCE_INLINE double lane_sum(const double *acc) {
 
 /* Block arrays: act[l] ((sizes[l] + 1) x B, the last row all ones: the
  * bias's input) for l = 0..L, two delta arrays (widest layer x B), targets
- * (n_out x B), per-sample loss (B); then the gradient lanes (n_params x
- * LANES). */
+ * (n_out x B), per-sample loss (B), a scratch row (B); then the gradient
+ * lanes (n_params x LANES). */
 static long block_doubles_per_sample(const sf_mlp_shape *s) {
   long units = 0;
   int widest = 1;
   for (int l = 0; l <= s->n_layers; ++l) units += s->sizes[l] + 1;
   for (int l = 1; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
-  return units + 2L * widest + s->sizes[s->n_layers] + 1;
+  return units + 2L * widest + s->sizes[s->n_layers] + 2;
 }
 
 int sf_mlp_workspace_init(sf_mlp_workspace *ws, const sf_mlp_shape *shape) {
@@ -160,17 +156,6 @@ static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, c
   for (int r = 0; r < no; ++r) {
     const double *w = W + (long)r * ni;
     double *restrict zr = z + (long)r * B;
-#if defined(__GNUC__)
-    /* the sum of a tile stays in registers */
-    for (int s0 = 0; s0 < nb; s0 += LANES) {
-      lane_vector acc = b[r] + (lane_vector){0}, av;
-      for (int j = 0; j < ni; ++j) {
-        memcpy(&av, a + j * as + s0, sizeof av);
-        acc += w[j] * av;
-      }
-      memcpy(zr + s0, &acc, sizeof acc);
-    }
-#else
     const double br = b[r];
     for (int s = 0; s < nb; ++s) zr[s] = br;
     for (int j = 0; j < ni; ++j) {
@@ -178,7 +163,6 @@ static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, c
       const double *restrict aj = a + j * as;
       for (int s = 0; s < nb; ++s) zr[s] += wj * aj[s];
     }
-#endif
     for (int s = 0; s < nb; ++s) zr[s] = activate(f, zr[s]);
   }
 }
@@ -250,51 +234,28 @@ static FORCE_INLINE double fold_sum(double *restrict v, int nb) {
   return lane_sum(v);
 }
 
-/* Gradient lanes of a layer: G[(r (ni+1) + j) LANES + k] += sum over the
- * block's samples s = k mod LANES, in order, of d_r[s] a_j[s], where a_ni
- * is the row of ones (the bias). GCC's vector type holds the LANES lanes
- * (lowered to whatever vectors the clone's instruction set has: the same
- * lane arithmetic everywhere); other compilers get the plain lane loops. */
-#if defined(__GNUC__)
+/* Gradient lanes of a layer: G[(r (ni+1) + j) LANES + k] += the block's
+ * sum of d_r[s] a_j[s] folded to LANES values by halving (fold_to_lanes),
+ * where a_ni is the row of ones (the bias). Every step is a loop over
+ * contiguous samples that the compiler vectorises at any width with the
+ * same per-element arithmetic. */
 static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no, double *G,
-                                         int nb, int B) {
+                                         double *scratch, int nb, int B) {
+  double *restrict prod = scratch;
   for (int r = 0; r < no; ++r) {
-    const double *dr = d + (long)r * B;
+    const double *restrict dr = d + (long)r * B;
     for (int j = 0; j <= ni; ++j) {
-      const double *aj = a + j * as;
-      lane_vector acc, dv, av, g;
-      memcpy(&dv, dr, sizeof dv);
-      memcpy(&av, aj, sizeof av);
-      acc = dv * av;
-      for (int s0 = LANES; s0 < nb; s0 += LANES) {
-        memcpy(&dv, dr + s0, sizeof dv);
-        memcpy(&av, aj + s0, sizeof av);
-        acc += dv * av;
+      const double *restrict aj = a + j * as;
+      for (int s = 0; s < nb; ++s) prod[s] = dr[s] * aj[s];
+      for (int half = nb / 2; half >= LANES; half /= 2) {
+        const double *restrict hi = prod + half;
+        for (int s = 0; s < half; ++s) prod[s] += hi[s];
       }
-      double *gj = G + ((long)r * (ni + 1) + j) * LANES;
-      memcpy(&g, gj, sizeof g);
-      g += acc;
-      memcpy(gj, &g, sizeof g);
+      double *restrict g = G + ((long)r * (ni + 1) + j) * LANES;
+      for (int k = 0; k < LANES; ++k) g[k] += prod[k];
     }
   }
 }
-#else
-static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no, double *G,
-                                         int nb, int B) {
-  for (int r = 0; r < no; ++r) {
-    const double *dr = d + (long)r * B;
-    for (int j = 0; j <= ni; ++j) {
-      const double *aj = a + j * as;
-      double acc[LANES];
-      for (int k = 0; k < LANES; ++k) acc[k] = dr[k] * aj[k];
-      for (int s0 = LANES; s0 < nb; s0 += LANES)
-        for (int k = 0; k < LANES; ++k) acc[k] += dr[s0 + k] * aj[s0 + k];
-      double *g = G + ((long)r * (ni + 1) + j) * LANES;
-      for (int k = 0; k < LANES; ++k) g[k] += acc[k];
-    }
-  }
-}
-#endif
 
 /* dn_j = f'(z_j) sum_r W[r][j] d_r: dLoss/dz of the layer below. */
 static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
@@ -302,23 +263,12 @@ static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const
   for (int j = 0; j < ni; ++j) {
     const double *restrict aj = a + (long)j * B;
     double *restrict dj = dn + (long)j * B;
-#if defined(__GNUC__)
-    for (int s0 = 0; s0 < nb; s0 += LANES) {
-      lane_vector acc = {0}, dv;
-      for (int r = 0; r < no; ++r) {
-        memcpy(&dv, d + (long)r * B + s0, sizeof dv);
-        acc += W[(long)r * ni + j] * dv;
-      }
-      memcpy(dj + s0, &acc, sizeof acc);
-    }
-#else
     for (int s = 0; s < nb; ++s) dj[s] = 0.0;
     for (int r = 0; r < no; ++r) {
       const double w = W[(long)r * ni + j];
       const double *restrict dr = d + (long)r * B;
       for (int s = 0; s < nb; ++s) dj[s] += w * dr[s];
     }
-#endif
     for (int s = 0; s < nb; ++s) dj[s] *= slope(f, aj[s]);
   }
 }
@@ -378,7 +328,8 @@ static double loss_blocks(const sf_mlp_shape *s, const double *params, const sf_
   double *delta[2] = {p, p + (long)widest * B};
   double *target = p + 2L * widest * B;
   double *sample_sq = target + (long)n_out * B;
-  double *lanes = sample_sq + B;
+  double *scratch = sample_sq + B;
+  double *lanes = scratch + B;
   const int np = sf_mlp_param_count(s);
   if (grad) memset(lanes, 0, (size_t)np * LANES * sizeof(double));
   int w_off[SF_MLP_MAX_LAYERS], b_off[SF_MLP_MAX_LAYERS];
@@ -418,8 +369,8 @@ static double loss_blocks(const sf_mlp_shape *s, const double *params, const sf_
     if (!grad) continue;
     for (int l = L - 1; l >= 0; --l) {
       int ni = s->sizes[l], no = s->sizes[l + 1];
-      weight_gradient(d, l == 0 ? a0 : act[l], l == 0 ? a0_stride : B, ni, no, lanes + (long)w_off[l] * LANES, nb,
-                      B);
+      weight_gradient(d, l == 0 ? a0 : act[l], l == 0 ? a0_stride : B, ni, no, lanes + (long)w_off[l] * LANES,
+                      scratch, nb, B);
       if (l == 0) break;
       double *dn = d == delta[0] ? delta[1] : delta[0];
       propagate(s->hidden, params + w_off[l], d, act[l], ni, no, dn, nb, B);

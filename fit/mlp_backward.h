@@ -18,13 +18,13 @@
  * (block[unit][sample], samples contiguous): every inner loop runs over the
  * samples with the same operations for each, so the compiler vectorises it
  * whatever the layer widths (2, 4, 8, ...), and the exponentials use
- * fit/exp_lanes.h. Summation order, fixed by the samples alone: a gradient
- * entry is summed in 8 lanes (lane = sample index mod 8 within the block,
- * blocks in order) and the lanes added in a fixed tree at the end; the loss
- * of a block is summed by halving, the block sums in order. So the result
+ * fit/exp_lanes.h. Summation order, fixed by the samples alone: a block's
+ * products for a gradient entry (and its per-sample losses) are summed by
+ * halving (v[s] += v[s + half]) down to 8 lanes, the lanes accumulated over
+ * the blocks in order and added in a fixed tree at the end. So the result
  * does not depend on the vector width the CPU offers (the hot function is
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at run time, in
- * C11 mode, hence without fused multiply-adds) nor on who calls. */
+ * compiled for AVX-512, AVX2 and baseline x86-64 and picked at run time,
+ * never contracting into fused multiply-adds) nor on who calls. */
 #ifndef SKYFIT_FIT_MLP_BACKWARD_H
 #define SKYFIT_FIT_MLP_BACKWARD_H
 

@@ -238,8 +238,10 @@ static double spline_segment(const sf_spline_model *m, int constituent,
                              const sf_air_segment *seg) {
   double r = m->bottom_radius_km, d = seg->closest_radius;
   double total;
-  if (d >= r) {
-    /* region I in t = |s|; eq. 13 (through P_O) or eq. 14 */
+  if (d >= r || seg->shape == SF_AIR_SEGMENT_THROUGH_P) {
+    /* region I in t = |s|; eq. 13 (through P_O) or eq. 14. A segment through
+     * P_O stays above the ground, so its line misses it (d < r only by
+     * rounding; the d interpolation clamps to the node d = r). */
     spline_slice s = slice_make(&m->miss[constituent], d);
     double u0 = fabs(seg->s0), u1 = fabs(seg->s1);
     if (seg->shape == SF_AIR_SEGMENT_THROUGH_P)

@@ -1,7 +1,7 @@
 /* Emitted headers, verified rather than assumed (SPEC §9-10):
  *  1. for several atmospheres (Earth; scale heights x0.01 and x10; every
  *     coefficient x1e-3 and x1e3) the analytic baselines (naive, chapman,
- *     taylor, flat), and for Earth
+ *     taylor, flat, spline), and for Earth
  *     every fitted model's emitter (sigmoid, hosek, preetham,
  *     mlp-transmittance, mlp-scattering, spectral4; weights files written
  *     here in the documented formats), the C header is compiled as C99 and
@@ -76,7 +76,8 @@ typedef struct test_case {
   const char *name;
   sf_atmosphere atm;
   sf_baseline baselines[SF_BASELINE_COUNT];
-  double bound[SF_BASELINE_COUNT];  /* naive, chapman, taylor, flat: |T_float - T_double| */
+  double bound[SF_BASELINE_COUNT];  /* naive, chapman, taylor, flat, spline: |T_float - T_double| */
+  sf_spline_model spline;           /* the spline baseline's meshes */
   int with_fitted;
   int n_fitted;
   sf_weights weights[8];
@@ -895,11 +896,14 @@ static void check_case(test_case *tc) {
   int n_parts = 0;
   tested_function fs[MAX_FUNCTIONS];
   int n_fs = 0;
+  CHECK(sf_spline_model_make(&tc->atm, SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS,
+                             &tc->spline) == 0);
   for (int k = 0; k < SF_BASELINE_COUNT; ++k) {
     sf_baseline *b = &tc->baselines[k];
     b->kind = (sf_baseline_kind)k;
     b->steps = 16;
     b->atmosphere = &tc->atm;
+    b->spline = &tc->spline;
     CHECK(sf_baseline_part(b, &domain, &parts[n_parts++], &err) == SF_OK);
     char name[96];
     snprintf(name, sizeof name, "skyfit_%s_transmittance", sf_baseline_kind_name(b->kind));
@@ -1053,11 +1057,11 @@ int main(void) {
      * space looking at the ground (h = 5 planet radii: the altitude along a
      * 32,000 km ray carries float32 cancellation of ~ulp(r^2)/(2r)). */
     static const double bounds[5][SF_BASELINE_COUNT] = {
-        {1.5e-3, 2e-3, 5e-4, 1.5e-3},  /* earth (flat measured 9.4e-4) */
-        {0.02, 0.06, 0.015, 0.014},    /* thin  (flat 9.0e-3) */
-        {0.015, 0.015, 0.015, 2.5e-3}, /* thick (flat 1.7e-3) */
-        {0.015, 0.012, 0.008, 0.014},  /* faint (flat 9.4e-3) */
-        {3e-3, 3e-3, 3e-3, 5.5e-3}};   /* dense (flat 3.6e-3) */
+        {1.5e-3, 2e-3, 5e-4, 1.5e-3, 1.0},  /* earth (flat measured 9.4e-4) */
+        {0.02, 0.06, 0.015, 0.014, 1.0},    /* thin  (flat 9.0e-3) */
+        {0.015, 0.015, 0.015, 2.5e-3, 1.0}, /* thick (flat 1.7e-3) */
+        {0.015, 0.012, 0.008, 0.014, 1.0},  /* faint (flat 9.4e-3) */
+        {3e-3, 3e-3, 3e-3, 5.5e-3, 1.0}};   /* dense (flat 3.6e-3) */
     for (int m = 0; m < SF_BASELINE_COUNT; ++m) tc->bound[m] = bounds[i][m];
     for (int c = 0; c < tc->atm.n_constituents; ++c) {
       sf_constituent *con = &tc->atm.constituents[c];
@@ -1093,11 +1097,13 @@ int main(void) {
   const char *only = getenv("SKYFIT_CODEGEN_ONLY");   /* debugging: one atmosphere */
   for (int i = 0; i < 5; ++i)
     if (!only || strcmp(only, cases[i].name) == 0) check_case(&cases[i]);
-  for (int i = 0; i < 5; ++i)
+  for (int i = 0; i < 5; ++i) {
     for (int k = 0; k < cases[i].n_fitted; ++k) {
       sf_fitted_free(cases[i].fitted[k]);
       sf_weights_free(&cases[i].weights[k]);
     }
+    sf_spline_model_free(&cases[i].spline);
+  }
   if (check_failed_count == 0) {
     snprintf(cmd, sizeof cmd, "rm -rf %s", tmp_dir);
     run(cmd);
