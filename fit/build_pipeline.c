@@ -9,6 +9,8 @@
 #include "codegen/codegen_file.h"
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
+#include "codegen/fitted_part.h"
+#include "models/weights_file.h"
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
@@ -45,7 +47,7 @@ static void split_output(const char *path, char *dir, size_t dn, char *base, siz
 
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
                           sf_error *err) {
-  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES];
+  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 1];
   int n = 0;
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     sf_report_selection *s = &rep->selection[q];
@@ -86,6 +88,20 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     snprintf(parts[0].error, sizeof parts[0].error, "%s", error);
     n = 1;
   }
+  /* A spectral4 scene also ships its 4 wavelengths, weights and matrices
+   * (SPEC §7.3), emitted from the weights file as `skyfit codegen` does. */
+  sf_weights spectral4_weights;
+  sf_fitted_model *spectral4_model = NULL;
+  memset(&spectral4_weights, 0, sizeof spectral4_weights);
+  if (rep->spectral4.present && rep->spectral4.weights_path[0]) {
+    int st = sf_weights_load_file(rep->spectral4.weights_path, "spectral4", &spectral4_weights, err);
+    if (st == SF_OK) st = sf_fitted_part(&spectral4_weights, &spectral4_model, &parts[n], err);
+    if (st != SF_OK) {
+      sf_weights_free(&spectral4_weights);
+      return st;
+    }
+    ++n;
+  }
   if (n == 0) return SF_OK;
   char dir_c[SF_REPORT_PATH_LEN], base_c[256], dir_g[SF_REPORT_PATH_LEN], base_g[256];
   if (scene->output_c[0]) split_output(scene->output_c, dir_c, sizeof dir_c, base_c, sizeof base_c);
@@ -99,6 +115,8 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     status = sf_codegen_write(parts, n, 1, 0, dir_c, base_c, err);
     if (status == SF_OK) status = sf_codegen_write(parts, n, 0, 1, dir_g, base_g, err);
   }
+  sf_fitted_free(spectral4_model);
+  sf_weights_free(&spectral4_weights);
   if (status != SF_OK) return status;
   snprintf(res->header_c, sizeof res->header_c, "%s/%s.h", dir_c, base_c);
   snprintf(res->header_glsl, sizeof res->header_glsl, "%s/%s.glsl", dir_g, base_g);

@@ -141,6 +141,10 @@ print(f"spectral4: {s4['wavelengths_nm']} nm; mean dE2000 {fit['mean_delta_e2000
 assert fit["mean_delta_e2000"] < rgb["mean_delta_e2000"], s4
 PY
 grep -q "Colour: 4 wavelengths" "$tmp/s4/report.md" || { echo "FAIL no spectral4 section in the report"; fail=1; }
+# The headers ship the 4-wavelength model beside the selected sky model.
+for f in "$tmp/s4/sky.h" "$tmp/s4/sky.glsl"; do
+  grep -q "skyfit_spectral4_to_linear_srgb" "$f" || { echo "FAIL $f lacks the spectral4 functions"; fail=1; }
+done
 
 # Bad input: exit 2 with a message, nothing written.
 printf '{"atmosphere": "no-such-file.json"}' > "$tmp/missing.json"
