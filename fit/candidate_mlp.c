@@ -134,7 +134,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     sf_mlp_lm_options_default(&lm_opt);
     lm_opt.iterations = job->polish_iterations;
     lm_opt.max_samples = job->polish_samples;
-    sf_mlp_loss loss = {job->train.loss, NULL};
+    sf_mlp_loss loss = {job->train.loss, NULL};   /* both networks train on MSE: no per-output delta */
     sf_mlp_lm_result lm;
     status = sf_mlp_lm_polish(&job->train.shape, result.net.params, &loss, &train, &val, &lm_opt, &lm, err);
     if (status == SF_OK) {
@@ -142,7 +142,6 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
       result.validation_loss = sf_mlp_dataset_loss(&job->train.shape, result.net.params, &loss, &val, in->run.n_threads);
     } else {
       sf_mlp_free(&result.net);
-      result.net.params = NULL;
     }
   }
   double offset[4], scale[4];
