@@ -20,18 +20,7 @@
 #include "models/hosek_dataset.h"
 #include "models/preetham.h"
 #include "util/constants.h"
-
-static double now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static double cpu_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "util/clock.h"
 
 /* The product's sky-fit settings (fit/fit_sky_config.h) with SciPy's
  * tolerances; BENCH_QR, BENCH_RADIUS, BENCH_DOGLEG, BENCH_NONMONOTONIC,
@@ -66,11 +55,11 @@ static void run(const char *dir, const char *name, sf_sky_form form, const sf_sk
   for (int r = 0; r < repeats; ++r) {
     memcpy(c, start, sizeof(double) * (size_t)(nc + 1));
     sf_error err = {0};
-    double t0 = now(), c0 = cpu_now();
+    double t0 = sf_wall_seconds(), c0 = sf_cpu_seconds();
     if (sf_fit_sky_config(&d, SF_SKY_BOUNDS_SCALE_ONLY, fix_scale, &o, c, &c[nc], &sum, &err))
       fprintf(stderr, "%s: %s\n", name, err.message);
-    times[r] = now() - t0;
-    cpu[r] = cpu_now() - c0;
+    times[r] = sf_wall_seconds() - t0;
+    cpu[r] = sf_cpu_seconds() - c0;
   }
   qsort(times, (size_t)repeats, sizeof(double), cmp);
   qsort(cpu, (size_t)repeats, sizeof(double), cmp);
@@ -188,11 +177,11 @@ int main(int argc, char **argv) {
     int winner = -1;
     sf_lsq_summary sum;
     for (int r = 0; r < repeats; ++r) {
-      double t0 = now(), c0 = cpu_now();
+      double t0 = sf_wall_seconds(), c0 = sf_cpu_seconds();
       sf_fit_sky_multistart(&d, SF_SKY_BOUNDS_SCALE_ONLY, 1, &o, 3, &starts[0][0], sol, &sol[9], &winner,
                             &sum, costs, &err);
-      times[r] = now() - t0;
-      cpu[r] = cpu_now() - c0;
+      times[r] = sf_wall_seconds() - t0;
+      cpu[r] = sf_cpu_seconds() - c0;
     }
     qsort(times, (size_t)repeats, sizeof(double), cmp);
     qsort(cpu, (size_t)repeats, sizeof(double), cmp);

@@ -23,6 +23,7 @@
 #include "models/optical_depth_raymarch.h"
 #include "models/optical_depth_taylor.h"
 #include "models/ray_geometry.h"
+#include "util/clock.h"
 
 #define N_HEIGHTS 9
 #define N_UNIFORM_MU 140
@@ -55,12 +56,6 @@ typedef struct stats {
   double sum_rel[2][SF_MAX_CONSTITUENTS];
   int count[2][SF_MAX_CONSTITUENTS];
 } stats;
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static void make_rays(const sf_atmosphere *atm, ray *rays) {
   int n = 0;
@@ -106,7 +101,7 @@ static double time_method(const method *m, const sf_atmosphere *atm, const ray *
                           double seconds, double *sink) {
   double out[SF_MAX_CONSTITUENTS];
   long evals = 0;
-  double start = now_s(), elapsed = 0.0, acc = 0.0;
+  double start = sf_wall_seconds(), elapsed = 0.0, acc = 0.0;
   do {
     for (int k = 0; k < N_RAYS; ++k) {
       evaluate(m, atm, rays[k], out);
@@ -114,7 +109,7 @@ static double time_method(const method *m, const sf_atmosphere *atm, const ray *
         if (isfinite(out[i])) acc += out[i];
     }
     evals += N_RAYS;
-    elapsed = now_s() - start;
+    elapsed = sf_wall_seconds() - start;
   } while (elapsed < seconds);
   *sink += acc;
   return evals / elapsed;

@@ -10,14 +10,9 @@
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
+#include "util/clock.h"
 
 typedef struct query { double h, mu, mu_s, nu; } query;
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 int main(void) {
   sf_atmosphere atm;
@@ -44,7 +39,7 @@ int main(void) {
   int counted = 0;
   double out[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], tight[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
   double checksum = 0.0;
-  double start = now_seconds();
+  double start = sf_wall_seconds();
   for (int i = 0; i < n; ++i) {
     sf_view_ray ray;
     const char *why;
@@ -52,7 +47,7 @@ int main(void) {
     sf_single_scattering(&atm, &ray, q[i].mu_s, q[i].nu, out);
     checksum += out[0];
   }
-  double elapsed = now_seconds() - start;
+  double elapsed = sf_wall_seconds() - start;
   for (int i = 0; i < n; i += 7) {
     sf_view_ray ray;
     const char *why;

@@ -28,12 +28,7 @@
 #include "models/spectral_reference.h"
 #include "util/atomic_file.h"
 #include "util/make_folders.h"
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "util/clock.h"
 
 int main(int argc, char **argv) {
   const char *out = NULL, *cache = NULL;
@@ -83,12 +78,12 @@ int main(int argc, char **argv) {
     return 1;
   }
   sf_atmosphere_without_aerosols(full, clean);
-  double t0 = now_seconds();
+  double t0 = sf_wall_seconds();
   if (sf_table_set_make(&set, clean, &so, &err)) {
     fprintf(stderr, "bench_spectral4_nm: %s\n", err.message);
     return 1;
   }
-  double t_ref = now_seconds() - t0;
+  double t_ref = sf_wall_seconds() - t0;
   sf_sky_tables sky;
   sf_sky_tables_of_set(&sky, clean, &set);
   sf_view_sample *s = NULL;
@@ -121,16 +116,16 @@ int main(int argc, char **argv) {
   sf_spectral4_fit_options single = o.fit;
   single.restarts = 0;
   for (int r = 0; r < repeat; ++r) {
-    double t = now_seconds();
+    double t = sf_wall_seconds();
     sf_spectral4_nelder_mead(&k, &start, &single, &best, &loss, &evals, &status, &err);
-    t_nm += now_seconds() - t;
+    t_nm += sf_wall_seconds() - t;
   }
   t_nm /= repeat;
   sf_spectral4_params best_r;
-  double loss_r = 0.0, t_r = now_seconds();
+  double loss_r = 0.0, t_r = sf_wall_seconds();
   int evals_r = 0, status_r = 0;
   for (int r = 0; r < repeat; ++r) sf_spectral4_nelder_mead(&k, &start, &o.fit, &best_r, &loss_r, &evals_r, &status_r, &err);
-  t_r = (now_seconds() - t_r) / repeat;
+  t_r = (sf_wall_seconds() - t_r) / repeat;
   printf("reference tables: %.2f s (%s), %d channels, %zu training samples\n", t_ref,
          set.from_cache[0] ? "cached" : "computed", n, k.n_samples);
   printf("start (grid search, %ld quadruples): loss %.10g\n", grid.grid_candidates, grid.grid_loss);

@@ -27,18 +27,7 @@
 #include "models/phase.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double cpu_seconds(void) {
-  struct rusage u;
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
-}
+#include "util/clock.h"
 
 static double peak_mib(void) {
   struct rusage u;
@@ -48,8 +37,8 @@ static double peak_mib(void) {
 
 /* A stage's wall and CPU time. */
 typedef struct stopwatch { double wall, cpu; } stopwatch;
-static stopwatch start(void) { return (stopwatch){now_seconds(), cpu_seconds()}; }
-static stopwatch stop(stopwatch s) { return (stopwatch){now_seconds() - s.wall, cpu_seconds() - s.cpu}; }
+static stopwatch start(void) { return (stopwatch){sf_wall_seconds(), sf_cpu_seconds()}; }
+static stopwatch stop(stopwatch s) { return (stopwatch){sf_wall_seconds() - s.wall, sf_cpu_seconds() - s.cpu}; }
 
 static void transmittance_bench(const sf_atmosphere *atm, sf_parameterization kind, int threads) {
   sf_table_resolution res;

@@ -41,12 +41,6 @@ static void usage(FILE *out) {
   fprintf(out, "  --help                  this text\n");
 }
 
-static void print_note(void *ctx, const char *message) {
-  sf_progress_bar *bar = ctx;
-  sf_progress_bar_finish(bar);
-  fprintf(stderr, "%s: %s\n", COMMAND, message);
-}
-
 static int check_rows(const sf_csv_points *pts, sf_error *err) {
   static const char *const unit[] = {"mu", "mu_s", "nu"};
   int h = sf_csv_points_column(pts, "h_km");
@@ -123,11 +117,12 @@ int sf_cmd_eval_tables(int argc, char **argv) {
 
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !o.quiet);
+  bar.note_prefix = COMMAND;
   o.set.cache_dir = tables_dir;
   o.set.run.progress = sf_progress_bar_update;
   o.set.run.progress_ctx = &bar;
   if (!o.quiet) {
-    o.set.note = print_note;
+    o.set.note = sf_progress_bar_note;
     o.set.note_ctx = &bar;
   }
   sf_table_set set;

@@ -8,6 +8,7 @@
 
 #include "models/atmosphere_file.h"
 #include "models/weights_file.h"
+#include "util/clock.h"
 
 void sf_mlp_cli_default(sf_mlp_cli *o) {
   memset(o, 0, sizeof *o);
@@ -165,15 +166,9 @@ int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dat
   return SF_OK;
 }
 
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void sf_mlp_progress_init(sf_mlp_progress *p, int quiet) {
   sf_progress_bar_init(&p->bar, stderr, !quiet);
-  p->start = now_seconds();
+  p->start = sf_wall_seconds();
   p->last = 0.0;
 }
 
@@ -181,7 +176,7 @@ void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, i
                             double validation_loss) {
   sf_mlp_progress *p = ctx;
   if (!p->bar.enabled) return;
-  double t = now_seconds();
+  double t = sf_wall_seconds();
   if (t - p->last < 0.1 && epoch < n_epochs) return;
   p->last = t;
   double done = ((double)restart * n_epochs + epoch) / ((double)n_restarts * n_epochs);

@@ -44,12 +44,6 @@ static void usage(FILE *out) {
           "  --help                  this text\n");
 }
 
-static void print_note(void *ctx, const char *message) {
-  sf_progress_bar *bar = ctx;
-  sf_progress_bar_finish(bar);
-  fprintf(stderr, "%s: %s\n", COMMAND, message);
-}
-
 static void print_summary(const sf_spectral4_report *r, const char *out) {
   const sf_spectral4_params *p = &r->fit.best;
   printf("spectral4: wavelengths %.2f %.2f %.2f %.2f nm, weights %.3f %.3f %.3f %.3f nm\n", p->lambda_nm[0],
@@ -153,10 +147,11 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
   opt.cache_dir = cache_dir;
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !quiet);
+  bar.note_prefix = COMMAND;
   opt.progress = sf_progress_bar_update;
   opt.progress_ctx = &bar;
   if (!quiet) {
-    opt.note = print_note;
+    opt.note = sf_progress_bar_note;
     opt.note_ctx = &bar;
   }
   cJSON *doc = NULL;

@@ -40,12 +40,6 @@ static void sample_usage(FILE *out) {
   fprintf(out, "  --help                  this text\n");
 }
 
-static void print_note(void *ctx, const char *message) {
-  sf_progress_bar *bar = ctx;
-  sf_progress_bar_finish(bar);
-  fprintf(stderr, "%s: %s\n", COMMAND, message);
-}
-
 /* mkdir -p, then proves the folder writable with a temporary file. */
 static int prepare_folder(const char *dir, sf_error *err) {
   if (sf_make_folders(dir, "--out", err)) return SF_ERR_INPUT;
@@ -172,11 +166,12 @@ int sf_cmd_sample(int argc, char **argv) {
 
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !o.quiet);
+  bar.note_prefix = COMMAND;
   o.set.cache_dir = out_dir;
   o.set.run.progress = sf_progress_bar_update;
   o.set.run.progress_ctx = &bar;
   if (!o.quiet) {
-    o.set.note = print_note;
+    o.set.note = sf_progress_bar_note;
     o.set.note_ctx = &bar;
   }
   sf_table_set set;

@@ -268,11 +268,6 @@ static int check_weights(sf_sky_form form, const char *command, const char *path
 
 /* ---- table fit ----------------------------------------------------------- */
 
-static void print_note(void *ctx, const char *message) {
-  sf_progress_bar_finish(ctx);
-  fprintf(stderr, "skyfit fit: %s\n", message);
-}
-
 static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, const char *scene_path,
                       const char *tables_dir, const char *out_path, int n_elevations, int n_theta,
                       int n_phi) {
@@ -316,11 +311,12 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
   }
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !o->quiet);
+  bar.note_prefix = "skyfit fit";
   if (status == SF_OK) {
     o->set.run.progress = sf_progress_bar_update;
     o->set.run.progress_ctx = &bar;
     if (!o->quiet) {
-      o->set.note = print_note;
+      o->set.note = sf_progress_bar_note;
       o->set.note_ctx = &bar;
     }
     status = sf_table_set_make(&set, atm, &o->set, &err);

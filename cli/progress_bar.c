@@ -1,14 +1,9 @@
 #include "cli/progress_bar.h"
+#include "util/clock.h"
 
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void sf_progress_bar_init(sf_progress_bar *bar, FILE *out, int wanted) {
   memset(bar, 0, sizeof *bar);
@@ -37,7 +32,7 @@ static void draw(sf_progress_bar *bar, double fraction, double t) {
 void sf_progress_bar_update(void *ctx, const char *stage, double fraction) {
   sf_progress_bar *bar = ctx;
   if (!bar->enabled) return;
-  double t = now_seconds();
+  double t = sf_wall_seconds();
   if (strncmp(stage, bar->stage, sizeof bar->stage - 1) != 0) {
     if (bar->drawn) fputc('\n', bar->out);
     snprintf(bar->stage, sizeof bar->stage, "%s", stage);
@@ -53,4 +48,11 @@ void sf_progress_bar_finish(sf_progress_bar *bar) {
   if (bar->enabled && bar->drawn) fputc('\n', bar->out);
   bar->drawn = 0;
   bar->stage[0] = '\0';
+}
+
+void sf_progress_bar_note(void *ctx, const char *message) {
+  sf_progress_bar *bar = ctx;
+  sf_progress_bar_finish(bar);
+  if (bar->note_prefix) fprintf(stderr, "%s: %s\n", bar->note_prefix, message);
+  else fprintf(stderr, "%s\n", message);
 }

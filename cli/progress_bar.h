@@ -13,6 +13,7 @@ typedef struct sf_progress_bar {
   char stage[128];
   double stage_start, last_draw;
   int drawn;            /* the current stage's line is on screen */
+  const char *note_prefix;   /* sf_progress_bar_note prints "<prefix>: "; NULL: nothing */
 } sf_progress_bar;
 
 /* enabled = wanted && isatty(fileno(out)). */
@@ -20,5 +21,9 @@ void sf_progress_bar_init(sf_progress_bar *bar, FILE *out, int wanted);
 void sf_progress_bar_update(void *bar, const char *stage, double fraction);
 /* Ends the current line. */
 void sf_progress_bar_finish(sf_progress_bar *bar);
+/* A note while the bar runs (the note callback of the table and fit
+ * options; ctx is the bar): ends the bar's line, then prints
+ * "<note_prefix>: message" on stderr, whether the bar is drawn or not. */
+void sf_progress_bar_note(void *bar, const char *message);
 
 #endif

@@ -14,25 +14,13 @@
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
+#include "util/clock.h"
 
 void sf_build_options_default(sf_build_options *o) {
   memset(o, 0, sizeof *o);
   sf_table_set_options_default(&o->tables);
   sf_report_options_default(&o->report);
   o->emit = 1;
-}
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* CPU seconds of the process, every thread. */
-static double cpu_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* "dir/base.ext" -> dir, base. */
@@ -145,7 +133,7 @@ static void log_note(void *ctx, const char *message) {
 
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
-  double t_start = now(), c_start = cpu_now();
+  double t_start = sf_wall_seconds(), c_start = sf_cpu_seconds();
   sf_scene_domain domain;
   if (sf_scene_get_domain(scene, &domain, err) != SF_OK) return err->status;
   char cache[SF_REPORT_PATH_LEN + 16], work[SF_REPORT_PATH_LEN + 16];
@@ -173,7 +161,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];
   res->tables_total = set.n_tables;
-  double t_tables = now(), c_tables = cpu_now();
+  double t_tables = sf_wall_seconds(), c_tables = sf_cpu_seconds();
   res->seconds_tables = t_tables - t_start;
   res->cpu_seconds_tables = c_tables - c_start;
 
@@ -205,7 +193,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
                                      .note = log_note, .note_ctx = notes};
     status = sf_build_spectral4(scene, &so, &spectral4, err);
   }
-  double t_fit = now(), c_fit = cpu_now();
+  double t_fit = sf_wall_seconds(), c_fit = sf_cpu_seconds();
   res->seconds_fit = t_fit - t_tables;
   res->cpu_seconds_fit = c_fit - c_tables;
 
@@ -221,9 +209,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     sf_report_select(&rep, scene);
     if (o->emit) status = emit_selection(&rep, scene, o, res, err);
   }
-  res->seconds_report = now() - t_fit;
-  res->cpu_seconds_report = cpu_now() - c_fit;
-  res->seconds_total = now() - t_start;
+  res->seconds_report = sf_wall_seconds() - t_fit;
+  res->cpu_seconds_report = sf_cpu_seconds() - c_fit;
+  res->seconds_total = sf_wall_seconds() - t_start;
   rep.seconds_total = res->seconds_total;
   if (status == SF_OK) status = sf_report_write_all(&rep, err);
   if (status == SF_OK) {

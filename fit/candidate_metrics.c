@@ -8,6 +8,7 @@
 #include "data/parallel_rows.h"
 #include "models/rng.h"
 #include "util/constants.h"
+#include "util/clock.h"
 
 int sf_domain_samples_make(const sf_scene_domain *d, sf_candidate_quantity q, size_t n, uint64_t seed,
                            sf_domain_samples *out, sf_error *err) {
@@ -103,12 +104,6 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
   if (n_non_finite) *n_non_finite = bad;
 }
 
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int compare_doubles(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -136,7 +131,7 @@ int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s,
     for (size_t i = 0; i < n * ni; ++i) in_f[i] = (float)s->inputs[i];
   volatile double sink = 0.0;
   for (int r = 0; r < repetitions; ++r) {
-    double t0 = now_seconds();
+    double t0 = sf_wall_seconds();
     if (c->eval_f32) {
       c->eval_f32(c->ctx, n, in_f, out_f);
       sink += out_f[(size_t)r % (n * nc)];
@@ -148,7 +143,7 @@ int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s,
       }
       sink += acc;
     }
-    times[r] = (now_seconds() - t0) * 1e9 / (double)n;
+    times[r] = (sf_wall_seconds() - t0) * 1e9 / (double)n;
   }
   (void)sink;
   qsort(times, (size_t)repetitions, sizeof(double), compare_doubles);

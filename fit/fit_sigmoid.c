@@ -8,6 +8,7 @@
 #include "fit/linear_lsq.h"
 #include "models/optical_depth.h"
 #include "models/ray_geometry.h"
+#include "util/clock.h"
 
 void sf_sigmoid_fit_options_default(sf_sigmoid_fit_options *o) {
   memset(o, 0, sizeof *o);
@@ -31,12 +32,6 @@ static int sigmoid_residuals(void *user, const double *const *params, double *r,
       for (int k = 0; k < SF_SIGMOID_N_COEFFS; ++k) jac[0][i * SF_SIGMOID_N_COEFFS + k] = grad[k];
   }
   return 1;
-}
-
-static double seconds_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* Weighted logit fit: the start. */
@@ -94,7 +89,7 @@ static void top_grid(const sf_scene_domain *dom, double h0, double h1, int n_h, 
 int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
                    const sf_sigmoid_fit_options *o, sf_sigmoid_model *out,
                    sf_sigmoid_fit_report *rep, sf_error *err) {
-  double t0 = seconds_now();
+  double t0 = sf_wall_seconds();
   memset(out, 0, sizeof *out);
   memset(rep, 0, sizeof *rep);
   if (o->n_h < 2 || o->n_mu < 2 || (long)o->n_h * o->n_mu > 4000000L)
@@ -219,7 +214,7 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
   free(t);
   free(model_total);
   free(ref_total);
-  rep->seconds = seconds_now() - t0;
+  rep->seconds = sf_wall_seconds() - t0;
   if (status != SF_OK) memset(out, 0, sizeof *out);
   return status;
 }

@@ -11,6 +11,7 @@
 #include "fit/sky_radiance_samples.h"
 #include "models/preetham.h"
 #include "util/constants.h"
+#include "util/clock.h"
 
 #define CHUNK 128
 #define MAX_PARAMS (SF_BEZIER_POINTS * SF_HOSEK_N_COEFFS)
@@ -26,12 +27,6 @@ void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form f
   o->n_theta = 16;
   o->n_phi = 24;
   sf_sky_fit_options_default(&o->lsq);
-}
-
-static double monotonic_seconds(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 /* Everything the global (all elevations) fit of one channel reads. */
@@ -243,7 +238,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
                          const sf_hosek_dataset *published, sf_elevation_sky_model *out,
                          sf_sky_elevation_report *rep, sf_error *err) {
   const sf_atmosphere *atm = sky->atm;
-  double t0 = monotonic_seconds();
+  double t0 = sf_wall_seconds();
   memset(rep, 0, sizeof *rep);
   memset(out, 0, sizeof *out);
   int n_e = o->n_elevations, nk = atm->n_channels, nc = sf_sky_form_n_coeffs(o->form);
@@ -453,7 +448,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   free(samples);
   free(weights);
   free(solved);
-  rep->seconds = monotonic_seconds() - t0;
+  rep->seconds = sf_wall_seconds() - t0;
   if (status != SF_OK) memset(out, 0, sizeof *out);
   return status;
 }

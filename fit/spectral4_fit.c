@@ -7,12 +7,7 @@
 #include <time.h>
 
 #include "models/color_space.h"
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "util/clock.h"
 
 int sf_spectral4_kernel_init(sf_spectral4_kernel *k, int n, const double *lambda_nm, const sf_cmf *cmf,
                              sf_error *err) {
@@ -258,7 +253,7 @@ int sf_spectral4_nelder_mead(const sf_spectral4_kernel *k, const sf_spectral4_pa
 int sf_spectral4_fit(const sf_spectral4_kernel *k, const sf_spectral4_fit_options *o, sf_spectral4_fit_result *r,
                      sf_error *err) {
   memset(r, 0, sizeof *r);
-  double t0 = now_seconds();
+  double t0 = sf_wall_seconds();
   int m = (int)floor((o->grid_max_nm - o->grid_min_nm) / o->grid_step_nm + 1e-9) + 1;
   if (m < 4) return sf_fail(err, SF_ERR_INPUT, "spectral4 grid: fewer than 4 wavelengths");
   r->grid_loss = INFINITY;
@@ -276,10 +271,10 @@ int sf_spectral4_fit(const sf_spectral4_kernel *k, const sf_spectral4_fit_option
             r->grid_best = p;
           }
         }
-  double t1 = now_seconds();
+  double t1 = sf_wall_seconds();
   r->grid_seconds = t1 - t0;
   if (!isfinite(r->grid_loss)) return sf_fail(err, SF_ERR_INTERNAL, "spectral4 grid search: no finite loss");
   int rc = sf_spectral4_nelder_mead(k, &r->grid_best, o, &r->best, &r->loss, &r->evaluations, &r->nlopt_status, err);
-  r->nelder_mead_seconds = now_seconds() - t1;
+  r->nelder_mead_seconds = sf_wall_seconds() - t1;
   return rc;
 }

@@ -13,18 +13,13 @@
 #include "models/spectral_atmosphere.h"
 #include "models/spectral_reference.h"
 #include "models/weights_file.h"
+#include "util/clock.h"
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 #define BLOCK 4096
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void sf_spectral4_run_options_default(sf_spectral4_run_options *o) {
   memset(o, 0, sizeof *o);
@@ -247,23 +242,23 @@ int sf_spectral4_run(const sf_scene *scene, const sf_spectral4_run_options *o, s
   if (!rc) rc = sf_spectral4_make_samples(scene, &o->train, display_scale, &train, &n_train, err);
   if (!rc) rc = sf_spectral4_make_samples(scene, &o->eval, display_scale, &eval, &n_eval, err);
   /* the reference: without aerosols (fit and evaluation), with (evaluation) */
-  double t0 = now_seconds();
+  double t0 = sf_wall_seconds();
   if (!rc) rc = make_tables(clean, o, &sets[0], &rep->tables_cached[0], &rep->highest_order[0], err);
   if (!rc && rep->has_aerosols)
     rc = make_tables(full, o, &sets[1], &rep->tables_cached[1], &rep->highest_order[1], err);
-  rep->reference_seconds = now_seconds() - t0;
+  rep->reference_seconds = sf_wall_seconds() - t0;
   sf_sky_tables sky[2];
   if (!rc) {
     sf_sky_tables_of_set(&sky[0], clean, &sets[0]);
     if (rep->has_aerosols) sf_sky_tables_of_set(&sky[1], full, &sets[1]);
   }
   /* fit */
-  double t1 = now_seconds();
+  double t1 = sf_wall_seconds();
   if (!rc) rc = sf_spectral4_kernel_init(&kernel, n, nm, cmf, err);
   if (!rc) rc = accumulate(&sky[0], train, n_train, cmf, o->n_threads, &kernel, err);
   rep->n_train = kernel.n_samples;
   if (!rc) rc = sf_spectral4_fit(&kernel, &o->fit, &rep->fit, err);
-  rep->fit_seconds = now_seconds() - t1;
+  rep->fit_seconds = sf_wall_seconds() - t1;
   /* baselines (seed 003 §6 RGB; uniform sampling of eq. 5.10) */
   if (!rc) {
     const double rgb_nm[3] = {SF_RGB_LAMBDA_R_NM, SF_RGB_LAMBDA_G_NM, SF_RGB_LAMBDA_B_NM};
@@ -281,12 +276,12 @@ int sf_spectral4_run(const sf_scene *scene, const sf_spectral4_run_options *o, s
     rep->uniform_loss = sf_spectral4_loss(&kernel, &m[2].four);
   }
   /* evaluation */
-  double t2 = now_seconds();
+  double t2 = sf_wall_seconds();
   if (!rc) rc = evaluate(&sky[0], eval, n_eval, cmf, rep->methods, o->n_threads, rep->stats[0], err);
   if (!rc && rep->has_aerosols)
     rc = evaluate(&sky[1], eval, n_eval, cmf, rep->methods, o->n_threads, rep->stats[1], err);
   if (!rc && !rep->has_aerosols) memcpy(rep->stats[1], rep->stats[0], sizeof rep->stats[0]);
-  rep->eval_seconds = now_seconds() - t2;
+  rep->eval_seconds = sf_wall_seconds() - t2;
   if (!rc) {
     *doc_out = weights_document(scene, full, cmf, rep, o);
     if (!*doc_out) rc = sf_fail(err, SF_ERR_INTERNAL, "out of memory");

@@ -11,6 +11,7 @@
 #include "data/hash64.h"
 #include "models/rng.h"
 #include "util/atomic_file.h"
+#include "util/clock.h"
 
 /* rng stream keys of this file */
 #define INIT_KEY 0x696e6974ull      /* "init" */
@@ -40,12 +41,6 @@ void sf_mlp_init_xavier(const sf_mlp_shape *s, uint64_t seed, int restart, doubl
     for (int k = 0; k < ni * no; ++k) W[k] = a * (2.0 * sf_rng_uniform(&rng) - 1.0);
     for (int k = 0; k < no; ++k) b[k] = 0.0;
   }
-}
-
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Scratch for chunked sums: one gradient and one loss per chunk, and one
@@ -306,7 +301,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     start_restart(&st, o, np);
   }
 
-  double t_start = now_seconds();
+  double t_start = sf_wall_seconds();
   clock_t cpu_start = clock();
   int epochs_this_call = 0;
   while (st.restart < o->restarts) {
@@ -373,7 +368,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   result->best_restart = st.best_restart;
   result->best_epoch = st.best_epoch;
   result->epochs_run = st.epochs_run;
-  result->seconds_per_epoch = epochs_this_call > 0 ? (now_seconds() - t_start) / epochs_this_call : 0.0;
+  result->seconds_per_epoch = epochs_this_call > 0 ? (sf_wall_seconds() - t_start) / epochs_this_call : 0.0;
   result->cpu_seconds_per_epoch =
       epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : 0.0;
   result->train_loss = sf_mlp_dataset_loss(s, result->net.params, &loss, train, o->n_threads);

@@ -15,6 +15,7 @@
 #include "models/path_tracer.h"
 #include "models/rng.h"
 #include "tests/check.h"
+#include "util/clock.h"
 
 #define PI 3.14159265358979323846
 
@@ -605,19 +606,13 @@ static void test_density_bound(void) {
   CHECK_ABS(sf_constituent_max_density(&a.constituents[0], 8.0, 50.0), exp(-1.0), 1e-15);
 }
 
-static double now_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 static void report_throughput(void) {
   sf_atmosphere a;
   make_default_atmosphere(&a);
   long long samples = 100000;
-  double t0 = now_seconds();
+  double t0 = sf_wall_seconds();
   sf_path_tracer_result r = trace(&a, 0.0, 0.5, 0.9, 0.7, samples, 5, 0, 1);
-  double dt = now_seconds() - t0;
+  double dt = sf_wall_seconds() - t0;
   printf("-- throughput, default atmosphere, ground noon (mu 0.5, mu_s 0.9), all orders, 1 thread:\n"
          "   %lld samples x 3 channels in %.3f s = %.3g paths/s per core; radiance %.5e %.5e %.5e\n",
          samples, dt, 3.0 * samples / dt, r.radiance[0], r.radiance[1], r.radiance[2]);
@@ -625,21 +620,21 @@ static void report_throughput(void) {
 }
 
 int main(void) {
-  double t = now_seconds();
+  double t = sf_wall_seconds();
   test_constant_shell();
-  printf("   (%.2f s)\n", now_seconds() - t);
-  t = now_seconds();
+  printf("   (%.2f s)\n", sf_wall_seconds() - t);
+  t = sf_wall_seconds();
   test_default_single();
-  printf("   (%.2f s)\n", now_seconds() - t);
-  t = now_seconds();
+  printf("   (%.2f s)\n", sf_wall_seconds() - t);
+  t = sf_wall_seconds();
   test_flux_conservation();
-  printf("   (%.2f s)\n", now_seconds() - t);
-  t = now_seconds();
+  printf("   (%.2f s)\n", sf_wall_seconds() - t);
+  t = sf_wall_seconds();
   test_density_bound();
   test_paired();
   test_determinism();
   test_edges_and_inputs();
-  printf("   (%.2f s)\n", now_seconds() - t);
+  printf("   (%.2f s)\n", sf_wall_seconds() - t);
   report_throughput();
   return check_summary();
 }
