@@ -24,7 +24,7 @@
 
 /* The product's sky-fit settings (fit/fit_sky_config.h) with SciPy's
  * tolerances; BENCH_QR, BENCH_RADIUS, BENCH_DOGLEG, BENCH_NONMONOTONIC,
- * BENCH_NO_JACOBI override them to compare Ceres' options. */
+ * BENCH_JACOBI override them to compare Ceres' options. */
 static void bench_options(sf_lsq_options *o) {
   sf_sky_fit_options_default(o);
   o->max_iterations = 1000;
@@ -33,7 +33,7 @@ static void bench_options(sf_lsq_options *o) {
   if (getenv("BENCH_RADIUS")) o->initial_trust_region_radius = atof(getenv("BENCH_RADIUS"));
   if (getenv("BENCH_DOGLEG")) o->dogleg = 1;
   if (getenv("BENCH_NONMONOTONIC")) o->nonmonotonic_steps = 1;
-  if (getenv("BENCH_NO_JACOBI")) o->jacobi_scaling = 0;
+  if (getenv("BENCH_JACOBI")) o->jacobi_scaling = 1;
 }
 
 static int cmp(const void *a, const void *b) {

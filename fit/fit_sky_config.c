@@ -1,3 +1,13 @@
+/* Before any include: the inline helpers (fit/exp_lanes.h,
+ * fit/rsqrt_lanes.h) must be compiled with the same options as the kernels
+ * to be inlined into them. No contraction into fused multiply-adds: every
+ * instruction-set clone below then does the same operations per lane. Not
+ * trapping math: the clamps and NaN selects of the helpers are then plain
+ * vector blends (with trapping math GCC keeps them as branches and the
+ * AVX2 and SSE2 loops stay scalar); no exception flags are read here. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off", "no-trapping-math")
+#endif
 #include "fit/fit_sky_config.h"
 
 #include <math.h>
@@ -5,11 +15,13 @@
 #include <string.h>
 
 #include "fit/exp_lanes.h"
+#include "fit/rsqrt_lanes.h"
 
 /* Everything about a sample that does not depend on the coefficients,
  * computed once per fit rather than once per residual evaluation: the
- * residual loop is then two exponentials, a square root and a division per
- * sample, in a form the compiler vectorises (fit/exp_lanes.h). */
+ * residual loop is then two exponentials and (Hosek) an inverse square root
+ * per sample, in a form the compiler vectorises (fit/exp_lanes.h,
+ * fit/rsqrt_lanes.h). */
 typedef struct sky_fit_view {
   int n, n_coeffs;
   sf_sky_form form;
@@ -22,6 +34,16 @@ typedef struct sky_fit_view {
 /* Samples per tile: the coefficient-dependent intermediates of a tile stay
  * in L1 between the vectorised pass and the row-writing pass. */
 #define TILE 128
+
+/* The residual kernels are compiled for three instruction sets and chosen
+ * at run time (as fit/mlp_backward.c: no -march, the binary runs on any
+ * x86-64); the helpers are inlined into each clone, which do the same
+ * operations per lane, hence the same residuals. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define SKY_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define SKY_CLONES
+#endif
 
 static void sky_view_free(sky_fit_view *v) { free(v->inv_ct); }
 
@@ -54,95 +76,145 @@ static int sky_view_make(const sf_sky_fit_data *d, sky_fit_view *v) {
 }
 
 /* Hosek F (models/hosek.h) and its gradient over the samples; blocks: [0]
- * coefficients, [1] scale. */
-static int hosek_residuals(const sky_fit_view *v, const double *c, double scale, double *r,
-                           double **jac) {
+ * coefficients, [1] scale. Per tile: one vectorised pass computes the
+ * residuals and the Jacobian's columns, a second writes them as Ceres'
+ * row-major rows. Non-finite values are left for Ceres to find (it checks
+ * every residual and Jacobian entry after each evaluation). */
+static SKY_CLONES void hosek_residuals(const sky_fit_view *v, const double *c, double scale,
+                                       double *restrict r, double *restrict jc,
+                                       double *restrict js) {
   const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], F = c[5], G = c[6], H = c[7],
-               I = c[8], ws = v->weight * scale, hh = 1.0 + H * H, h2 = 2.0 * H;
-  double *jc = jac ? jac[0] : NULL, *js = jac ? jac[1] : NULL;
+               I = c[8], w = v->weight, ws = w * scale, hh = 1.0 + H * H, h2 = 2.0 * H;
   for (int t0 = 0; t0 < v->n; t0 += TILE) {
-    int m = v->n - t0 < TILE ? v->n - t0 : TILE;
-    const double *inv = v->inv_ct + t0, *gam = v->gamma + t0, *cg = v->cg + t0, *cg2 = v->cg2 + t0,
-                 *opc = v->one_plus_cg2 + t0, *root = v->root_ct + t0, *tgt = v->target + t0;
-    double et[TILE], eg[TILE], chi[TILE], dchi[TILE], z[TILE], s[TILE];
-    for (int i = 0; i < m; ++i) {
-      et[i] = sf_exp_lanes(B * inv[i]);
-      eg[i] = sf_exp_lanes(E * gam[i]);
-      double den = hh - h2 * cg[i];
-      double inv_den = 1.0 / den;
-      chi[i] = opc[i] * inv_den / sqrt(den);      /* (1 + cos^2)/den^(3/2) */
-      dchi[i] = -3.0 * chi[i] * (H - cg[i]) * inv_den;
-      z[i] = 1.0 + A * et[i];
-      s[i] = C + D * eg[i] + F * cg2[i] + G * chi[i] + I * root[i];
-      r[t0 + i] = ws * z[i] * s[i] - tgt[i];
-    }
-    if (jc)
+    const int m = v->n - t0 < TILE ? v->n - t0 : TILE;
+    const double *restrict inv = v->inv_ct + t0, *restrict gam = v->gamma + t0,
+                           *restrict cg = v->cg + t0, *restrict cg2 = v->cg2 + t0,
+                           *restrict opc = v->one_plus_cg2 + t0, *restrict root = v->root_ct + t0,
+                           *restrict tgt = v->target + t0;
+    double *restrict rt = r + t0;
+    if (!jc) {
+      double fv[TILE];
       for (int i = 0; i < m; ++i) {
-        double *row = jc + (size_t)(t0 + i) * 9, wz = ws * z[i], wes = ws * et[i] * s[i];
-        row[0] = wes;
-        row[1] = A * wes * inv[i];
-        row[2] = wz;
-        row[3] = wz * eg[i];
-        row[4] = wz * D * gam[i] * eg[i];
-        row[5] = wz * cg2[i];
-        row[6] = wz * chi[i];
-        row[7] = wz * G * dchi[i];
-        row[8] = wz * root[i];
+        double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(E * gam[i]);
+        double den = hh - h2 * cg[i], rs = sf_rsqrt_lanes(den);
+        double chi = opc[i] * (rs * rs * rs);   /* (1 + cos^2)/den^(3/2) */
+        double f = (1.0 + A * et) * (C + D * eg + F * cg2[i] + G * chi + I * root[i]);
+        fv[i] = f;
       }
+      for (int i = 0; i < m; ++i) rt[i] = ws * fv[i] - tgt[i];
+      if (js)
+        for (int i = 0; i < m; ++i) js[t0 + i] = w * fv[i];
+      continue;
+    }
+    double j0[TILE], j1[TILE], j2[TILE], j3[TILE], j4[TILE], j5[TILE], j6[TILE], j7[TILE],
+        j8[TILE], jf[TILE];
+    for (int i = 0; i < m; ++i) {
+      double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(E * gam[i]);
+      double den = hh - h2 * cg[i], rs = sf_rsqrt_lanes(den), inv_den = rs * rs;
+      double chi = opc[i] * (inv_den * rs);
+      double dchi = -3.0 * chi * (H - cg[i]) * inv_den;   /* d chi / d H */
+      double z = 1.0 + A * et;
+      double s = C + D * eg + F * cg2[i] + G * chi + I * root[i];
+      double wz = ws * z, wes = ws * et * s, f = z * s;
+      rt[i] = ws * f - tgt[i];
+      jf[i] = w * f;
+      j0[i] = wes;
+      j1[i] = A * wes * inv[i];
+      j2[i] = wz;
+      j3[i] = wz * eg;
+      j4[i] = wz * D * gam[i] * eg;
+      j5[i] = wz * cg2[i];
+      j6[i] = wz * chi;
+      j7[i] = wz * G * dchi;
+      j8[i] = wz * root[i];
+    }
+    double *restrict rows = jc + (size_t)t0 * 9;
+    for (int i = 0; i < m; ++i) {
+      double *restrict row = rows + (size_t)i * 9;
+      row[0] = j0[i];
+      row[1] = j1[i];
+      row[2] = j2[i];
+      row[3] = j3[i];
+      row[4] = j4[i];
+      row[5] = j5[i];
+      row[6] = j6[i];
+      row[7] = j7[i];
+      row[8] = j8[i];
+    }
     if (js)
-      for (int i = 0; i < m; ++i) js[t0 + i] = v->weight * z[i] * s[i];
+      for (int i = 0; i < m; ++i) js[t0 + i] = jf[i];
   }
-  double sum = 0.0;
-  for (int i = 0; i < v->n; ++i) sum += r[i] * 0.0;   /* NaN or inf anywhere -> NaN */
-  return sum == 0.0;
 }
 
-/* Perez F (models/perez.h) and its gradient. */
-static int perez_residuals(const sky_fit_view *v, const double *c, double scale, double *r,
-                           double **jac) {
-  const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], ws = v->weight * scale;
-  double *jc = jac ? jac[0] : NULL, *js = jac ? jac[1] : NULL;
+/* Perez F (models/perez.h) and its gradient, as hosek_residuals. */
+static SKY_CLONES void perez_residuals(const sky_fit_view *v, const double *c, double scale,
+                                       double *restrict r, double *restrict jc,
+                                       double *restrict js) {
+  const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], w = v->weight, ws = w * scale;
   for (int t0 = 0; t0 < v->n; t0 += TILE) {
-    int m = v->n - t0 < TILE ? v->n - t0 : TILE;
-    const double *inv = v->inv_ct + t0, *gam = v->gamma + t0, *cg2 = v->cg2 + t0,
-                 *tgt = v->target + t0;
-    double et[TILE], eg[TILE], z[TILE], s[TILE];
-    for (int i = 0; i < m; ++i) {
-      et[i] = sf_exp_lanes(B * inv[i]);
-      eg[i] = sf_exp_lanes(D * gam[i]);
-      z[i] = 1.0 + A * et[i];
-      s[i] = 1.0 + C * eg[i] + E * cg2[i];
-      r[t0 + i] = ws * z[i] * s[i] - tgt[i];
-    }
-    if (jc)
+    const int m = v->n - t0 < TILE ? v->n - t0 : TILE;
+    const double *restrict inv = v->inv_ct + t0, *restrict gam = v->gamma + t0,
+                           *restrict cg2 = v->cg2 + t0, *restrict tgt = v->target + t0;
+    double *restrict rt = r + t0;
+    if (!jc) {
+      double fv[TILE];
       for (int i = 0; i < m; ++i) {
-        double *row = jc + (size_t)(t0 + i) * 5, wz = ws * z[i], wes = ws * et[i] * s[i];
-        row[0] = wes;
-        row[1] = A * wes * inv[i];
-        row[2] = wz * eg[i];
-        row[3] = wz * C * gam[i] * eg[i];
-        row[4] = wz * cg2[i];
+        double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(D * gam[i]);
+        double f = (1.0 + A * et) * (1.0 + C * eg + E * cg2[i]);
+        fv[i] = f;
       }
+      for (int i = 0; i < m; ++i) rt[i] = ws * fv[i] - tgt[i];
+      if (js)
+        for (int i = 0; i < m; ++i) js[t0 + i] = w * fv[i];
+      continue;
+    }
+    double j0[TILE], j1[TILE], j2[TILE], j3[TILE], j4[TILE], jf[TILE];
+    for (int i = 0; i < m; ++i) {
+      double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(D * gam[i]);
+      double z = 1.0 + A * et, s = 1.0 + C * eg + E * cg2[i];
+      double wz = ws * z, wes = ws * et * s, f = z * s;
+      rt[i] = ws * f - tgt[i];
+      jf[i] = w * f;
+      j0[i] = wes;
+      j1[i] = A * wes * inv[i];
+      j2[i] = wz * eg;
+      j3[i] = wz * C * gam[i] * eg;
+      j4[i] = wz * cg2[i];
+    }
+    double *restrict rows = jc + (size_t)t0 * 5;
+    for (int i = 0; i < m; ++i) {
+      double *restrict row = rows + (size_t)i * 5;
+      row[0] = j0[i];
+      row[1] = j1[i];
+      row[2] = j2[i];
+      row[3] = j3[i];
+      row[4] = j4[i];
+    }
     if (js)
-      for (int i = 0; i < m; ++i) js[t0 + i] = v->weight * z[i] * s[i];
+      for (int i = 0; i < m; ++i) js[t0 + i] = jf[i];
   }
-  double sum = 0.0;
-  for (int i = 0; i < v->n; ++i) sum += r[i] * 0.0;
-  return sum == 0.0;
 }
 
 static int sky_residuals(void *user, const double *const *params, double *r, double **jac) {
   const sky_fit_view *v = user;
-  return v->form == SF_SKY_FORM_HOSEK ? hosek_residuals(v, params[0], params[1][0], r, jac)
-                                      : perez_residuals(v, params[0], params[1][0], r, jac);
+  double *jc = jac ? jac[0] : NULL, *js = jac ? jac[1] : NULL;
+  if (v->form == SF_SKY_FORM_HOSEK) hosek_residuals(v, params[0], params[1][0], r, jc, js);
+  else perez_residuals(v, params[0], params[1][0], r, jc, js);
+  return 1;
 }
 
 void sf_sky_fit_options_default(sf_lsq_options *o) {
   sf_lsq_options_default(o);
   /* 2400 x 9 problems: J^T J by Cholesky costs a third of a dense QR; the
-   * coefficients are well scaled (Jacobi scaling), so squaring the
-   * condition number loses nothing measurable */
+   * coefficients are well scaled, so squaring the condition number loses
+   * nothing measurable */
   o->normal_equations = 1;
+  /* Ceres' Levenberg-Marquardt damps with mu diag(J^T J) (Marquardt's
+   * scaling), so its steps do not depend on the columns' scale and Jacobi
+   * scaling changes nothing but rounding (same iterations and final costs
+   * on bench/ceres_vs_scipy.sh); without it Ceres skips two passes over
+   * the Jacobian per evaluation */
+  o->jacobi_scaling = 0;
   /* Hosek fits are non-convex: with monotonic steps Ceres' LM settled in a
    * worse local minimum than MINPACK's from the same start (built-in sky,
    * 30 deg sun: cost 0.385 against 0.331); Ceres' non-monotonic steps reach
@@ -248,3 +320,4 @@ int sf_fit_sky_multistart(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fi
     return sf_fail(err, SF_ERR_INTERNAL, "every start failed; last: %s", last.message);
   return SF_OK;
 }
+
