@@ -17,6 +17,7 @@
 #include "data/table_set.h"
 #include "models/atmosphere_file.h"
 #include "util/atomic_file.h"
+#include "util/json_exact.h"
 
 #define COMMAND "skyfit sample"
 
@@ -115,7 +116,7 @@ static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_ta
     }
     cJSON_AddItemToArray(tables, e);
   }
-  char *text = cJSON_Print(root);
+  char *text = sf_json_print_exact(root, 1);
   cJSON_Delete(root);
   if (!text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory writing tables.json");
   char path[4096];
@@ -127,7 +128,7 @@ static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_ta
     fputc('\n', f.stream);
     status = sf_atomic_commit(&f, err);
   }
-  cJSON_free(text);
+  free(text);
   return status;
 }
 

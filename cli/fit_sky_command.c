@@ -22,6 +22,7 @@
 #include "models/scene_file.h"
 #include "models/weights_file.h"
 #include "util/constants.h"
+#include "util/json_exact.h"
 
 static const char *const perez_letters[] = {"A", "B", "C", "D", "E"};
 static const char *const hosek_letters[] = {"A", "B", "C", "D", "E", "F", "G", "H", "I"};
@@ -234,11 +235,11 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
     else cJSON_AddNullToObject(e, "final_cost");
     cJSON_AddItemToArray(starts_json, e);
   }
-  char *text = cJSON_Print(root);
+  char *text = sf_json_print_exact(root, 1);
   cJSON_Delete(root);
   if (!text) return 1;
   printf("%s\n", text);
-  cJSON_free(text);
+  free(text);
   return 0;
 }
 

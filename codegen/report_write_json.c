@@ -3,12 +3,14 @@
  * become null, and the tests require that none occurs. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
 
 #include "codegen/report.h"
 #include "util/atomic_file.h"
+#include "util/json_exact.h"
 
 static void add_number(cJSON *o, const char *key, double v) {
   if (isfinite(v)) cJSON_AddNumberToObject(o, key, v);
@@ -148,7 +150,7 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
       }
     }
   }
-  char *text = cJSON_Print(root);
+  char *text = sf_json_print_exact(root, 1);
   cJSON_Delete(root);
   if (!text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory writing %s", path);
   sf_atomic_file f;
@@ -158,6 +160,6 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
     fputc('\n', f.stream);
     status = sf_atomic_commit(&f, err);
   }
-  cJSON_free(text);
+  free(text);
   return status;
 }

@@ -9,6 +9,7 @@
 #include "models/atmosphere_file.h"
 #include "util/atomic_file.h"
 #include "util/json_read.h"
+#include "util/json_exact.h"
 
 /* ---------------------------------------------------------------- writing */
 
@@ -121,7 +122,7 @@ static int all_finite(const cJSON *node) {
 }
 
 char *sf_weights_print(const cJSON *doc) {
-  char *text = cJSON_Print(doc);
+  char *text = sf_json_print_exact(doc, 1);
   if (!text) return NULL;
   size_t n = strlen(text);
   char *with_newline = realloc(text, n + 2);
@@ -318,7 +319,7 @@ static int read_atmosphere(const sf_json_ctx *c, const cJSON *root, sf_weights *
   const cJSON *a = sf_json_get(root, "atmosphere");
   if (!a) return sf_json_fail(c, "atmosphere", "missing");
   if (!cJSON_IsObject(a)) return sf_json_fail(c, "atmosphere", "expected an object, got %s", sf_json_type_name(a));
-  char *text = cJSON_PrintUnformatted(a);
+  char *text = sf_json_print_exact(a, 0);
   if (!text) return sf_fail(c->err, SF_ERR_INTERNAL, "%s: out of memory", c->source);
   sf_error inner = {0};
   char name[600];

@@ -1,0 +1,58 @@
+#include "util/json_exact.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+int sf_json_exact_number(double x, char *buf, size_t size) {
+  int n = -1;
+  for (int digits = 15; digits <= 17; ++digits) {
+    n = snprintf(buf, size, "%.*g", digits, x);
+    if (n < 0 || (size_t)n >= size) return -1;
+    if (strtod(buf, NULL) == x) break;   /* 17 digits always round-trip */
+  }
+  return n;
+}
+
+/* Replaces every number below node with a raw item holding its exact text. */
+static int numbers_to_exact_raw(cJSON *node) {
+  for (cJSON *child = node->child; child;) {
+    cJSON *next = child->next;
+    if (cJSON_IsNumber(child)) {
+      char text[40];
+      if (!isfinite(child->valuedouble) || sf_json_exact_number(child->valuedouble, text, sizeof text) < 0)
+        return -1;
+      cJSON *raw = cJSON_CreateRaw(text);
+      if (!raw) return -1;
+      /* Replacing by pointer keeps no key: the raw item takes the number's. */
+      raw->string = child->string;
+      raw->type |= child->type & cJSON_StringIsConst;
+      child->string = NULL;
+      if (!cJSON_ReplaceItemViaPointer(node, child, raw)) {
+        cJSON_Delete(raw);
+        return -1;
+      }
+    } else if (numbers_to_exact_raw(child) != 0) {
+      return -1;
+    }
+    child = next;
+  }
+  return 0;
+}
+
+char *sf_json_print_exact(const cJSON *doc, int formatted) {
+  cJSON *copy = cJSON_Duplicate(doc, 1);
+  if (!copy) return NULL;
+  char *text = NULL;
+  if (cJSON_IsNumber(copy)) {
+    char number[40];
+    if (isfinite(copy->valuedouble) && sf_json_exact_number(copy->valuedouble, number, sizeof number) >= 0) {
+      text = malloc(sizeof number);
+      if (text) snprintf(text, sizeof number, "%s", number);
+    }
+  } else if (numbers_to_exact_raw(copy) == 0) {
+    text = formatted ? cJSON_Print(copy) : cJSON_PrintUnformatted(copy);
+  }
+  cJSON_Delete(copy);
+  return text;
+}
