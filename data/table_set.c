@@ -9,6 +9,7 @@
 #include "data/scattering_setup.h"
 #include "data/table_cache.h"
 #include "models/atmosphere_file.h"
+#include "util/memory_limit.h"
 
 void sf_table_set_options_default(sf_table_set_options *o) {
   memset(o, 0, sizeof *o);
@@ -65,12 +66,14 @@ int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, 
     if (sf_table_params_restrict(&p, &o->domain, err) != SF_OK) return SF_ERR_INPUT;
   }
   size_t need = sf_table_set_memory_bytes(atm, o);
-  if (need > SF_TABLE_SET_MAX_BYTES || scattering_entries(&o->res) > ((size_t)1 << 34))
+  char source[512];
+  size_t limit = sf_memory_limit_bytes(source, sizeof source);
+  if (need > limit || scattering_entries(&o->res) > ((size_t)1 << 34))
     return sf_fail(err, SF_ERR_INPUT,
-                   "resolution %dx%d,%dx%dx%dx%d needs about %.1f GiB of memory for the tables "
-                   "(limit %.0f GiB)", o->res.transmittance_mu, o->res.transmittance_h, o->res.scattering_h,
+                   "resolution %dx%d,%dx%dx%dx%d needs about %.2f GiB of memory for the tables "
+                   "(limit %.2f GiB: %s)", o->res.transmittance_mu, o->res.transmittance_h, o->res.scattering_h,
                    o->res.scattering_mu, o->res.scattering_mu_s, o->res.scattering_nu,
-                   (double)need / (1 << 30), (double)SF_TABLE_SET_MAX_BYTES / (1 << 30));
+                   (double)need / (1 << 30), (double)limit / (1 << 30), source);
   return SF_OK;
 }
 

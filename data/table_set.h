@@ -23,8 +23,6 @@
 
 /* Bump whenever a change makes the tables' values differ. */
 #define SF_TABLES_CODE_VERSION "skyfit-tables 1"
-/* Working memory the computation may use (tables and scratch). */
-#define SF_TABLE_SET_MAX_BYTES ((size_t)8 << 30)
 #define SF_TABLE_SET_DEFAULT_ORDERS 4
 
 typedef struct sf_table_set_options {
@@ -75,7 +73,10 @@ typedef struct sf_table_set {
 size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_options *o);
 
 /* Checks the options (resolution, orders, constituent names, domain, memory):
- * SF_ERR_INPUT with a message otherwise. Does nothing else. */
+ * SF_ERR_INPUT with a message otherwise. Does nothing else. The memory the
+ * tables need must fit in what the machine allows this process now
+ * (util/memory_limit.h: available RAM, cgroup limit, ulimit -v / -d); the
+ * message states the need, the limit and where the limit comes from. */
 int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, sf_error *err);
 
 /* Loads or computes every table. On failure set is empty (safe to free). */

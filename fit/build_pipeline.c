@@ -139,9 +139,6 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   char cache[SF_REPORT_PATH_LEN + 16], work[SF_REPORT_PATH_LEN + 16];
   snprintf(cache, sizeof cache, "%s/cache", o->out_dir);
   snprintf(work, sizeof work, "%s/weights", o->out_dir);
-  if (sf_make_folders(o->out_dir, "--out", err) != SF_OK || sf_make_folders(cache, "--out", err) != SF_OK ||
-      sf_make_folders(work, "--out", err) != SF_OK)
-    return err->status;
 
   sf_table_set_options topt = o->tables;
   topt.cache_dir = cache;
@@ -156,7 +153,12 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   topt.domain.mu_s_max = domain.mu_s_max;
   topt.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
   topt.transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
+  /* Bad input (an impossible resolution, tables larger than memory allows)
+   * is refused before anything is created: nothing written on bad input. */
   if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;
+  if (sf_make_folders(o->out_dir, "--out", err) != SF_OK || sf_make_folders(cache, "--out", err) != SF_OK ||
+      sf_make_folders(work, "--out", err) != SF_OK)
+    return err->status;
   sf_table_set set;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];

@@ -2,15 +2,20 @@
 # Resource limits (issue 9): a request for tables larger than memory allows
 # fails early — in well under a second of work, before any table is
 # computed — with a clear message and exit 2, not by being killed; nothing
-# is written. Cases: absurd --resolution values, a huge spectral atmosphere
-# (128 wavelengths x 8 scattering constituents) through `skyfit sample
-# --atmosphere`, `skyfit sample --scene` and `skyfit build`. The size the
-# message states is checked against an independent lower bound (the bytes
-# of the output tables alone), and the same atmosphere at a small
-# resolution must succeed (the rejection is about size, not the input).
-# When memory is smaller than the request although under skyfit's limit
-# (simulated with ulimit -v), the run must still end with a message, not a
-# signal. (cli_sample.sh covers malformed resolutions.)
+# is created (not even the output folder). The limit is the machine's
+# (util/memory_limit.h: MemAvailable, the memory cgroup, ulimit -v / -d) and
+# the message states the need, the limit and where the limit comes from.
+# Cases: absurd --resolution values; a huge spectral atmosphere (128
+# wavelengths x 8 scattering constituents) at a resolution no machine
+# holds (terabytes), through `skyfit sample --atmosphere`, `sample --scene`
+# and `skyfit build`; the same atmosphere at the default resolution
+# (~10 GiB) and the default atmosphere at a modest resolution (~1.7 GiB)
+# under `ulimit -v` (RLIMIT_AS), where the message must name RLIMIT_AS and
+# a limit under the cap. The size the message states is checked against an
+# independent lower bound (the bytes of the output tables alone), the limit
+# without a ulimit against MemAvailable read here, and requests that fit
+# (small resolutions, also under the cap) must succeed: the rejection is
+# about size, not the input. (cli_sample.sh covers malformed resolutions.)
 set -u
 BIN=${SKYFIT_BIN:?SKYFIT_BIN must name the skyfit binary}
 tmp=$(mktemp -d)
@@ -25,25 +30,38 @@ now() { date +%s.%N; }
 early=10
 
 # expect_rejected NAME OUT_DIR ARGS...: exit 2, a message on stderr naming
-# the memory needed, fast, no file written under OUT_DIR.
+# the memory needed, the limit and its source, fast, OUT_DIR not created.
+# With CAP_KIB set, runs under `ulimit -v CAP_KIB`; with AXIS_LIMIT=1 the
+# message is the per-axis limit (SF_TABLE_MAX_AXIS_SIZE) instead.
 expect_rejected() {
   local name=$1 out=$2
   shift 2
   local t0 rc=0
   t0=$(now)
-  "$BIN" "$@" --quiet >"$tmp/stdout" 2>"$tmp/err" || rc=$?
+  if [ -n "${CAP_KIB:-}" ]; then
+    ( ulimit -v "$CAP_KIB"; exec "$BIN" "$@" --quiet ) >"$tmp/stdout" 2>"$tmp/err" || rc=$?
+  else
+    "$BIN" "$@" --quiet >"$tmp/stdout" 2>"$tmp/err" || rc=$?
+  fi
   local secs
   secs=$(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.2f", b - a }')
   local msg
   msg=$(head -c 400 "$tmp/err")
-  local files=0
-  [ -e "$out" ] && files=$(find "$out" -type f | wc -l)
-  if [ $rc -eq 2 ] && [ -s "$tmp/err" ] && [ ! -s "$tmp/stdout" ] && [ "$files" -eq 0 ] &&
+  local created=no
+  [ -e "$out" ] && created=yes
+  if [ $rc -eq 2 ] && [ ! -s "$tmp/stdout" ] && [ $created = no ] &&
+     { { [ "${AXIS_LIMIT:-0}" = 1 ] && grep -q 'exceeds the limit of' "$tmp/err"; } ||
+       grep -Eq 'needs about [0-9.]+ GiB .*limit [0-9.]+ GiB: (MemAvailable|physical memory|cgroup|RLIMIT_AS|RLIMIT_DATA)' "$tmp/err"; } &&
      awk -v s="$secs" -v e=$early 'BEGIN { exit !(s < e) }'; then
-    pass "$name: exit 2 in $secs s (bound $early s), no file written: $msg"
+    pass "$name: exit 2 in $secs s (bound $early s), $out not created: $msg"
   else
-    fail "$name: exit $rc (want 2) in $secs s (bound $early s), $files files written (want 0): $msg"
+    fail "$name: exit $rc (want 2) in $secs s (bound $early s), $out created: $created (want no), message (want need, limit and source): $msg"
   fi
+}
+
+# stated_need_limit: "NEED LIMIT" in GiB from the last message.
+stated_need_limit() {
+  sed -n 's/.*needs about \([0-9.]*\) GiB.*limit \([0-9.]*\) GiB.*/\1 \2/p' "$tmp/err"
 }
 
 # A spectral atmosphere at the largest channel count (SF_MAX_CHANNELS = 128)
@@ -63,28 +81,58 @@ ones=$(awk 'BEGIN { for (i = 0; i < 128; ++i) printf "%s1e-3", i ? ", " : "" }')
 } >"$tmp/huge.json"
 printf '{"name": "huge", "atmosphere": "huge.json"}\n' >"$tmp/huge-scene.json"
 
+asan=0
+ldd "$BIN" 2>/dev/null | grep -q 'libasan\|libclang_rt.asan' && asan=1
+
 # 1. Absurd resolutions with the default atmosphere.
-for res in 1000000x1000000,32x128x32x8 256x64,100000x100000x100000x100000 256x64,2000x2000x200x80 \
-           256x64,4000x4000x4000x8 2147483647x2147483647,2x2x2x2 99999999999999999999x2,2x2x2x2; do
+for res in 1000000x1000000,32x128x32x8 256x64,100000x100000x100000x100000 2147483647x2147483647,2x2x2x2 \
+           99999999999999999999x2,2x2x2x2; do
+  AXIS_LIMIT=1 expect_rejected "sample --resolution $res (axis over 65536)" "$tmp/out-res" sample --out "$tmp/out-res" \
+    --resolution "$res"
+done
+for res in 256x64,4000x4000x4000x8 256x64,2000x2000x200x80; do
   expect_rejected "sample --resolution $res" "$tmp/out-res" sample --out "$tmp/out-res" --resolution "$res"
 done
 expect_rejected "build --resolution 256x64,2000x2000x200x80" "$tmp/out-build-res" build --out "$tmp/out-build-res" \
   --resolution 256x64,2000x2000x200x80 --no-views
+# Without a ulimit the limit is the machine's: MemAvailable (or a smaller
+# cgroup limit), read here independently from /proc/meminfo.
+avail=$(awk '/^MemAvailable:/ { printf "%.3f", $2 / 2^20 }' /proc/meminfo 2>/dev/null)
+read -r need limit <<<"$(stated_need_limit)"
+source=$(sed -n 's/.*limit [0-9.]* GiB: \(.*\))$/\1/p' "$tmp/err")
+if [ -z "${limit:-}" ]; then
+  fail "no limit stated: $(head -c 300 "$tmp/err")"
+elif [[ $source == MemAvailable* ]] && [ -n "$avail" ]; then
+  if awk -v l="$limit" -v a="$avail" 'BEGIN { exit !(l > 0.8 * a && l < 1.2 * a) }'; then
+    pass "stated limit $limit GiB ($source) agrees with MemAvailable $avail GiB read here (within 20%)"
+  else
+    fail "stated limit $limit GiB ($source) but MemAvailable is $avail GiB"
+  fi
+elif [[ $source == cgroup* ]] && awk -v l="$limit" -v a="${avail:-1e30}" 'BEGIN { exit !(l <= 1.05 * a) }'; then
+  pass "stated limit $limit GiB from the cgroup ($source), under MemAvailable ${avail:-?} GiB"
+else
+  fail "stated limit $limit GiB from '$source' (MemAvailable ${avail:-?} GiB)"
+fi
 
-# 2. The huge spectral atmosphere at the default resolution.
-expect_rejected "sample --atmosphere huge.json" "$tmp/out-atm" sample --out "$tmp/out-atm" --atmosphere "$tmp/huge.json"
-need=$(sed -n 's/.*needs about \([0-9.]*\) GiB.*limit \([0-9.]*\) GiB.*/\1 \2/p' "$tmp/err")
+# 2. The huge spectral atmosphere at 128x512x128x16: terabytes, more than
+#    any machine has.
+huge_res=256x64,128x512x128x16
+expect_rejected "sample --atmosphere huge.json --resolution $huge_res" "$tmp/out-atm" sample --out "$tmp/out-atm" \
+  --atmosphere "$tmp/huge.json" --resolution $huge_res
+read -r need limit <<<"$(stated_need_limit)"
 # Independent lower bound: the output tables alone, float32, 128 channels —
 # transmittance 256x64, 8 single-scattering tables and the multiple-
-# scattering table of 32x128x32x8 (irradiance and work buffers left out).
-bound=$(awk 'BEGIN { printf "%.3f", 4 * 128 * (256 * 64 + 9 * 32 * 128 * 32 * 8) / 2^30 }')
-if [ -n "$need" ] && awk -v n="${need% *}" -v l="${need#* }" -v b="$bound" 'BEGIN { exit !(n >= b && n > l) }'; then
-  pass "stated need ${need% *} GiB >= independent lower bound $bound GiB, and over the stated limit ${need#* } GiB"
+# scattering table of 128x512x128x16 (irradiance and work buffers left out).
+bound=$(awk 'BEGIN { printf "%.3f", 4 * 128 * (256 * 64 + 9 * 128 * 512 * 128 * 16) / 2^30 }')
+if [ -n "${need:-}" ] && awk -v n="$need" -v l="$limit" -v b="$bound" 'BEGIN { exit !(n >= b && n > l) }'; then
+  pass "stated need $need GiB >= independent lower bound $bound GiB, and over the stated limit $limit GiB"
 else
-  fail "stated need/limit '${need:-none}' GiB: want need >= $bound GiB (output tables alone) and need > limit"
+  fail "stated need/limit '${need:-none} ${limit:-none}' GiB: want need >= $bound GiB (output tables alone) and need > limit"
 fi
-expect_rejected "sample --scene huge-scene.json" "$tmp/out-scene" sample --out "$tmp/out-scene" --scene "$tmp/huge-scene.json"
-expect_rejected "build huge-scene.json" "$tmp/out-build" build "$tmp/huge-scene.json" --out "$tmp/out-build" --no-views
+expect_rejected "sample --scene huge-scene.json --resolution $huge_res" "$tmp/out-scene" sample --out "$tmp/out-scene" \
+  --scene "$tmp/huge-scene.json" --resolution $huge_res
+expect_rejected "build huge-scene.json --resolution $huge_res" "$tmp/out-build" build "$tmp/huge-scene.json" \
+  --out "$tmp/out-build" --resolution $huge_res --no-views
 
 # 3. Control: the same atmosphere at a small resolution is accepted.
 rc=0
@@ -97,23 +145,48 @@ else
   fail "control: huge.json at 16x4,4x8x4x2: exit $rc, $n tables (want 0 and 11): $(head -c 300 "$tmp/err")"
 fi
 
-# 4. Memory smaller than a request under skyfit's limit (over 2 GiB of
-#    tables here), simulated by capping the address space at 1 GiB: the
-#    run ends with a message, not a signal. Not with a sanitized binary
-#    (AddressSanitizer reserves terabytes of address space up front).
-if ldd "$BIN" 2>/dev/null | grep -q 'libasan\|libclang_rt.asan'; then
+# 4. Address space capped with `ulimit -v` (RLIMIT_AS): requests over the
+#    cap are refused early naming RLIMIT_AS, requests under it succeed.
+#    Not with a sanitized binary (AddressSanitizer reserves terabytes of
+#    address space up front).
+if [ $asan -eq 1 ]; then
   echo "skip address-space cap: $BIN is built with AddressSanitizer"
 else
+  check_cap_message() {   # CAP_GIB: the stated limit is under the cap and names RLIMIT_AS
+    read -r need limit <<<"$(stated_need_limit)"
+    if grep -q 'RLIMIT_AS (ulimit -v)' "$tmp/err" &&
+       awk -v n="${need:-0}" -v l="${limit:-1e30}" -v c="$1" 'BEGIN { exit !(l <= c && n > l) }'; then
+      pass "  message names RLIMIT_AS, limit ${limit} GiB <= cap $1 GiB < need ${need} GiB"
+    else
+      fail "  want RLIMIT_AS named, limit <= $1 GiB < need: $(head -c 300 "$tmp/err")"
+    fi
+  }
+  # 8 GiB cap: the huge atmosphere at the default resolution (~10.6 GiB).
+  CAP_KIB=$((8 << 20))
+  expect_rejected "ulimit -v 8 GiB: sample --atmosphere huge.json (default resolution)" "$tmp/out-cap8" \
+    sample --out "$tmp/out-cap8" --atmosphere "$tmp/huge.json"
+  check_cap_message 8
+  expect_rejected "ulimit -v 8 GiB: build huge-scene.json (default resolution)" "$tmp/out-cap8-build" \
+    build "$tmp/huge-scene.json" --out "$tmp/out-cap8-build" --no-views
+  check_cap_message 8
+  # 1 GiB cap: the default atmosphere at a modest 64x128x32x64 (~1.7 GiB).
+  CAP_KIB=$((1 << 20))
+  expect_rejected "ulimit -v 1 GiB: sample --resolution 256x64,64x128x32x64" "$tmp/out-cap1" \
+    sample --out "$tmp/out-cap1" --resolution 256x64,64x128x32x64 --orders 2
+  check_cap_message 1
+  expect_rejected "ulimit -v 1 GiB: build --resolution 256x64,64x128x32x64" "$tmp/out-cap1-build" \
+    build --out "$tmp/out-cap1-build" --resolution 256x64,64x128x32x64 --no-views
+  check_cap_message 1
+  unset CAP_KIB
+  # Under the same 1 GiB cap a request that fits runs to the end.
   rc=0
-  t0=$(now)
-  ( ulimit -v 1048576; exec "$BIN" sample --out "$tmp/out-cap" --atmosphere "$tmp/huge.json" \
-      --resolution 256x64,32x64x32x8 --orders 1 --quiet ) 2>"$tmp/err" || rc=$?
-  secs=$(awk -v a="$t0" -v b="$(now)" 'BEGIN { printf "%.2f", b - a }')
-  if [ $rc -ge 1 ] && [ $rc -le 2 ] && [ -s "$tmp/err" ] &&
-     awk -v s="$secs" -v e=$early 'BEGIN { exit !(s < e) }'; then
-    pass "1 GiB address space: exit $rc in $secs s with a message: $(head -c 300 "$tmp/err")"
+  ( ulimit -v $((1 << 20)); exec "$BIN" sample --out "$tmp/out-cap-ok" --resolution 64x16,8x32x8x4 --orders 2 \
+      --quiet ) 2>"$tmp/err" || rc=$?
+  n=$(find "$tmp/out-cap-ok" -name '*.exr' 2>/dev/null | wc -l)
+  if [ $rc -eq 0 ] && [ "$n" -eq 5 ]; then
+    pass "ulimit -v 1 GiB: sample --resolution 64x16,8x32x8x4 fits and succeeds with $n tables"
   else
-    fail "1 GiB address space: exit $rc (want 1 or 2, not a signal) in $secs s: $(head -c 300 "$tmp/err")"
+    fail "ulimit -v 1 GiB: sample --resolution 64x16,8x32x8x4: exit $rc, $n tables (want 0 and 5): $(head -c 300 "$tmp/err")"
   fi
 fi
 

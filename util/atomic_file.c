@@ -1,7 +1,9 @@
 #include "util/atomic_file.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,8 +18,41 @@ int sf_atomic_temp_name(const char *path, char *temp, size_t n) {
   return (len < 0 || (size_t)len >= n) ? -1 : 0;
 }
 
+/* "PID.XXXXXX" after the "PATH.tmp." prefix: the writer's pid, or 0. */
+static long temp_writer_pid(const char *suffix) {
+  char *end;
+  errno = 0;
+  long pid = strtol(suffix, &end, 10);
+  if (errno != 0 || end == suffix || pid <= 0 || *end != '.' || strlen(end + 1) != 6) return 0;
+  return pid;
+}
+
+void sf_atomic_remove_stale(const char *path) {
+  char dir[4096], prefix[1024];
+  const char *slash = strrchr(path, '/');
+  if (slash) snprintf(dir, sizeof dir, "%.*s", (int)(slash - path + 1), path);
+  else snprintf(dir, sizeof dir, "./");
+  int len = snprintf(prefix, sizeof prefix, "%s.tmp.", slash ? slash + 1 : path);
+  if (len < 0 || (size_t)len >= sizeof prefix || strlen(dir) + 256 >= sizeof dir) return;
+  DIR *d = opendir(dir);
+  if (!d) return;
+  size_t dir_len = strlen(dir);
+  for (struct dirent *e; (e = readdir(d)) != NULL;) {
+    if (strncmp(e->d_name, prefix, (size_t)len) != 0) continue;
+    long pid = temp_writer_pid(e->d_name + len);
+    /* kill(pid, 0) fails with ESRCH only when no such process exists; EPERM
+     * (another user's live process) keeps the file. */
+    if (pid == 0 || pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+    char stale[4096 + 256];
+    snprintf(stale, sizeof stale, "%.*s%s", (int)dir_len, dir, e->d_name);
+    unlink(stale);
+  }
+  closedir(d);
+}
+
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
   memset(f, 0, sizeof *f);
+  sf_atomic_remove_stale(path);
   if (strlen(path) + 1 > sizeof f->final_path)
     return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
   strcpy(f->final_path, path);

@@ -12,7 +12,8 @@ typedef struct sf_atomic_file {
   char temp_path[4096];
 } sf_atomic_file;
 
-/* Opens a temporary sibling of path. On failure sets err (SF_ERR_INPUT: the
+/* Opens a temporary sibling of path, first removing stale temporaries of
+ * path that a killed writer left behind (sf_atomic_remove_stale). On failure sets err (SF_ERR_INPUT: the
  * folder is missing or unwritable) and returns nonzero. */
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err);
 /* Flushes, syncs and renames into place; the previous file stays untouched
@@ -23,5 +24,10 @@ void sf_atomic_abort(sf_atomic_file *f);
 /* Temporary name for writers that need a path rather than a FILE* (e.g. the
  * OpenEXR writer): fills temp (size n) with a unique sibling of path. */
 int sf_atomic_temp_name(const char *path, char *temp, size_t n);
+/* Removes temporaries of path ("PATH.tmp.PID.XXXXXX") whose writing process
+ * no longer exists (killed before it could commit or abort), so an
+ * interrupted run leaves nothing behind once the file is written again.
+ * Temporaries of live processes, this one included, are kept. */
+void sf_atomic_remove_stale(const char *path);
 
 #endif

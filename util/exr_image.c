@@ -1,6 +1,7 @@
 #include "util/exr_image.h"
 
 #include <OpenEXR/openexr.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,21 +53,39 @@ static void quiet_errors(exr_const_context_t ctxt, exr_result_t code, const char
   (void)ctxt; (void)code; (void)msg;
 }
 
+/* OpenEXR writes through the atomic file's descriptor, so the image gets
+ * the same temporary-then-rename, fsync and permissions as every output. */
+static int64_t write_to_fd(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz, uint64_t offset,
+                           exr_stream_error_func_ptr_t error_cb) {
+  int fd = *(const int *)user;
+  const char *p = (const char *)buffer;
+  uint64_t done = 0;
+  while (done < sz) {
+    ssize_t n = pwrite(fd, p + done, (size_t)(sz - done), (off_t)(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error_cb(ctxt, EXR_ERR_WRITE_IO, "write failed: %s", n < 0 ? strerror(errno) : "no progress");
+      return -1;
+    }
+    done += (uint64_t)n;
+  }
+  return (int64_t)done;
+}
+
 int sf_exr_write_image(const char *path, int width, int height, int n_channels,
                        const char *const *channel_names, const float *pixels, sf_error *err) {
   if (width < 1 || height < 1 || n_channels < 1) return sf_fail(err, SF_ERR_INTERNAL, "%s: empty image", path);
-  char temp[4096];
-  if (sf_atomic_temp_name(path, temp, sizeof temp) != 0)
-    return sf_fail(err, SF_ERR_INPUT, "%s: path too long", path);
-  int fd = mkstemp(temp);
-  if (fd < 0) return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here", path);
-  close(fd);
+  sf_atomic_file file;
+  if (sf_atomic_open(&file, path, err) != SF_OK) return err->status;
+  int fd = fileno(file.stream);
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = quiet_errors;
+  init.user_data = &fd;
+  init.write_fn = write_to_fd;
   init.zip_level = EXR_IMAGE_ZIP_LEVEL;
   exr_context_t ctx = NULL;
   int part = 0;
-  exr_result_t rv = exr_start_write(&ctx, temp, EXR_WRITE_FILE_DIRECTLY, &init);
+  exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
   if (rv == EXR_ERR_SUCCESS) rv = exr_add_part(ctx, "image", EXR_STORAGE_SCANLINE, &part);
   if (rv == EXR_ERR_SUCCESS) rv = exr_initialize_required_attr_simple(ctx, part, width, height, EXR_COMPRESSION_ZIP);
   if (rv == EXR_ERR_SUCCESS) rv = exr_set_zip_compression_level(ctx, part, EXR_IMAGE_ZIP_LEVEL);
@@ -76,13 +95,9 @@ int sf_exr_write_image(const char *path, int width, int height, int n_channels,
   int status = rv == EXR_ERR_SUCCESS ? encode_rows(ctx, width, n_channels, channel_names, pixels) : -1;
   exr_result_t fin = ctx ? exr_finish(&ctx) : EXR_ERR_SUCCESS;
   if (status != 0 || fin != EXR_ERR_SUCCESS) {
-    remove(temp);
+    sf_atomic_abort(&file);
     return sf_fail(err, SF_ERR_INPUT, "%s: writing the EXR image failed (%s)", path,
                    exr_get_default_error_message(rv != EXR_ERR_SUCCESS ? rv : fin));
   }
-  if (rename(temp, path) != 0) {
-    remove(temp);
-    return sf_fail(err, SF_ERR_INPUT, "%s: could not move the EXR image into place", path);
-  }
-  return SF_OK;
+  return sf_atomic_commit(&file, err) == SF_OK ? SF_OK : SF_ERR_INPUT;
 }
