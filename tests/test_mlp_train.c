@@ -80,7 +80,9 @@ int main(void) {
   o.patience = 4;
   o.seed = 7;
 
-  sf_train_result r1, r2, r3, r4;
+  /* Zeroed: a result's network is owned (and freed here) even when a run
+   * fails before making it. An interrupted run's network is owned too. */
+  sf_train_result r1 = {0}, r2 = {0}, r3 = {0}, r4 = {0};
   o.n_threads = 1;
   run(&tr, &va, &o, &r1);
   o.n_threads = 2;
@@ -99,10 +101,12 @@ int main(void) {
   o.stop_after_epochs = 5;
   run(&tr, &va, &o, &r3);
   CHECK(r3.interrupted == 1 && r3.epochs_run == 5);
+  sf_mlp_free(&r3.net);
   o.resume = 1;
   o.stop_after_epochs = 9;
   run(&tr, &va, &o, &r3);
   CHECK(r3.interrupted == 1);
+  sf_mlp_free(&r3.net);
   o.stop_after_epochs = 0;
   run(&tr, &va, &o, &r4);
   int same_resume = !r4.interrupted && memcmp(r1.net.params, r4.net.params, (size_t)np * sizeof(double)) == 0;
@@ -117,11 +121,13 @@ int main(void) {
   o.resume = 0;
   o.stop_after_epochs = 2;
   run(&tr, &va, &o, &r3);
+  sf_mlp_free(&r3.net);
   o.resume = 1;
   o.stop_after_epochs = 0;
   o.seed = 8;
-  sf_train_result r5;
+  sf_train_result r5 = {0};
   CHECK(sf_mlp_train(&tr, &va, &o, &r5, &err) == SF_ERR_INPUT);
+  sf_mlp_free(&r5.net);
   printf("mismatched checkpoint: %s\n", err.message);
   remove(path);
 
@@ -137,7 +143,7 @@ int main(void) {
   sf_mlp_init_xavier(&q.shape, q.seed, 0, init.params);
   sf_mlp_loss mse = {SF_LOSS_MSE, NULL};
   double loss0 = sf_mlp_dataset_loss(&q.shape, init.params, &mse, &va, 1);
-  sf_train_result rq;
+  sf_train_result rq = {0};
   run(&tr, &va, &q, &rq);
   printf("validation mse: initial %.4g, trained %.4g (ratio %.3g)\n", loss0, rq.validation_loss,
          loss0 / rq.validation_loss);
