@@ -78,17 +78,49 @@ sfit() {
   echo "    ($(($(date +%s) - t0)) s wall including table loading)"
 }
 
-echo "== transmittance network (target: validation RMSE <= 7e-5) =="
-tfit t243_adam --layers 2,4,3 --output exp_neg --epochs "$(e 400)" --lr-decay 1 --polish 0
-tfit t243_polish --layers 2,4,3 --output exp_neg --epochs "$(e 500)" --lr-decay 0.995 --polish 60
-tfit t243_polish_exp_neg_exp --layers 2,4,3 --epochs "$(e 500)" --polish 60
-tfit t2883_default --epochs "$(e 500)"
-tfit t2883_build --epochs "$(e 50)"
-tfit t2883_exp_neg --output exp_neg --epochs "$(e 500)"
-tfit t216163 --layers 2,16,16,3 --polish 40 --epochs "$(e 500)"
+echo "== transmittance: size against accuracy (issue 6 target: held-out RMSE <= 7e-5; seed 000 App. D ground 7.2e-4) =="
+# Bruneton's inputs (--input-map bruneton, the default) unless said; Adam,
+# then Levenberg-Marquardt (fit/mlp_lm.h).
+# val: held-out table grid points (10 %, never trained on); ray: full rays
+# (eq. 43) at 20000 random points against the exact optical depth, double
+# and float32; ground: seed 000 App. D's ground view (192x108, every pixel).
+trow() {
+  local name=$1
+  shift
+  local t0 t1
+  t0=$(date +%s.%N)
+  nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --out "$work/$name.json" "$@"
+  t1=$(date +%s.%N)
+  /usr/bin/python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1])); m = d["metrics"]; t = d["training"]
+layers = t["layers"]; params = sum(layers[i + 1] * (layers[i] + 1) for i in range(len(layers) - 1))
+print("| %-10s | %-8s | %6d | %8.2e | %8.2e | %8.2e | %8.2e | %8.2e | %8.2e | %6.0f s |"
+      % ("-".join(str(x) for x in layers), "x_r,x_mu" if d["inputs"][0]["name"] == "x_r" else "sqrt h,mu",
+         params, m["rmse"], m["max_abs"], m["full_ray_random"]["rmse_all"], m["full_ray_random"]["max_abs_all"],
+         m["full_ray_random_float32"]["rmse_all"], m["views_rmse"]["ground"], float(sys.argv[2]) - float(sys.argv[3])))
+' "$work/$name.json" "$t1" "$t0"
+}
+echo "| layers     | inputs   | params | val RMSE | val max  | ray RMSE | ray max  | f32 RMSE | ground   | time     |"
+# the seed's network (2-4-3 sigmoid) on its inputs: exp(-x) output with Adam
+# alone, and sigmoid output (T itself) with the LM polish
+trow t243_seed --input-map sqrt_h_mu --layers 2,4,3 --output exp_neg --epochs "$(e 400)" --lr-decay 1 --polish 0
+trow t243_sigmoid_lm --input-map sqrt_h_mu --layers 2,4,3 --output sigmoid --epochs "$(e 400)" --polish 200
+# skyfit build's budget (50 epochs + 60 LM steps): before issue 6 (sqrt h, mu) and now (x_r, x_mu)
+trow t2883_build_sqrt_h_mu --input-map sqrt_h_mu --epochs "$(e 50)"
+trow t2883_build --epochs "$(e 50)"
+# Adam then LM to convergence (a further 300 LM steps on t216163 change the loss by < 1 %)
+trow t2883_lm --layers 2,8,8,3 --output exp_neg --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 400)" --polish-samples 4000
+trow t216163_lm --layers 2,16,16,3 --output exp_neg --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 800)" \
+  --polish-samples 4000
+trow t216163_lm_exp_neg_exp --layers 2,16,16,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 800)" --polish-samples 4000
+trow t224243_lm --layers 2,24,24,3 --output exp_neg --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 500)" \
+  --polish-samples 3000
+trow t224243_lm_exp_neg_exp --layers 2,24,24,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 600)" --polish-samples 3000
+trow t232323_lm_exp_neg_exp --layers 2,32,32,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 450)" --polish-samples 2500
 
 echo "== transmittance inputs: (sqrt h, mu) against Bruneton's (x_r, x_mu), same CSV trainer =="
-nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --dump-dataset "$work/t.csv"
+nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --input-map sqrt_h_mu --dump-dataset "$work/t.csv"
 # Bruneton & Neyret 2008's transmittance coordinates from the dumped
 # (normalised) inputs; the built-in atmosphere: R 6360 km, top 6460 km, so
 # sqrt h = x0 / 0.2 + 5 and mu = x1.

@@ -35,13 +35,14 @@ static void sky_usage(FILE *out, int scattering) {
                        "along the ray, exp(-x) outputs (models/mlp_sky.h). Defaults: --layers 4,8,8,9\n"
                        "--target separate --loss mse --epochs 60 --batch 1024 --lr 0.01 --lr-decay 0.95\n"
                        "--polish 30 --polish-samples 20000."
-                     : "Trains the transmittance network: (sqrt h, mu) normalised -> transmittance per channel\n"
+                     : "Trains the transmittance network: Bruneton's (x_r, x_mu) normalised -> transmittance per channel\n"
                        "of the ray to the top boundary, exp(-exp(-x)) output (--output exp_neg_exp); rays hitting the ground are evaluated\n"
                        "reversed (eq. 43). Defaults: --layers 2,8,8,3 --loss mse --epochs 500 --batch 256\n"
                        "--lr 0.01 --lr-decay 0.995 --polish 60 (the seed's 2-4-3: --layers 2,4,3).",
           scattering ? "  --target T              separate (single per constituent without phase, then\n"
                        "                          multiple; default) or radiance (phase included, as the seed)\n"
-                     : "");
+                     : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
+                       "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
   sf_mlp_cli_help(out);
 }
@@ -50,6 +51,7 @@ typedef struct sky_job {
   int scattering;
   const char *scene_path, *tables_dir, *dump_path;
   sf_mlp_target target;
+  sf_mlp_input_map input_map;   /* transmittance network */
   sf_mlp_cli mlp;
   sf_table_cli tables;
 } sky_job;
@@ -80,6 +82,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   memset(&job, 0, sizeof job);
   job.scattering = scattering;
   job.target = scattering ? SF_MLP_TARGET_SEPARATE : SF_MLP_TARGET_TRANSMITTANCE_TOP;
+  /* Bruneton's inputs: lower held-out, full-ray and view errors than
+   * (sqrt h, mu) at equal budget (bench/mlp_accuracy.sh, issue 6) */
+  job.input_map = SF_MLP_INPUTS_BRUNETON;
   sf_mlp_cli_default(&job.mlp);
   sf_table_cli_default(&job.tables);
   sf_train_options *t = &job.mlp.train;
@@ -111,14 +116,21 @@ static int run_sky(int argc, char **argv, int scattering) {
     if (r > 0) continue;
     int has_value = i + 1 < argc;
     if ((strcmp(a, "--scene") == 0 || strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
-         (scattering && strcmp(a, "--target") == 0)) && !has_value) {
+         (scattering && strcmp(a, "--target") == 0) || (!scattering && strcmp(a, "--input-map") == 0)) &&
+        !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
       return 2;
     }
     if (strcmp(a, "--scene") == 0) job.scene_path = argv[++i];
     else if (strcmp(a, "--tables") == 0) job.tables_dir = argv[++i];
     else if (strcmp(a, "--dump-dataset") == 0) job.dump_path = argv[++i];
-    else if (scattering && strcmp(a, "--target") == 0) {
+    else if (!scattering && strcmp(a, "--input-map") == 0) {
+      const char *v = argv[++i];
+      if (sf_mlp_input_map_parse(v, &job.input_map)) {
+        fprintf(stderr, "%s: --input-map: expected sqrt_h_mu or bruneton, got '%s'\n", command, v);
+        return 2;
+      }
+    } else if (scattering && strcmp(a, "--target") == 0) {
       const char *v = argv[++i];
       if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
         fprintf(stderr, "%s: --target: expected separate or radiance, got '%s'\n", command, v);
@@ -196,7 +208,7 @@ static int run_sky(int argc, char **argv, int scattering) {
 
   int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
   if (scattering ? sf_dataset_scattering(&set, atm, &dom, job.target, &data, &n_single, constituent, &err)
-                 : sf_dataset_transmittance(&set, atm, &dom, &data, &err))
+                 : sf_dataset_transmittance_mapped(&set, atm, &dom, job.input_map, &data, &err))
     goto fail;
   if (job.dump_path) {
     if (sf_dataset_write_csv(&data, job.dump_path, &err)) goto fail;
@@ -244,6 +256,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     scale[k] = data.input_scale[k];
   }
   if (sf_mlp_sky_make(&model, &result.net, job.target, atm, offset, scale, n_single, constituent, &err)) goto fail;
+  model.input_map = scattering ? SF_MLP_INPUTS_SQRT_H_MU : job.input_map;
 
   /* weights file */
   doc = sf_weights_new(scattering ? "mlp-scattering" : "mlp-transmittance",

@@ -1,5 +1,6 @@
 #include "codegen/emit_mlp.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -220,14 +221,39 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
   sf_cw_emit(w,
              "/* mlp transmittance (seed 000 §9.6.1): network %d", t->net.shape.sizes[0]);
   for (int l = 1; l <= t->net.shape.n_layers; ++l) sf_cw_emit(w, "-%d", t->net.shape.sizes[l]);
-  sf_cw_emit(w, ", %s hidden, %s output; inputs sqrt(h), mu; %s. */\n",
+  int bruneton = t->input_map == SF_MLP_INPUTS_BRUNETON;
+  sf_cw_emit(w, ", %s hidden, %s output; inputs %s; %s. */\n",
              sf_mlp_activation_name(t->net.shape.hidden), sf_mlp_activation_name(t->net.shape.output),
+             bruneton ? "Bruneton's x_r = rho / H, x_mu = (d - d_min) / (d_max - d_min)" : "sqrt(h), mu",
              depth ? "the network gives the optical depth to the top, tau_top = -log T_top"
                    : "the network gives T_top");
   /* the raw network */
   sf_cw_emit(w, "@fn %V skyfit_mlp_transmittance_net(float h_km, float mu) {\n", n);
-  emit_input(w, t, 0, "@sqrt(@max(h_km, 0.0f))");
-  emit_input(w, t, 1, "@min(@max(mu, -1.0f), 1.0f)");
+  if (bruneton) {
+    /* models/mlp_sky_impl.inc bruneton_coords, operation for operation */
+    double R = t->bottom_radius_km, Rt = t->top_radius_km;
+    float R_f = (float)R, Rt_f = (float)Rt, h_top_f = (float)(Rt - R), H_f = (float)sqrt((Rt - R) * (Rt + R));
+    sf_cw_emit(w,
+               "  float h = @min(@max(h_km, 0.0f), %F);\n"
+               "  float m = @min(@max(mu, -1.0f), 1.0f);\n"
+               "  float r = %F + h;\n"
+               "  float rho = @sqrt(h * (%F + h));\n"
+               "  float below = %F - h;  /* Rt - r */\n"
+               "  float up = below * (%F + r);  /* Rt^2 - r^2 */\n"
+               "  float rm = r * m;\n"
+               "  float q = @sqrt(up + rm * rm);\n"
+               "  float d = m > 0.0f ? up / (rm + q) : q - rm;  /* to the top, without cancellation */\n"
+               "  float xm = (d - below) / (rho + %F - below);\n"
+               "  float x_r = rho / %F;\n"
+               "  float x_mu = @min(@max(xm, 0.0f), 1.0f);\n",
+               (double)h_top_f, (double)R_f, (double)(2.0f * R_f), (double)h_top_f, (double)Rt_f, (double)H_f,
+               (double)H_f);
+    emit_input(w, t, 0, "x_r");
+    emit_input(w, t, 1, "x_mu");
+  } else {
+    emit_input(w, t, 0, "@sqrt(@max(h_km, 0.0f))");
+    emit_input(w, t, 1, "@min(@max(mu, -1.0f), 1.0f)");
+  }
   net_outputs o;
   sf_mlp_activation out_act = depth ? SF_ACT_LINEAR : t->net.shape.output;
   emit_network(w, t, out_act, 0, &o);
@@ -291,14 +317,17 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
              "  float h = e.x, m = e.y;\n"
              "  float r = %F + h;\n"
-             "  float h_raw = skyfit_altitude_at(%F, h, m, d);  /* < 0 past the ground */\n"
+             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
+             "  /* nothing past the ground; an end on it is at altitude 0 exactly */\n"
+             "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
+             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
+             "  if (d_ground >= 0.0f) d = @min(d, d_ground);\n"
              "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
              "  float mu_d = @min(@max((r * m + d) / @max(%F + h_raw, 1e-6f), -1.0f), 1.0f);\n"
-             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
-             "  if (m < 0.0f && g.x <= g.y) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
+             "  if (d_ground >= 0.0f) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
              "  return skyfit_mlp_transmittance_ratio(h, m, h_d, mu_d);\n"
              "}\n\n",
-             n, g.R, g.h_top, ones, g.R, g.R, g.h_top, g.R, g.R);
+             n, g.R, g.h_top, ones, g.R, g.R, g.R, g.h_top, g.R);
   sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT);
 }
 
@@ -397,7 +426,11 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  m = e.y;\n"
              "  ms = e.z;\n"
              "  float r = %F + h;\n"
-             "  float h_raw = skyfit_altitude_at(%F, h, m, d);  /* < 0 past the ground */\n"
+             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
+             "  /* nothing past the ground; an end on it is at altitude 0 exactly */\n"
+             "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
+             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
+             "  if (d_ground >= 0.0f) d = @min(d, d_ground);\n"
              "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
              "  float inv_r_d = 1.0f / @max(%F + h_raw, 1e-6f);\n"
              "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
@@ -406,12 +439,12 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c);\n"
              "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
              "  return %C",
-             n, g.R, g.h_top, zeros, g.R, g.R, g.h_top, g.R, n, n, n, n);
+             n, g.R, g.h_top, zeros, g.R, g.R, g.R, g.h_top, g.R, n, n, n, n);
   for (int c = 0; c < n; ++c) {
     const char *m = member(n, c);
     if (c) sf_cw_emit(w, ",\n              ");
     sf_cw_emit(w, "@max(lv%s - tr%s * lp%s, 0.0f)", m, m, m);
   }
   sf_cw_emit(w, ");\n}\n\n");
-  sf_cw_need(w, SF_HELPER_ALTITUDE_AT);
+  sf_cw_need(w, SF_HELPER_ALTITUDE_AT | SF_HELPER_SPHERE_HITS);
 }

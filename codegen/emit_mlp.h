@@ -10,7 +10,9 @@
  *   vecN skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km)
  *       the first t_km of that ray (eq. 43);
  *   vecN skyfit_mlp_transmittance_top(float h_km, float mu)
- *       the network's T_top itself (no ground handling; used by the above).
+ *       the network's T_top itself (no ground handling; used by the above);
+ *   its inputs as the model's mapping: sqrt(h), mu, or Bruneton's x_r, x_mu
+ *   written out with the float operations of models/mlp_sky_impl.inc.
  * scattering network (model "mlp-scattering"; sun irradiance 1: multiply by
  * the sun's irradiance per channel):
  *   vecN skyfit_mlp_sky_radiance(float h_km, float mu, float mu_s, float nu)

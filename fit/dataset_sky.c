@@ -35,6 +35,21 @@ void sf_transmittance_domain_of(const sf_atmosphere *atm, const sf_scene_domain 
 
 int sf_dataset_transmittance(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
                              sf_dataset *d, sf_error *err) {
+  return sf_dataset_transmittance_mapped(set, atm, dom, SF_MLP_INPUTS_SQRT_H_MU, d, err);
+}
+
+/* The two network inputs of (h, mu) under map, before normalisation. */
+static void mapped_inputs(const sf_atmosphere *atm, sf_mlp_input_map map, double h, double mu, double *v) {
+  if (map == SF_MLP_INPUTS_BRUNETON) {
+    sf_mlp_bruneton_coords(atm->bottom_radius_km, atm->top_radius_km, h, mu, &v[0], &v[1]);
+  } else {
+    v[0] = sqrt(fmax(h, 0.0));
+    v[1] = mu;
+  }
+}
+
+int sf_dataset_transmittance_mapped(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                                    sf_mlp_input_map map, sf_dataset *d, sf_error *err) {
   memset(d, 0, sizeof *d);
   if (set->params.kind != SF_PARAM_BRUNETON)
     return sf_fail(err, SF_ERR_INPUT, "the transmittance network is trained on Bruneton's tables (rays to the top)");
@@ -46,8 +61,17 @@ int sf_dataset_transmittance(const sf_table_set *set, const sf_atmosphere *atm, 
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
       if (sf_dataset_init(d, count, 2, atm->n_channels, err)) return err->status;
-      set_input(d, 0, "sqrt_h_km", sqrt(td.h_min), sqrt(td.h_max));
-      set_input(d, 1, "mu", td.mu_min, 1.0);
+      if (map == SF_MLP_INPUTS_BRUNETON) {
+        /* x_r grows with h; x_mu spans [0, 1] at every altitude */
+        double lo[2], hi[2];
+        mapped_inputs(atm, map, td.h_min, 1.0, lo);
+        mapped_inputs(atm, map, td.h_max, 1.0, hi);
+        set_input(d, 0, sf_mlp_input_map_input_name(map, 0), lo[0], hi[0]);
+        set_input(d, 1, sf_mlp_input_map_input_name(map, 1), 0.0, 1.0);
+      } else {
+        set_input(d, 0, "sqrt_h_km", sqrt(td.h_min), sqrt(td.h_max));
+        set_input(d, 1, "mu", td.mu_min, 1.0);
+      }
       for (int c = 0; c < atm->n_channels; ++c)
         snprintf(d->names[2 + c], SF_DATASET_NAME_LEN, "T_%s", atm->channel_names[c]);
       count = 0;
@@ -60,8 +84,10 @@ int sf_dataset_transmittance(const sf_table_set *set, const sf_atmosphere *atm, 
         if (pass == 1) {
           int index[2] = {i0, i1};
           const float *v = sf_table_at(t, index);
-          d->x[count * 2 + 0] = norm_input(d, 0, sqrt(fmax(h, 0.0)));
-          d->x[count * 2 + 1] = norm_input(d, 1, mu);
+          double in[2];
+          mapped_inputs(atm, map, h, mu, in);
+          d->x[count * 2 + 0] = norm_input(d, 0, in[0]);
+          d->x[count * 2 + 1] = norm_input(d, 1, in[1]);
           for (int c = 0; c < atm->n_channels; ++c) d->y[count * atm->n_channels + c] = v[c];
         }
         ++count;

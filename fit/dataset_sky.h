@@ -28,6 +28,11 @@ void sf_transmittance_domain_of(const sf_atmosphere *atm, const sf_scene_domain 
  * grid points inside the domain. */
 int sf_dataset_transmittance(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
                              sf_dataset *d, sf_error *err);
+/* The same samples with the inputs of map (models/mlp_sky.h): (sqrt_h_km,
+ * mu) as above, or Bruneton's (x_r, x_mu), each normalised to [-1, 1] over
+ * the domain's range. */
+int sf_dataset_transmittance_mapped(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                                    sf_mlp_input_map map, sf_dataset *d, sf_error *err);
 
 /* Inputs (sqrt_h_km, mu, mu_s, nu) -> the target's outputs (models/mlp_sky.h)
  * at the scattering tables' grid points inside the domain (nu clamped).

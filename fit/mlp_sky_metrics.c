@@ -46,6 +46,9 @@ void sf_mlp_error_validation(const sf_mlp_sky *m, const sf_dataset *val, sf_mlp_
     double h = denorm(val, 0, x[0]);
     h = h * h;
     double mu = denorm(val, 1, x[1]);
+    if (m->input_map == SF_MLP_INPUTS_BRUNETON)   /* inputs x_r, x_mu (models/mlp_sky.h) */
+      sf_mlp_bruneton_inverse(m->bottom_radius_km, m->top_radius_km, denorm(val, 0, x[0]), denorm(val, 1, x[1]), &h,
+                              &mu);
     if (m->target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
       sf_mlp_transmittance_top(m, h, mu, model);
       for (int c = 0; c < nch; ++c) ref[c] = y[c];

@@ -28,6 +28,10 @@
  *                    near the ground), the viewer first moved to the top
  *                    boundary if it is above it;
  *       "mu", "mu_s", "nu" the cosines of SPEC §3 (nu clamped as SPEC §3);
+ *       "x_r", "x_mu" Bruneton's horizon-aware coordinates of (h, mu)
+ *                    (transmittance network only, models/mlp_sky.h); the
+ *                    names select the mapping, so files written before it
+ *                    existed ("sqrt_h_km", "mu") load unchanged;
  *       "x0", "x1", ... for networks fitted to a CSV (already normalised:
  *                    offset 0, scale 1).
  *   "params": "W0" [n1][n0], "b0" [n1], "W1" [n2][n1], "b1" [n2], ...

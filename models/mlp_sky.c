@@ -71,6 +71,43 @@ static void net_forward_f(const sf_mlp_sky *m, const float *x, float *out, int d
 #define SCALE scale_f
 #include "models/mlp_sky_impl.inc"
 
+static const char *const input_map_names[] = {"sqrt_h_mu", "bruneton"};
+static const char *const input_names[2][2] = {{"sqrt_h_km", "mu"}, {"x_r", "x_mu"}};
+
+const char *sf_mlp_input_map_name(sf_mlp_input_map m) { return (unsigned)m < 2u ? input_map_names[m] : "?"; }
+
+int sf_mlp_input_map_parse(const char *name, sf_mlp_input_map *out) {
+  for (int k = 0; k < 2; ++k)
+    if (strcmp(name, input_map_names[k]) == 0) {
+      *out = (sf_mlp_input_map)k;
+      return 0;
+    }
+  return -1;
+}
+
+const char *sf_mlp_input_map_input_name(sf_mlp_input_map m, int k) {
+  return (unsigned)m < 2u && (unsigned)k < 2u ? input_names[m][k] : "?";
+}
+
+void sf_mlp_bruneton_coords(double bottom_radius_km, double top_radius_km, double h_km, double mu, double *x_r,
+                            double *x_mu) {
+  double R = bottom_radius_km, Rt = top_radius_km;
+  bruneton_coords(R, Rt, Rt - R, sqrt((Rt - R) * (Rt + R)), h_km, mu, x_r, x_mu);
+}
+
+void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, double x_r, double x_mu, double *h_km,
+                             double *mu) {
+  double R = bottom_radius_km, Rt = top_radius_km;
+  double H = sqrt((Rt - R) * (Rt + R));
+  double rho = H * fmin(fmax(x_r, 0.0), 1.0);
+  double r = sqrt(rho * rho + R * R);
+  double d_min = Rt - r, d_max = rho + H;
+  double d = d_min + fmin(fmax(x_mu, 0.0), 1.0) * (d_max - d_min);
+  *h_km = fmax(r - R, 0.0);
+  /* Rt^2 = r^2 + d^2 + 2 r d mu */
+  *mu = d <= 0.0 ? 1.0 : fmin(fmax((H * H - rho * rho - d * d) / (2.0 * r * d), -1.0), 1.0);
+}
+
 int sf_mlp_sky_make(sf_mlp_sky *m, sf_mlp *net, sf_mlp_target target, const sf_atmosphere *atm,
                     const double *offset, const double *scale, int n_single, const int *phase_constituent,
                     sf_error *err) {
@@ -123,11 +160,16 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
   int n_in = target == SF_MLP_TARGET_TRANSMITTANCE_TOP ? 2 : 4;
   if (w->n_inputs != n_in)
     return sf_fail(err, SF_ERR_INPUT, "%s: inputs: expected %d entries, got %d", w->source, n_in, w->n_inputs);
+  /* the input names say the mapping; "sqrt_h_km", "mu" is the original one */
+  sf_mlp_input_map input_map = SF_MLP_INPUTS_SQRT_H_MU;
+  if (target == SF_MLP_TARGET_TRANSMITTANCE_TOP && strcmp(w->inputs[0].name, input_names[1][0]) == 0)
+    input_map = SF_MLP_INPUTS_BRUNETON;
   double offset[4], scale[4];
   for (int k = 0; k < n_in; ++k) {
-    if (strcmp(w->inputs[k].name, names[k]) != 0)
+    const char *expected = k < 2 ? input_names[input_map][k] : names[k];
+    if (strcmp(w->inputs[k].name, expected) != 0)
       return sf_fail(err, SF_ERR_INPUT, "%s: inputs[%d].name: expected \"%s\", got \"%s\"", w->source, k,
-                     names[k], w->inputs[k].name);
+                     expected, w->inputs[k].name);
     offset[k] = w->inputs[k].offset;
     scale[k] = w->inputs[k].scale;
   }
@@ -155,6 +197,7 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
     snprintf(err->message, sizeof err->message, "%s", message);
     return err->status;
   }
+  m->input_map = input_map;
   return SF_OK;
 }
 

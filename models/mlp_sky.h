@@ -15,6 +15,21 @@
  * sqrt(h) ("sqrt_h_km"), mu, and for scattering mu_s, nu (nu clamped into
  * what mu and mu_s allow, SPEC §3).
  *
+ * The transmittance network may instead take Bruneton's horizon-aware
+ * coordinates (Bruneton 2017, GetTransmittanceTextureUvFromRMu, without the
+ * texel centring; input names "x_r", "x_mu" in the weights file, so files
+ * naming "sqrt_h_km", "mu" keep the old mapping):
+ *   x_r  = rho / H,                rho = sqrt(r^2 - R^2) = sqrt(h (2R + h)),
+ *                                  H = sqrt(Rt^2 - R^2);
+ *   x_mu = (d - d_min) / (d_max - d_min),  d the distance to the top along
+ *          mu, d_min = Rt - r (zenith), d_max = rho + H (the ray tangent to
+ *          the ground), clamped to [0, 1].
+ * T_top is smooth over the unit square there: the horizon is the edge
+ * x_mu = 1 at every altitude, where in (sqrt h, mu) it is a curve. Written
+ * without cancellation for float32: r^2 - R^2 = h (2R + h),
+ * Rt^2 - r^2 = (h_top - h)(Rt + r), and for mu > 0
+ * d = (Rt^2 - r^2) / (r mu + sqrt(Rt^2 - r^2 + r^2 mu^2)).
+ *
  * Transmittance network (target "transmittance_top"): outputs T_top(h, mu)
  * per channel, the transmittance of the ray from altitude h along mu to the
  * TOP boundary, trained only for rays that do not hit the ground (mu at or
@@ -28,7 +43,8 @@
  *     ground hit at distance d_g (mu_g = mu at the ground, < 0), eq. 43
  *     with reversed rays (seed 000 §9.6.3): both rays point up,
  *       T = T_top(0, -mu_g) / T_top(h, -mu).
- *   Segment from the viewer to distance d (eq. 43, Bruneton 2017
+ *   Segment from the viewer to distance d, cut where the ray meets the
+ *   ground (eq. 43, Bruneton 2017
  *   GetTransmittance): if the viewer's ray hits the ground
  *       T = T_top(h_d, -mu_d) / T_top(h, -mu)          (reversed)
  *     else
@@ -70,12 +86,35 @@ typedef enum sf_mlp_target {
 const char *sf_mlp_target_name(sf_mlp_target t);
 int sf_mlp_target_parse(const char *name, sf_mlp_target *out);
 
+/* What the transmittance network's two inputs are (above). */
+typedef enum sf_mlp_input_map {
+  SF_MLP_INPUTS_SQRT_H_MU = 0,   /* "sqrt_h_km", "mu" (every scattering network) */
+  SF_MLP_INPUTS_BRUNETON         /* "x_r", "x_mu" */
+} sf_mlp_input_map;
+
+/* "sqrt_h_mu" / "bruneton" (command-line names). */
+const char *sf_mlp_input_map_name(sf_mlp_input_map m);
+int sf_mlp_input_map_parse(const char *name, sf_mlp_input_map *out);
+/* The weights-file names of input k (0, 1) under the mapping. */
+const char *sf_mlp_input_map_input_name(sf_mlp_input_map m, int k);
+
+/* Bruneton's coordinates (x_r, x_mu) above, in double, for the data sets;
+ * h is clamped to [0, Rt - R], mu to [-1, 1]. */
+void sf_mlp_bruneton_coords(double bottom_radius_km, double top_radius_km, double h_km, double mu, double *x_r,
+                            double *x_mu);
+
+/* Its inverse (Bruneton 2017 GetRMuFromTransmittanceTextureUv): the (h, mu)
+ * of (x_r, x_mu) in [0, 1]^2, for metrics on normalised data sets. */
+void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, double x_r, double x_mu, double *h_km,
+                             double *mu);
+
 /* A network with what its inputs and outputs mean. */
 typedef struct sf_mlp_sky {
   sf_mlp net;
   sf_mlp_f net_f;
   sf_mlp_target target;
   int n_inputs;
+  sf_mlp_input_map input_map;   /* transmittance network only; sf_mlp_sky_make sets SQRT_H_MU */
   double offset[4], scale[4];   /* per input, see above */
   float offset_f[4], scale_f[4];
   double bottom_radius_km, top_radius_km;

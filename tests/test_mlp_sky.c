@@ -68,6 +68,32 @@ int main(void) {
   }
   CHECK_ABS(worst_ground, 0.0, 1e-7);   /* r_d rounding at the ground point */
 
+  /* 1b. nothing lies past the ground: a segment longer than the way to the
+   * ground equals the segment to the ground (transmittance and eq. 44),
+   * in double and in float32 */
+  double worst_past = 0.0, worst_past_f = 0.0;
+  for (int i = 0; i < 500; ++i) {
+    double h = 20.0 * sf_rng_uniform(&rng), r = R + h;
+    double mu = sf_horizon_mu(r, R) - (1.0 + sf_horizon_mu(r, R)) * sf_rng_uniform(&rng);
+    double mu_s = 2.0 * sf_rng_uniform(&rng) - 1.0, nu = sf_clamp_nu(mu, mu_s, 2.0 * sf_rng_uniform(&rng) - 1.0);
+    double tn, tf, at[3], past[3], sat[3], spast[3];
+    if (!sf_ray_sphere_intersections(r, mu, R, &tn, &tf)) continue;
+    double beyond = tn * (1.0 + 10.0 * sf_rng_uniform(&rng)) + 1.0;
+    sf_mlp_transmittance_segment(&t, h, mu, tn, at);
+    sf_mlp_transmittance_segment(&t, h, mu, beyond, past);
+    sf_mlp_scattering_segment(&s, &t, h, mu, mu_s, nu, tn, sat);
+    sf_mlp_scattering_segment(&s, &t, h, mu, mu_s, nu, beyond, spast);
+    float atf[3], pastf[3];
+    sf_mlp_transmittance_f(&t, (float)h, (float)mu, atf);   /* the full ray ends on the ground too */
+    sf_mlp_transmittance_segment_f(&t, (float)h, (float)mu, (float)beyond, pastf);
+    for (int c = 0; c < 3; ++c) {
+      worst_past = fmax(worst_past, fmax(fabs(at[c] - past[c]), fabs(sat[c] - spast[c]) / fmax(sat[c], 1e-12)));
+      worst_past_f = fmax(worst_past_f, fabs((double)atf[c] - (double)pastf[c]));
+    }
+  }
+  CHECK_ABS(worst_past, 0.0, 1e-7);
+  CHECK_ABS(worst_past_f, 0.0, 1e-4);
+
   /* 2. composition of segments (double), where no clamp acts */
   double worst_t = 0.0, worst_s = 0.0;
   int tested = 0;
