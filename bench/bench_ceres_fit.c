@@ -178,7 +178,7 @@ int main(int argc, char **argv) {
     sf_lsq_summary sum;
     for (int r = 0; r < repeats; ++r) {
       double t0 = sf_wall_seconds(), c0 = sf_cpu_seconds();
-      sf_fit_sky_multistart(&d, SF_SKY_BOUNDS_SCALE_ONLY, 1, &o, 3, &starts[0][0], sol, &sol[9], &winner,
+      sf_fit_sky_multistart(&d, SF_SKY_BOUNDS_SCALE_ONLY, 1, &o, 3, (const double(*)[SF_HOSEK_N_COEFFS + 1])starts, sol, &sol[9], &winner,
                             &sum, costs, &err);
       times[r] = sf_wall_seconds() - t0;
       cpu[r] = sf_cpu_seconds() - c0;

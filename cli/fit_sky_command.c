@@ -192,7 +192,7 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
   double coeffs[SF_HOSEK_N_COEFFS], final_costs[MAX_STARTS];
   int winner;
   sf_lsq_summary sum;
-  rc = sf_fit_sky_multistart(&d, bounds, fix_scale, &lsq, n_starts, &starts[0][0], coeffs, &scale,
+  rc = sf_fit_sky_multistart(&d, bounds, fix_scale, &lsq, n_starts, (const double(*)[SF_HOSEK_N_COEFFS + 1])starts, coeffs, &scale,
                              &winner, &sum, final_costs, &err);
   if (rc != SF_OK) {
     fprintf(stderr, "%s: %s\n", command, err.message);

@@ -292,7 +292,8 @@ int sf_fit_sky_config(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_sc
 }
 
 int sf_fit_sky_multistart(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_scale,
-                          const sf_lsq_options *o, int n_starts, const double *starts,
+                          const sf_lsq_options *o, int n_starts,
+                          const double (*starts)[SF_HOSEK_N_COEFFS + 1],
                           double *coeffs, double *scale, int *winner, sf_lsq_summary *summary,
                           double *final_costs, sf_error *err) {
   int nc = sf_sky_form_n_coeffs(d->form);
@@ -301,7 +302,7 @@ int sf_fit_sky_multistart(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fi
   sf_error last = {0};
   for (int s = 0; s < n_starts; ++s) {
     double c[SF_HOSEK_N_COEFFS + 1];
-    memcpy(c, starts + (size_t)s * (nc + 1), sizeof(double) * (size_t)(nc + 1));
+    memcpy(c, starts[s], sizeof(double) * (size_t)(nc + 1));
     sf_lsq_summary sum;
     sf_error e = {0};
     int rc = sf_fit_sky_config(d, bounds, fix_scale, o, c, &c[nc], &sum, &e);

@@ -56,12 +56,14 @@ int sf_fit_sky_config(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_sc
                       const sf_lsq_options *o, double *coeffs, double *scale,
                       sf_lsq_summary *summary, sf_error *err);
 
-/* Multi-start: starts[s * (n_coeffs + 1) ...] = coefficients then scale.
- * Fits from each, keeps the lowest final cost (ties: the earlier start).
+/* Multi-start: row starts[s] holds the coefficients, then the scale at
+ * index n_coeffs (rows are sized for Hosek, the larger form, whatever the
+ * form). Fits from each, keeps the lowest final cost (ties: the earlier start).
  * final_costs (may be NULL) receives each start's final cost (INFINITY for
  * an unusable solve). *winner is the winning start's index. */
 int sf_fit_sky_multistart(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_scale,
-                          const sf_lsq_options *o, int n_starts, const double *starts,
+                          const sf_lsq_options *o, int n_starts,
+                          const double (*starts)[SF_HOSEK_N_COEFFS + 1],
                           double *coeffs, double *scale, int *winner, sf_lsq_summary *summary,
                           double *final_costs, sf_error *err);
 

@@ -325,7 +325,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
       int winner;
       sf_lsq_summary sum;
       status = sf_fit_sky_multistart(&d, SF_SKY_BOUNDS_PHYSICAL, o->form == SF_SKY_FORM_HOSEK,
-                                     &o->lsq, n_starts, &starts[0][0], sol, &sol[nc], &winner, &sum,
+                                     &o->lsq, n_starts, (const double(*)[SF_HOSEK_N_COEFFS + 1])starts, sol, &sol[nc], &winner, &sum,
                                      NULL, err);
       if (status != SF_OK) break;
       /* map the winner to the report's start list by name */
