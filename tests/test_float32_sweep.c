@@ -105,6 +105,10 @@ static const char *const row_names[ROW_COUNT] = {"naive", "chapman", "taylor", "
  *    near-tangent ray, where the float32 ground distance is off by up to
  *    ~sqrt(eps32) of it and the function jumps (the piece past the ground is
  *    the far side of the line, models/air_segment.c).
+ *  - hosek +-1 (1e-3): the float32 error of a fitted Hosek model depends on
+ *    its coefficients, so it moves with a refit: the ±1 class measured
+ *    below 3e-4 with one default fit and 6.5e-4 (one point in 1e6, the sun
+ *    at the zenith) with the next.
  * Radiance rows are relative errors (to max(|L|, 1e-6, the un-cancelled
  * scale)), transmittance rows absolute. */
 static const double float_bound[ROW_COUNT][HC_COUNT] = {
@@ -117,7 +121,7 @@ static const double float_bound[ROW_COUNT][HC_COUNT] = {
     /* sigmoid */ {2e-4,  5e-4,   5e-5,   1e-5,   5e-4,   0,      5e-5,   5e-4,   5e-5},
     /* mlp-t */   {5e-5,  3e-4,   1e-4,   1e-5,   1e-4,   0,      1e-5,   5e-4,   1e-4},
     /* mlp-s */   {1e-4,  3e-4,   5e-5,   2e-5,   5e-5,   1e-4,   1e-5,   5e-4,   1e-4},
-    /* hosek */   {3e-4,  5e-4,   5e-4,   0,      0,      2e-4,   3e-4,   0,      0},
+    /* hosek */   {3e-4,  5e-4,   5e-4,   0,      0,      2e-4,   1e-3,   0,      0},
     /* preetham */{1e-5,  5e-5,   1e-5,   0,      0,      1e-5,   1e-3,   0,      0},
     /* spectr4 */ {1e-6,  0,      0,      0,      0,      0,      0,      0,      1e-6}};
 

@@ -18,10 +18,9 @@ int sf_json_exact_number(double x, char *buf, size_t size) {
 static int numbers_to_exact_raw(cJSON *node) {
   for (cJSON *child = node->child; child;) {
     cJSON *next = child->next;
-    if (cJSON_IsNumber(child)) {
+    if (cJSON_IsNumber(child) && isfinite(child->valuedouble)) {
       char text[40];
-      if (!isfinite(child->valuedouble) || sf_json_exact_number(child->valuedouble, text, sizeof text) < 0)
-        return -1;
+      if (sf_json_exact_number(child->valuedouble, text, sizeof text) < 0) return -1;
       cJSON *raw = cJSON_CreateRaw(text);
       if (!raw) return -1;
       /* Replacing by pointer keeps no key: the raw item takes the number's. */
@@ -44,9 +43,9 @@ char *sf_json_print_exact(const cJSON *doc, int formatted) {
   cJSON *copy = cJSON_Duplicate(doc, 1);
   if (!copy) return NULL;
   char *text = NULL;
-  if (cJSON_IsNumber(copy)) {
+  if (cJSON_IsNumber(copy) && isfinite(copy->valuedouble)) {
     char number[40];
-    if (isfinite(copy->valuedouble) && sf_json_exact_number(copy->valuedouble, number, sizeof number) >= 0) {
+    if (sf_json_exact_number(copy->valuedouble, number, sizeof number) >= 0) {
       text = malloc(sizeof number);
       if (text) snprintf(text, sizeof number, "%s", number);
     }

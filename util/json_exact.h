@@ -18,8 +18,9 @@
 int sf_json_exact_number(double x, char *buf, size_t size);
 
 /* cJSON_Print (formatted = 1) or cJSON_PrintUnformatted of doc with every
- * number printed exactly; doc is left unchanged. NULL when out of memory or
- * when doc holds a non-finite number. free() the result. */
+ * finite number printed exactly (a non-finite one prints as cJSON prints it,
+ * null: a loader reading the text back refuses it as it would the file);
+ * doc is left unchanged. NULL when out of memory. free() the result. */
 char *sf_json_print_exact(const cJSON *doc, int formatted);
 
 #endif
