@@ -116,19 +116,10 @@ static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_ta
     }
     cJSON_AddItemToArray(tables, e);
   }
-  char *text = sf_json_print_exact(root, 1);
-  cJSON_Delete(root);
-  if (!text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory writing tables.json");
   char path[4096];
   snprintf(path, sizeof path, "%s/tables.json", dir);
-  sf_atomic_file f;
-  int status = sf_atomic_open(&f, path, err);
-  if (status == SF_OK) {
-    fputs(text, f.stream);
-    fputc('\n', f.stream);
-    status = sf_atomic_commit(&f, err);
-  }
-  free(text);
+  int status = sf_json_write_exact(root, path, err);
+  cJSON_Delete(root);
   return status;
 }
 

@@ -3,13 +3,11 @@
  * become null, and the tests require that none occurs. */
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include <cjson/cJSON.h>
 
 #include "codegen/report.h"
-#include "util/atomic_file.h"
 #include "util/json_exact.h"
 
 static void add_number(cJSON *o, const char *key, double v) {
@@ -150,16 +148,7 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
       }
     }
   }
-  char *text = sf_json_print_exact(root, 1);
+  int status = sf_json_write_exact(root, path, err);
   cJSON_Delete(root);
-  if (!text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory writing %s", path);
-  sf_atomic_file f;
-  int status = sf_atomic_open(&f, path, err);
-  if (status == SF_OK) {
-    fputs(text, f.stream);
-    fputc('\n', f.stream);
-    status = sf_atomic_commit(&f, err);
-  }
-  free(text);
   return status;
 }

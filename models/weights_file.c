@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "models/atmosphere_file.h"
-#include "util/atomic_file.h"
 #include "util/json_read.h"
 #include "util/json_exact.h"
 
@@ -138,21 +137,7 @@ char *sf_weights_print(const cJSON *doc) {
 int sf_weights_write(const cJSON *doc, const char *path, sf_error *err) {
   if (!all_finite(doc))
     return sf_fail(err, SF_ERR_INTERNAL, "%s: refusing to write a weights file with a non-finite number", path);
-  char *text = sf_weights_print(doc);
-  if (!text) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory printing the weights", path);
-  sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err) != SF_OK) {
-    free(text);
-    return err ? err->status : SF_ERR_INPUT;
-  }
-  size_t n = strlen(text);
-  int ok = fwrite(text, 1, n, f.stream) == n;
-  free(text);
-  if (!ok) {
-    sf_atomic_abort(&f);
-    return sf_fail(err, SF_ERR_INPUT, "%s: write failed", path);
-  }
-  return sf_atomic_commit(&f, err);
+  return sf_json_write_exact(doc, path, err);
 }
 
 /* ---------------------------------------------------------------- reading */

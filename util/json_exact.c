@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "util/atomic_file.h"
+
 int sf_json_exact_number(double x, char *buf, size_t size) {
   int n = -1;
   for (int digits = 15; digits <= 17; ++digits) {
@@ -54,4 +56,18 @@ char *sf_json_print_exact(const cJSON *doc, int formatted) {
   }
   cJSON_Delete(copy);
   return text;
+}
+
+int sf_json_write_exact(const cJSON *doc, const char *path, sf_error *err) {
+  char *text = sf_json_print_exact(doc, 1);
+  if (!text) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory printing JSON", path);
+  sf_atomic_file f;
+  int status = sf_atomic_open(&f, path, err);
+  if (status == SF_OK) {
+    fputs(text, f.stream);
+    fputc('\n', f.stream);
+    status = sf_atomic_commit(&f, err);
+  }
+  free(text);
+  return status;
 }

@@ -13,6 +13,8 @@
 
 #include <cjson/cJSON.h>
 
+#include "util/error.h"
+
 /* The shortest %.*g form of x (finite) that reads back exactly; returns
  * the length, or -1 if size is too small. */
 int sf_json_exact_number(double x, char *buf, size_t size);
@@ -22,5 +24,9 @@ int sf_json_exact_number(double x, char *buf, size_t size);
  * null: a loader reading the text back refuses it as it would the file);
  * doc is left unchanged. NULL when out of memory. free() the result. */
 char *sf_json_print_exact(const cJSON *doc, int formatted);
+
+/* Writes sf_json_print_exact(doc, 1) and a newline to path atomically
+ * (util/atomic_file.h). SF_OK, or the error (nothing written). */
+int sf_json_write_exact(const cJSON *doc, const char *path, sf_error *err);
 
 #endif
