@@ -10,8 +10,7 @@
  *   hosek, preetham: sf_sky_radiance_clamped (codegen/emit_sky.h);
  *   mlp:        models/mlp_sky.h in double;
  *   spectral4:  the 3x4 matrices and constants of the weights file.
- * Shared by tests/test_float32_sweep.c (and usable by
- * tests/test_codegen_headers.c, which holds the same adaptors). */
+ * Shared by tests/test_float32_sweep.c and tests/test_codegen_headers.c. */
 #ifndef SKYFIT_TESTS_EMITTED_DOUBLE_MODELS_H
 #define SKYFIT_TESTS_EMITTED_DOUBLE_MODELS_H
 

@@ -43,6 +43,8 @@
 #include "codegen/baseline_part.h"
 #include "codegen/codegen_file.h"
 #include "codegen/fitted_part.h"
+#include "emitted_double_models.h"
+#include "spectral4_test_weights.h"
 #include "fit/train.h"
 #include "models/atmosphere_file.h"
 #include "models/ray_geometry.h"
@@ -94,106 +96,7 @@ static int run(const char *command) {
   return status;
 }
 
-/* ---- the double models -------------------------------------------------- */
-
-static void eval_baseline(const void *ctx, const float *p, double *out);
-static void eval_baseline_segment(const void *ctx, const float *p, double *out) {
-  sf_baseline_transmittance(ctx, p[0], p[1], 0.0, p[2], out);
-}
-static void eval_baseline(const void *ctx, const float *p, double *out) {
-  sf_baseline_transmittance(ctx, p[0], p[1], 0.0, INFINITY, out);
-}
-
-/* Sigmoid in double: the model's own full ray (sf_sigmoid_model_eval);
- * segments as models/sigmoid_transmittance.h states them, with double ray
- * geometry (models/ray_geometry.h), the segment cut at the ray's end. */
-static double sigmoid_log_top(const sf_sigmoid_model *m, int k, double h, double mu) {
-  double s = 0.0;
-  for (int c = 0; c < m->n_constituents; ++c) s += sf_sigmoid_log_transmittance(m->a[c][k], h, mu);
-  return s;
-}
-static void eval_sigmoid(const void *ctx, const float *p, double *out) {
-  sf_sigmoid_model_eval(&((const sf_sigmoid_emit *)ctx)->model, p[0], p[1], out);
-}
-static void eval_sigmoid_segment(const void *ctx, const float *p, double *out) {
-  const sf_sigmoid_model *m = &((const sf_sigmoid_emit *)ctx)->model;
-  double R = m->bottom_radius_km, Rt = m->top_radius_km;
-  double h = fmax(p[0], 0.0), mu = fmin(fmax(p[1], -1.0), 1.0), d = p[2];
-  int n = m->n_channels;
-  for (int k = 0; k < n; ++k) out[k] = 1.0;
-  double r = R + h, t0, t1;
-  int ground;
-  if (!sf_ray_atmosphere_segment(r, mu, R, Rt, &t0, &t1, &ground)) return;
-  if (r > Rt) {
-    mu = fmin(fmax((r * mu + t0) / Rt, -1.0), 1.0);
-    h = Rt - R;
-    r = Rt;
-    d -= t0;
-    t1 -= t0;
-  }
-  if (!(d > 0.0)) return;
-  d = fmin(d, t1);
-  double r_d = sf_ray_radius_at(r, mu, d);
-  double mu_d = fmin(fmax((r * mu + d) / r_d, -1.0), 1.0), h_d = fmin(fmax(r_d - R, 0.0), Rt - R);
-  double a[SF_MAX_CHANNELS], b[SF_MAX_CHANNELS];
-  sf_sigmoid_model_eval(m, h, mu, a);
-  sf_sigmoid_model_eval(m, h_d, mu_d, b);
-  for (int k = 0; k < n; ++k) {
-    double la = ground ? sigmoid_log_top(m, k, h_d, -mu_d) : log(a[k]);
-    double lb = ground ? sigmoid_log_top(m, k, h, -mu) : log(b[k]);
-    out[k] = exp(fmin(la - lb, 0.0));
-  }
-}
-
-static void eval_sky(const void *ctx, const float *p, double *out) {
-  sf_sky_radiance_clamped(ctx, p[0], p[1], p[2], out);
-}
-
-static void eval_mlp_t(const void *ctx, const float *p, double *out) {
-  sf_mlp_transmittance(ctx, p[0], p[1], out);
-}
-static void eval_mlp_t_segment(const void *ctx, const float *p, double *out) {
-  sf_mlp_transmittance_segment(ctx, p[0], p[1], p[2], out);
-}
-static void eval_mlp_s(const void *ctx, const float *p, double *out) {
-  sf_mlp_scattering(&((const sf_fitted_model *)ctx)->mlp, p[0], p[1], p[2], p[3], out);
-}
-static void eval_mlp_s_segment(const void *ctx, const float *p, double *out) {
-  const sf_fitted_model *m = ctx;
-  sf_mlp_scattering_segment(&m->mlp, m->transmittance, p[0], p[1], p[2], p[3], p[4], out);
-}
-
-static void eval_spectral_srgb(const void *ctx, const float *p, double *out) {
-  const sf_spectral4_emit *s = ctx;
-  for (int i = 0; i < 3; ++i) {
-    out[i] = 0.0;
-    for (int j = 0; j < 4; ++j) out[i] += s->to_linear_srgb[i][j] * p[j];
-  }
-}
-/* sum_j |M_ij L_j|: what the float sum may cancel */
-static void eval_spectral_srgb_abs(const void *ctx, const float *p, double *out) {
-  const sf_spectral4_emit *s = ctx;
-  for (int i = 0; i < 3; ++i) {
-    out[i] = 0.0;
-    for (int j = 0; j < 4; ++j) out[i] += fabs(s->to_linear_srgb[i][j] * p[j]);
-  }
-}
-static void eval_spectral_xyz(const void *ctx, const float *p, double *out) {
-  const sf_spectral4_emit *s = ctx;
-  for (int i = 0; i < 3; ++i) {
-    out[i] = 0.0;
-    for (int j = 0; j < 4; ++j) out[i] += s->to_xyz[i][j] * p[j];
-  }
-}
-static void eval_spectral_scattering(const void *ctx, const float *p, double *out) {
-  const sf_spectral4_emit *s = ctx;
-  int c = (int)p[0];
-  for (int j = 0; j < 4; ++j) out[j] = c >= 0 && c < s->n_constituents ? s->scattering[c][j] : 0.0;
-}
-static void eval_spectral_wavelengths(const void *ctx, const float *p, double *out) {
-  (void)p;
-  memcpy(out, ((const sf_spectral4_emit *)ctx)->wavelengths_nm, 4 * sizeof(double));
-}
+/* The double models: tests/emitted_double_models.h. */
 
 /* ---- emitted drivers ------------------------------------------------------ */
 
@@ -780,33 +683,6 @@ static int write_mlp_weights(const char *path, const sf_atmosphere *atm, int sca
   return status;
 }
 
-/* fit/spectral4_run.h's params. */
-static int write_spectral4_weights(const char *path, const sf_atmosphere *atm) {
-  sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -0.2, 1.0};
-  cJSON *doc = sf_weights_new("spectral4", "sky_radiance", atm, &domain);
-  double l[4] = {445.5, 518.25, 582.0, 630.75}, wgt[4] = {61.0, 72.5, 80.0, 95.25};
-  double xyz[12] = {3.1, 1.2, 30.5, 60.25, 0.9, 50.0, 60.5, 20.0, 45.0, 2.5, 0.01, 0.0};
-  double srgb[12] = {-10.5, -40.0, 50.0, 180.0, -5.0, 80.0, 40.0, -20.0, 55.0, -3.0, -8.0, 1.0};
-  double sun[4] = {1.9, 1.85, 1.8, 1.6}, albedo[4] = {0.3, 0.3, 0.3, 0.3};
-  double sc[12] = {0.0331, 0.0196, 0.0120, 0.0087, 0.0040, 0.0040, 0.0040, 0.0040, 0.0, 0.0, 0.0, 0.0};
-  double ab[12] = {0.0, 0.0, 0.0, 0.0, 4.4e-4, 4.4e-4, 4.4e-4, 4.4e-4, 1.0e-4, 1.2e-3, 1.9e-3, 8.5e-4};
-  int s4[1] = {4}, s34[2] = {3, 4}, sc4[2] = {3, 4};
-  sf_weights_add_param(doc, "wavelengths_nm", 1, s4, l);
-  sf_weights_add_param(doc, "weights_nm", 1, s4, wgt);
-  sf_weights_add_param(doc, "to_xyz", 2, s34, xyz);
-  sf_weights_add_param(doc, "to_linear_srgb", 2, s34, srgb);
-  sf_weights_add_param(doc, "sun_irradiance", 1, s4, sun);
-  sf_weights_add_param(doc, "ground_albedo", 1, s4, albedo);
-  sf_weights_add_param(doc, "scattering", 2, sc4, sc);
-  sf_weights_add_param(doc, "absorption", 2, sc4, ab);
-  cJSON_AddNumberToObject(sf_weights_metrics(doc), "loss", 1e-4);
-  sf_error err;
-  sf_error_clear(&err);
-  int status = sf_weights_write(doc, path, &err);
-  cJSON_Delete(doc);
-  return status;
-}
-
 static int load_fitted(test_case *tc, const char *path, sf_codegen_part *part) {
   sf_error err;
   sf_error_clear(&err);
@@ -907,9 +783,9 @@ static void check_case(test_case *tc) {
     CHECK(sf_baseline_part(b, &domain, &parts[n_parts++], &err) == SF_OK);
     char name[96];
     snprintf(name, sizeof name, "skyfit_%s_transmittance", sf_baseline_kind_name(b->kind));
-    add_fn(fs, &n_fs, name, "ff", 3, 0, eval_baseline, b, 1.0, tc->bound[k]);
+    add_fn(fs, &n_fs, name, "ff", 3, 0, emitted_baseline_full, b, 1.0, tc->bound[k]);
     snprintf(name, sizeof name, "skyfit_%s_transmittance_segment", sf_baseline_kind_name(b->kind));
-    add_fn(fs, &n_fs, name, "fff", 3, 0, eval_baseline_segment, b, 1.0, tc->bound[k]);
+    add_fn(fs, &n_fs, name, "fff", 3, 0, emitted_baseline_segment, b, 1.0, tc->bound[k]);
   }
   if (tc->with_fitted) {
     const char *files[6] = {"sigmoid", "hosek", "preetham", "mlp_t", "mlp_s", "spectral4"};
@@ -925,23 +801,23 @@ static void check_case(test_case *tc) {
     /* Stated float32 bounds (C header vs the double model), ~2x the measured. */
     const sf_fitted_model *sig = tc->fitted[0], *hos = tc->fitted[1], *pre = tc->fitted[2];
     const sf_fitted_model *mt = tc->fitted[3], *ms = tc->fitted[4], *sp = tc->fitted[5];
-    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance", "ff", 3, 0, eval_sigmoid, &sig->sigmoid, 1.0, 3e-4);
-    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance_segment", "fff", 3, 0, eval_sigmoid_segment, &sig->sigmoid,
+    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance", "ff", 3, 0, emitted_sigmoid_full, &sig->sigmoid, 1.0, 3e-4);
+    add_fn(fs, &n_fs, "skyfit_sigmoid_transmittance_segment", "fff", 3, 0, emitted_sigmoid_segment, &sig->sigmoid,
            1.0, 2e-3);
-    add_fn(fs, &n_fs, "skyfit_hosek_sky_radiance", "fff", 3, 2, eval_sky, &hos->sky, 1e-6, 6e-5);
-    add_fn(fs, &n_fs, "skyfit_preetham_sky_radiance", "fff", 3, 2, eval_sky, &pre->sky, 1e-6, 2e-4);
-    add_fn(fs, &n_fs, "skyfit_mlp_transmittance", "ff", 3, 0, eval_mlp_t, &mt->mlp, 1.0, 2e-4);
-    add_fn(fs, &n_fs, "skyfit_mlp_transmittance_segment", "fff", 3, 0, eval_mlp_t_segment, &mt->mlp, 1.0, 1e-3);
-    add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance", "ffff", 3, 1, eval_mlp_s, ms, 1e-6, 2e-5);
-    tested_function *seg = add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance_segment", "fffff", 3, 1, eval_mlp_s_segment,
+    add_fn(fs, &n_fs, "skyfit_hosek_sky_radiance", "fff", 3, 2, emitted_sky, &hos->sky, 1e-6, 6e-5);
+    add_fn(fs, &n_fs, "skyfit_preetham_sky_radiance", "fff", 3, 2, emitted_sky, &pre->sky, 1e-6, 2e-4);
+    add_fn(fs, &n_fs, "skyfit_mlp_transmittance", "ff", 3, 0, emitted_mlp_t, &mt->mlp, 1.0, 2e-4);
+    add_fn(fs, &n_fs, "skyfit_mlp_transmittance_segment", "fff", 3, 0, emitted_mlp_t_segment, &mt->mlp, 1.0, 1e-3);
+    add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance", "ffff", 3, 1, emitted_mlp_s, ms, 1e-6, 2e-5);
+    tested_function *seg = add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance_segment", "fffff", 3, 1, emitted_mlp_s_segment,
                                   ms, 1e-6, 1e-3);
-    seg->scale_eval = eval_mlp_s;
-    add_fn(fs, &n_fs, "skyfit_spectral4_to_linear_srgb", "v", 3, 3, eval_spectral_srgb, &sp->spectral4, 1e-6, 1e-5)
-        ->scale_eval = eval_spectral_srgb_abs;
-    add_fn(fs, &n_fs, "skyfit_spectral4_to_xyz", "v", 3, 3, eval_spectral_xyz, &sp->spectral4, 1e-6, 1e-5);
-    add_fn(fs, &n_fs, "skyfit_spectral4_scattering", "i", 4, 4, eval_spectral_scattering, &sp->spectral4, 1e-9,
+    seg->scale_eval = emitted_mlp_s;
+    add_fn(fs, &n_fs, "skyfit_spectral4_to_linear_srgb", "v", 3, 3, emitted_spectral_srgb, &sp->spectral4, 1e-6, 1e-5)
+        ->scale_eval = emitted_spectral_srgb_abs;
+    add_fn(fs, &n_fs, "skyfit_spectral4_to_xyz", "v", 3, 3, emitted_spectral_xyz, &sp->spectral4, 1e-6, 1e-5);
+    add_fn(fs, &n_fs, "skyfit_spectral4_scattering", "i", 4, 4, emitted_spectral_scattering, &sp->spectral4, 1e-9,
            1e-7);
-    add_fn(fs, &n_fs, "skyfit_spectral4_wavelengths_nm", "", 4, 5, eval_spectral_wavelengths, &sp->spectral4, 1.0,
+    add_fn(fs, &n_fs, "skyfit_spectral4_wavelengths_nm", "", 4, 5, emitted_spectral_wavelengths, &sp->spectral4, 1.0,
            1e-7);
   }
   char base[64], path[512], cmd[4096];

@@ -1,0 +1,36 @@
+/* A spectral4 weights file (fit/spectral4_run.h's params) with plausible
+ * values, for the tests that emit and run its header: the sRGB matrix has
+ * entries of both signs, so its sums cancel. */
+#ifndef SKYFIT_TESTS_SPECTRAL4_TEST_WEIGHTS_H
+#define SKYFIT_TESTS_SPECTRAL4_TEST_WEIGHTS_H
+
+#include "models/atmosphere.h"
+#include "models/weights_file.h"
+
+static inline int write_spectral4_weights(const char *path, const sf_atmosphere *atm) {
+  sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -0.2, 1.0};
+  cJSON *doc = sf_weights_new("spectral4", "sky_radiance", atm, &domain);
+  double l[4] = {445.5, 518.25, 582.0, 630.75}, wgt[4] = {61.0, 72.5, 80.0, 95.25};
+  double xyz[12] = {3.1, 1.2, 30.5, 60.25, 0.9, 50.0, 60.5, 20.0, 45.0, 2.5, 0.01, 0.0};
+  double srgb[12] = {-10.5, -40.0, 50.0, 180.0, -5.0, 80.0, 40.0, -20.0, 55.0, -3.0, -8.0, 1.0};
+  double sun[4] = {1.9, 1.85, 1.8, 1.6}, albedo[4] = {0.3, 0.3, 0.3, 0.3};
+  double sc[12] = {0.0331, 0.0196, 0.0120, 0.0087, 0.0040, 0.0040, 0.0040, 0.0040, 0.0, 0.0, 0.0, 0.0};
+  double ab[12] = {0.0, 0.0, 0.0, 0.0, 4.4e-4, 4.4e-4, 4.4e-4, 4.4e-4, 1.0e-4, 1.2e-3, 1.9e-3, 8.5e-4};
+  int s4[1] = {4}, s34[2] = {3, 4}, sc4[2] = {3, 4};
+  sf_weights_add_param(doc, "wavelengths_nm", 1, s4, l);
+  sf_weights_add_param(doc, "weights_nm", 1, s4, wgt);
+  sf_weights_add_param(doc, "to_xyz", 2, s34, xyz);
+  sf_weights_add_param(doc, "to_linear_srgb", 2, s34, srgb);
+  sf_weights_add_param(doc, "sun_irradiance", 1, s4, sun);
+  sf_weights_add_param(doc, "ground_albedo", 1, s4, albedo);
+  sf_weights_add_param(doc, "scattering", 2, sc4, sc);
+  sf_weights_add_param(doc, "absorption", 2, sc4, ab);
+  cJSON_AddNumberToObject(sf_weights_metrics(doc), "loss", 1e-4);
+  sf_error err;
+  sf_error_clear(&err);
+  int status = sf_weights_write(doc, path, &err);
+  cJSON_Delete(doc);
+  return status;
+}
+
+#endif
