@@ -310,6 +310,19 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "}\n\n",
              n, g.R, g.h_top, ones, g.R, g.R, g.R);
   sf_cw_emit(w,
+             "/* The end of the first d km of the ray from altitude h along mu = m:\n"
+             " * nothing lies past the ground, and an end on it is at altitude 0\n"
+             " * exactly (from the distance, the altitude would cancel against the\n"
+             " * radius). Returns (d cut at the ground, the altitude there before\n"
+             " * clamping, the distance to the ground or -1 if the ray misses it, 0). */\n"
+             "@fn @vec4 skyfit_mlp_segment_end(float h, float m, float d) {\n"
+             "  @vec2 g = skyfit_sphere_hits(%F + h, m, %F, -h);\n"
+             "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
+             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
+             "  return @vec4(d_ground >= 0.0f ? @min(d, d_ground) : d, h_raw, d_ground, 0.0f);\n"
+             "}\n\n",
+             g.R, g.R, g.R);
+  sf_cw_emit(w,
              "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground) */\n"
              "@fn %V skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km) {\n"
              "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
@@ -317,17 +330,14 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "  if (e.w < 0.0f || !(d > 0.0f)) return %E;\n"
              "  float h = e.x, m = e.y;\n"
              "  float r = %F + h;\n"
-             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
-             "  /* nothing past the ground; an end on it is at altitude 0 exactly */\n"
-             "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
-             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
-             "  if (d_ground >= 0.0f) d = @min(d, d_ground);\n"
-             "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
-             "  float mu_d = @min(@max((r * m + d) / @max(%F + h_raw, 1e-6f), -1.0f), 1.0f);\n"
-             "  if (d_ground >= 0.0f) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
+             "  @vec4 end = skyfit_mlp_segment_end(h, m, d);\n"
+             "  d = end.x;\n"
+             "  float h_d = @min(@max(end.y, 0.0f), %F);\n"
+             "  float mu_d = @min(@max((r * m + d) / @max(%F + end.y, 1e-6f), -1.0f), 1.0f);\n"
+             "  if (end.z >= 0.0f) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
              "  return skyfit_mlp_transmittance_ratio(h, m, h_d, mu_d);\n"
              "}\n\n",
-             n, g.R, g.h_top, ones, g.R, g.R, g.R, g.h_top, g.R);
+             n, g.R, g.h_top, ones, g.R, g.h_top, g.R);
   sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT);
 }
 
@@ -426,25 +436,21 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  m = e.y;\n"
              "  ms = e.z;\n"
              "  float r = %F + h;\n"
-             "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
-             "  /* nothing past the ground; an end on it is at altitude 0 exactly */\n"
-             "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
-             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
-             "  if (d_ground >= 0.0f) d = @min(d, d_ground);\n"
-             "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
-             "  float inv_r_d = 1.0f / @max(%F + h_raw, 1e-6f);\n"
+             "  @vec4 end = skyfit_mlp_segment_end(h, m, d);\n"
+             "  d = end.x;\n"
+             "  float h_d = @min(@max(end.y, 0.0f), %F);\n"
+             "  float inv_r_d = 1.0f / @max(%F + end.y, 1e-6f);\n"
              "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
              "  float mu_s_d = @min(@max((r * ms + d * c) * inv_r_d, -1.0f), 1.0f);\n"
              "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c);\n"
              "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c);\n"
              "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
              "  return %C",
-             n, g.R, g.h_top, zeros, g.R, g.R, g.R, g.h_top, g.R, n, n, n, n);
+             n, g.R, g.h_top, zeros, g.R, g.h_top, g.R, n, n, n, n);
   for (int c = 0; c < n; ++c) {
     const char *m = member(n, c);
     if (c) sf_cw_emit(w, ",\n              ");
     sf_cw_emit(w, "@max(lv%s - tr%s * lp%s, 0.0f)", m, m, m);
   }
   sf_cw_emit(w, ");\n}\n\n");
-  sf_cw_need(w, SF_HELPER_ALTITUDE_AT | SF_HELPER_SPHERE_HITS);
 }
