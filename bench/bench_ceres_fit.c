@@ -4,7 +4,7 @@
  * (bench/ceres_vs_scipy.py): DIR/<name>.csv holds cos_theta, gamma,
  * cos_gamma, radiance per sample; DIR/<name>.json the form, start, weight,
  * whether the scale is fixed, and Ceres' time and costs.
- *   bench_ceres_fit DIR [repeats] */
+ *   bench_ceres_fit DIR [repeats] [tolerance, default 1e-14] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,13 +22,15 @@
 #include "util/constants.h"
 #include "util/clock.h"
 
-/* The product's sky-fit settings (fit/fit_sky_config.h) with SciPy's
- * tolerances; BENCH_QR, BENCH_RADIUS, BENCH_DOGLEG, BENCH_NONMONOTONIC,
- * BENCH_JACOBI override them to compare Ceres' options. */
+/* The product's sky-fit settings (fit/fit_sky_config.h) with the
+ * benchmark's tolerance (the same for SciPy's ftol, xtol, gtol);
+ * BENCH_QR, BENCH_RADIUS, BENCH_DOGLEG, BENCH_NONMONOTONIC, BENCH_JACOBI
+ * override them to compare Ceres' options. */
+static double bench_tolerance = 1e-14;
 static void bench_options(sf_lsq_options *o) {
   sf_sky_fit_options_default(o);
   o->max_iterations = 1000;
-  o->function_tolerance = o->parameter_tolerance = o->gradient_tolerance = 1e-10;
+  o->function_tolerance = o->parameter_tolerance = o->gradient_tolerance = bench_tolerance;
   if (getenv("BENCH_QR")) o->normal_equations = 0;
   if (getenv("BENCH_RADIUS")) o->initial_trust_region_radius = atof(getenv("BENCH_RADIUS"));
   if (getenv("BENCH_DOGLEG")) o->dogleg = 1;
@@ -41,8 +43,11 @@ static int cmp(const void *a, const void *b) {
   return x < y ? -1 : x > y;
 }
 
+/* truth (may be NULL): the coefficients and scale that generated the
+ * samples; the cost there through the fit's own evaluator is the rounding
+ * floor a recovery can reach. */
 static void run(const char *dir, const char *name, sf_sky_form form, const sf_sky_samples *s, int ch,
-                const double *start, int fix_scale, int repeats) {
+                const double *start, const double *truth, int fix_scale, int repeats) {
   int nc = sf_sky_form_n_coeffs(form);
   double ss = 0;
   for (int i = 0; i < s->n; ++i) ss += pow(s->radiance[(size_t)i * s->n_channels + ch], 2);
@@ -72,10 +77,18 @@ static void run(const char *dir, const char *name, sf_sky_form form, const sf_sk
   fclose(f);
   snprintf(path, sizeof path, "%s/%s.json", dir, name);
   f = fopen(path, "w");
-  fprintf(f, "{\"name\": \"%s\", \"form\": \"%s\", \"fix_scale\": %d, \"weight\": %.17g, \"samples\": %d, \"start\": [",
-          name, sf_sky_form_model_name(form), fix_scale, d.weight, s->n);
+  fprintf(f, "{\"name\": \"%s\", \"form\": \"%s\", \"fix_scale\": %d, \"weight\": %.17g, \"samples\": %d, \"tolerance\": %.17g, \"start\": [",
+          name, sf_sky_form_model_name(form), fix_scale, d.weight, s->n, bench_tolerance);
   for (int i = 0; i <= nc; ++i) fprintf(f, "%s%.17g", i ? ", " : "", start[i]);
-  fprintf(f, "], \"ceres_seconds\": %.6g, \"ceres_cpu_seconds\": %.6g, \"ceres_initial_cost\": %.17g, \"ceres_final_cost\": %.17g, "
+  fprintf(f, "]");
+  if (truth) {
+    double floor_ss = 0;
+    sf_sky_fit_gram(&d, truth, truth[nc], &floor_ss, NULL);
+    fprintf(f, ", \"truth\": [");
+    for (int i = 0; i <= nc; ++i) fprintf(f, "%s%.17g", i ? ", " : "", truth[i]);
+    fprintf(f, "], \"ceres_truth_cost\": %.17g", 0.5 * floor_ss);
+  }
+  fprintf(f, ", \"ceres_seconds\": %.6g, \"ceres_cpu_seconds\": %.6g, \"ceres_initial_cost\": %.17g, \"ceres_final_cost\": %.17g, "
              "\"ceres_iterations\": %d, \"ceres_result\": [",
           times[repeats / 2], cpu[repeats / 2], sum.initial_cost, sum.final_cost, sum.iterations);
   for (int i = 0; i <= nc; ++i) fprintf(f, "%s%.17g", i ? ", " : "", c[i]);
@@ -88,11 +101,16 @@ static void run(const char *dir, const char *name, sf_sky_form form, const sf_sk
 
 int main(int argc, char **argv) {
   if (argc < 2) {
-    fprintf(stderr, "usage: bench_ceres_fit DIR [repeats]\n");
+    fprintf(stderr, "usage: bench_ceres_fit DIR [repeats] [tolerance]\n");
     return 2;
   }
   int repeats = argc > 2 ? atoi(argv[2]) : 7;
   if (repeats < 1 || repeats > 256) repeats = 7;
+  if (argc > 3) bench_tolerance = atof(argv[3]);
+  if (!(bench_tolerance > 0 && bench_tolerance < 1)) {
+    fprintf(stderr, "bench_ceres_fit: tolerance must lie in (0, 1), got %s\n", argv[3]);
+    return 2;
+  }
   sf_error err = {0};
   sf_hosek_dataset *ds = malloc(sizeof *ds);
   if (sf_hosek_dataset_load_default(ds, &err)) {
@@ -113,13 +131,18 @@ int main(int argc, char **argv) {
   double start[SF_HOSEK_N_COEFFS + 1];
   for (int i = 0; i < 9; ++i) start[i] = c[i] * (1.0 + 0.04 * ((i % 3) - 1) + 0.02);
   start[9] = R;
-  run(argv[1], "hosek_published_recovery", SF_SKY_FORM_HOSEK, &s, 0, start, 1, repeats);
+  double truth[SF_HOSEK_N_COEFFS + 1];
+  memcpy(truth, c, sizeof(double) * 9);
+  truth[9] = R;
+  run(argv[1], "hosek_published_recovery", SF_SKY_FORM_HOSEK, &s, 0, start, truth, 1, repeats);
   sf_preetham_sky sky;
   sf_preetham_sky_init(&sky, 3.0, 0.5 * SF_PI - elev);
   for (int i = 0; i < s.n; ++i) s.radiance[i] = sf_perez_f(sky.coeffs[0], s.cos_theta[i], s.gamma[i]) * 2.5;
   for (int i = 0; i < 5; ++i) start[i] = sky.coeffs[0][i] * (1.0 + 0.04 * ((i % 3) - 1) + 0.02);
   start[5] = 2.0;
-  run(argv[1], "perez_preetham_recovery", SF_SKY_FORM_PEREZ, &s, 0, start, 0, repeats);
+  memcpy(truth, sky.coeffs[0], sizeof(double) * 5);
+  truth[5] = 2.5;
+  run(argv[1], "perez_preetham_recovery", SF_SKY_FORM_PEREZ, &s, 0, start, truth, 0, repeats);
   sf_sky_samples_free(&s);
 
   /* 3-4: the reference sky of the built-in atmosphere (small tables, 30 deg
@@ -149,7 +172,7 @@ int main(int argc, char **argv) {
   }
   const int lin[5] = {2, 3, 5, 6, 8};
   for (int q = 0; q < 5; ++q) start[lin[q]] *= md / mm;
-  run(argv[1], "hosek_reference_sky", SF_SKY_FORM_HOSEK, &s, 1, start, 1, repeats);
+  run(argv[1], "hosek_reference_sky", SF_SKY_FORM_HOSEK, &s, 1, start, NULL, 1, repeats);
   {
     /* the product's multi-start (fit/fit_sky_elevation.c): the published
      * set at T = 2, 4, 7 (albedo 0), linear part rescaled; written for
@@ -203,7 +226,7 @@ int main(int argc, char **argv) {
     mm += f * f;
   }
   start[5] = md / mm;
-  run(argv[1], "perez_reference_sky", SF_SKY_FORM_PEREZ, &s, 1, start, 0, repeats);
+  run(argv[1], "perez_reference_sky", SF_SKY_FORM_PEREZ, &s, 1, start, NULL, 0, repeats);
   sf_sky_samples_free(&s);
   sf_table_set_free(&set);
   free(atm);

@@ -31,6 +31,88 @@ class CallbackCost final : public ceres::CostFunction {
   void *user_;
 };
 
+// A tall residual block handed to Ceres as the p + 1 rows of the Cholesky
+// factor of its Gram matrix (fit/ceres_shim.h, sf_lsq_add_gram_residuals).
+class GramCost final : public ceres::CostFunction {
+ public:
+  GramCost(sf_lsq_gram_fn fn, void *user, const std::vector<int> &sizes)
+      : fn_(fn), user_(user) {
+    int p = 0;
+    for (int s : sizes) {
+      mutable_parameter_block_sizes()->push_back(s);
+      p += s;
+    }
+    set_num_residuals(p + 1);
+    gram_.resize((size_t)(p + 1) * (p + 1));
+    factor_.resize(gram_.size());
+  }
+  bool Evaluate(double const *const *parameters, double *residuals,
+                double **jacobians) const override {
+    const int m = num_residuals(), p = m - 1;
+    bool want_jacobian = false;
+    if (jacobians)
+      for (size_t b = 0; b < parameter_block_sizes().size(); ++b)
+        if (jacobians[b]) want_jacobian = true;
+    double sum_squares = 0.0;
+    if (!fn_(user_, parameters, &sum_squares, want_jacobian ? gram_.data() : nullptr) ||
+        !std::isfinite(sum_squares))
+      return false;
+    if (!want_jacobian) {
+      // Only |r'| = |r| matters where Ceres asks for residuals alone.
+      residuals[0] = std::sqrt(sum_squares);
+      for (int k = 1; k < m; ++k) residuals[k] = 0.0;
+      return true;
+    }
+    if (!CholeskyUpper(m, sum_squares)) return false;
+    for (int k = 0; k < m; ++k) residuals[k] = factor_[(size_t)k * m + p];
+    int offset = 0;
+    for (size_t b = 0; b < parameter_block_sizes().size(); ++b) {
+      const int size = parameter_block_sizes()[b];
+      if (jacobians[b])
+        for (int k = 0; k < m; ++k)
+          for (int j = 0; j < size; ++j)
+            jacobians[b][(size_t)k * size + j] = factor_[(size_t)k * m + offset + j];
+      offset += size;
+    }
+    return true;
+  }
+
+ private:
+  // R (row-major, upper) with R^T R = gram_. A column whose pivot is lost to
+  // rounding (a linear combination of the earlier ones) gets a zero row: its
+  // remaining pivot is a difference of numbers that agree to ~eps, so
+  // dividing by its root would turn rounding into large entries. The last
+  // pivot is |r|^2 - |r'_{0..p-1}|^2, the part of r outside J's span,
+  // clamped at 0, so that |r'|^2 = |r|^2.
+  bool CholeskyUpper(int m, double sum_squares) const {
+    const double *g = gram_.data();
+    double *R = factor_.data();
+    for (int k = 0; k < m; ++k) {
+      double d = k + 1 == m ? sum_squares : g[(size_t)k * m + k];
+      for (int i = 0; i < k; ++i) d -= R[(size_t)i * m + k] * R[(size_t)i * m + k];
+      if (!std::isfinite(d)) return false;
+      const double diagonal = k + 1 == m ? sum_squares : g[(size_t)k * m + k];
+      const bool lost = k + 1 == m ? d <= 0.0 : d <= kLostPivot * diagonal;
+      for (int j = 0; j < m; ++j) R[(size_t)k * m + j] = 0.0;
+      if (lost) continue;
+      const double root = std::sqrt(d);
+      R[(size_t)k * m + k] = root;
+      for (int j = k + 1; j < m; ++j) {
+        double e = g[(size_t)k * m + j];
+        for (int i = 0; i < k; ++i) e -= R[(size_t)i * m + k] * R[(size_t)i * m + j];
+        R[(size_t)k * m + j] = e / root;
+      }
+    }
+    return true;
+  }
+
+  // 64 ulp of the column's squared norm: below this a pivot is rounding.
+  static constexpr double kLostPivot = 64.0 * 2.220446049250313e-16;
+  sf_lsq_gram_fn fn_;
+  void *user_;
+  mutable std::vector<double> gram_, factor_;
+};
+
 ceres::LossFunction *make_loss(sf_lsq_loss kind, double a) {
   switch (kind) {
     case SF_LSQ_LOSS_HUBER: return new ceres::HuberLoss(a);
@@ -113,6 +195,23 @@ int sf_lsq_add_residuals(sf_lsq_problem *p, sf_lsq_residual_fn fn, void *user, i
   p->problem.AddResidualBlock(new CallbackCost(fn, user, n_residuals, sizes),
                               make_loss(loss, loss_scale), values);
   p->n_residuals += n_residuals;
+  return 0;
+}
+
+int sf_lsq_add_gram_residuals(sf_lsq_problem *p, sf_lsq_gram_fn fn, void *user, int n_blocks,
+                              const int *blocks) {
+  if (!p || !fn || n_blocks <= 0 || !blocks) return -1;
+  std::vector<int> sizes;
+  std::vector<double *> values;
+  for (int b = 0; b < n_blocks; ++b) {
+    if (blocks[b] < 0 || blocks[b] >= (int)p->blocks.size()) return -1;
+    sizes.push_back(p->sizes[blocks[b]]);
+    values.push_back(p->blocks[blocks[b]]);
+  }
+  auto *cost = new (std::nothrow) GramCost(fn, user, sizes);
+  if (!cost) return -1;
+  p->problem.AddResidualBlock(cost, nullptr, values);
+  p->n_residuals += cost->num_residuals();
   return 0;
 }
 

@@ -24,6 +24,18 @@ extern "C" {
 typedef int (*sf_lsq_residual_fn)(void *user, const double *const *params, double *residuals,
                                   double **jacobians);
 
+/* A tall residual block given by its Gram matrix instead of its rows. With
+ * J the n x p Jacobian of the block's n residuals r over its parameter
+ * blocks (in the order they were added to the residual block, p their total
+ * size, constant blocks included), the callback writes
+ * *sum_squares = |r|^2 and, when gram is not NULL, the (p+1) x (p+1)
+ * row-major matrix [J r]^T [J r] (the upper triangle is read; its last
+ * diagonal entry is |r|^2 again). Returns 1 on success, 0 if the block
+ * cannot be evaluated at these parameters (the solver takes a smaller
+ * step). */
+typedef int (*sf_lsq_gram_fn)(void *user, const double *const *params, double *sum_squares,
+                              double *gram);
+
 typedef enum sf_lsq_loss {
   SF_LSQ_LOSS_NONE = 0,   /* rho(s) = s */
   SF_LSQ_LOSS_HUBER,      /* rho(s) = s for s <= a^2, 2 a sqrt(s) - a^2 beyond */
@@ -91,6 +103,18 @@ int sf_lsq_set_constant(sf_lsq_problem *p, int block);
  * (ignored for SF_LSQ_LOSS_NONE). Returns 0, or -1 for bad arguments. */
 int sf_lsq_add_residuals(sf_lsq_problem *p, sf_lsq_residual_fn fn, void *user, int n_residuals,
                          int n_blocks, const int *blocks, sf_lsq_loss loss, double loss_scale);
+
+/* Adds a residual block of many residuals over few parameters through its
+ * Gram matrix (sf_lsq_gram_fn). Ceres sees p + 1 residuals: the rows of R,
+ * the upper-triangular factor of [J r]^T [J r] = R^T R, split as [J' r'].
+ * J'^T J' = J^T J, J'^T r' = J^T r and |r'|^2 = |r|^2, and a trust-region
+ * step depends on J and r through nothing else, so Levenberg-Marquardt and
+ * dogleg take the steps they would take on the n rows (up to rounding),
+ * while Ceres' work per iteration no longer grows with n. Columns that are
+ * linear combinations of earlier ones (to rounding) get zero rows in R. No
+ * robust loss. Returns 0, or -1 for bad arguments. */
+int sf_lsq_add_gram_residuals(sf_lsq_problem *p, sf_lsq_gram_fn fn, void *user, int n_blocks,
+                              const int *blocks);
 
 /* Solves with a dense trust-region method (the options say which). Returns 0
  * when the result is usable (summary->usable), 1 otherwise; the summary is

@@ -16,6 +16,8 @@
 
 #include "fit/exp_lanes.h"
 #include "fit/rsqrt_lanes.h"
+#include "models/hosek.h"
+#include "models/perez.h"
 
 /* Everything about a sample that does not depend on the coefficients,
  * computed once per fit rather than once per residual evaluation: the
@@ -75,39 +77,81 @@ static int sky_view_make(const sf_sky_fit_data *d, sky_fit_view *v) {
   return 0;
 }
 
-/* Hosek F (models/hosek.h) and its gradient over the samples; blocks: [0]
- * coefficients, [1] scale. Per tile: one vectorised pass computes the
- * residuals and the Jacobian's columns, a second writes them as Ceres'
- * row-major rows. Non-finite values are left for Ceres to find (it checks
- * every residual and Jacobian entry after each evaluation). */
-static SKY_CLONES void hosek_residuals(const sky_fit_view *v, const double *c, double scale,
-                                       double *restrict r, double *restrict jc,
-                                       double *restrict js) {
+/* The Gram matrix [J r]^T [J r] of a fit (fit/ceres_shim.h,
+ * sf_lsq_gram_fn) summed over the samples without storing J: per tile one
+ * vectorised pass computes the residuals and the Jacobian's columns (kept
+ * in L1), a second adds their products into LANES partial sums per entry.
+ * Lane l takes samples i = l (mod LANES) in order and the lanes are added
+ * in order at the end, so every instruction-set clone adds the same numbers
+ * in the same order: the same Gram matrix on any x86-64. The cost alone
+ * (gram NULL) sums r^2 the same way, so it equals the Gram matrix's last
+ * entry at the same parameters. Non-finite values pass through to the shim,
+ * which rejects the evaluation. */
+#define LANES 8
+
+/* acc[q] += col[a] * col[b] lane-wise for the pairs q = (a <= b) of k
+ * columns, over m_pad samples (a multiple of LANES; padding is zero). */
+static inline void gram_add_tile(int k, int m_pad, double col[][TILE], double acc[][LANES]) {
+  int q = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = a; b < k; ++b, ++q)
+      for (int i = 0; i < m_pad; i += LANES)
+        for (int l = 0; l < LANES; ++l) acc[q][l] += col[a][i + l] * col[b][i + l];
+}
+
+static inline void square_add_tile(int m_pad, const double *r, double acc[LANES]) {
+  for (int i = 0; i < m_pad; i += LANES)
+    for (int l = 0; l < LANES; ++l) acc[l] += r[i + l] * r[i + l];
+}
+
+static double lanes_sum(const double acc[LANES]) {
+  double s = 0.0;
+  for (int l = 0; l < LANES; ++l) s += acc[l];
+  return s;
+}
+
+/* gram[k x k] (both triangles) from the pair sums. */
+static void gram_from_pairs(int k, double acc[][LANES], double *gram) {
+  int q = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = a; b < k; ++b, ++q) gram[a * k + b] = gram[b * k + a] = lanes_sum(acc[q]);
+}
+
+static int padded(int m) { return (m + LANES - 1) / LANES * LANES; }
+
+/* Hosek F (models/hosek.h) and its gradient; columns A..I, the scale R,
+ * the residual. */
+static SKY_CLONES void hosek_gram(const sky_fit_view *v, const double *c, double scale,
+                                  double *sum_squares, double *gram) {
   const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], F = c[5], G = c[6], H = c[7],
                I = c[8], w = v->weight, ws = w * scale, hh = 1.0 + H * H, h2 = 2.0 * H;
+  enum { K = SF_HOSEK_N_COEFFS + 2 };
+  double acc[K * (K + 1) / 2][LANES] = {{0}}, acc_r[LANES] = {0};
+  double col[K][TILE];
   for (int t0 = 0; t0 < v->n; t0 += TILE) {
-    const int m = v->n - t0 < TILE ? v->n - t0 : TILE;
+    const int m = v->n - t0 < TILE ? v->n - t0 : TILE, m_pad = padded(m);
     const double *restrict inv = v->inv_ct + t0, *restrict gam = v->gamma + t0,
                            *restrict cg = v->cg + t0, *restrict cg2 = v->cg2 + t0,
                            *restrict opc = v->one_plus_cg2 + t0, *restrict root = v->root_ct + t0,
                            *restrict tgt = v->target + t0;
-    double *restrict rt = r + t0;
-    if (!jc) {
-      double fv[TILE];
+    for (int a = 0; a < K; ++a)
+      for (int i = m; i < m_pad; ++i) col[a][i] = 0.0;
+    double *restrict rt = col[K - 1];
+    if (!gram) {
       for (int i = 0; i < m; ++i) {
         double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(E * gam[i]);
         double den = hh - h2 * cg[i], rs = sf_rsqrt_lanes(den);
-        double chi = opc[i] * (rs * rs * rs);   /* (1 + cos^2)/den^(3/2) */
+        double chi = opc[i] * ((rs * rs) * rs);   /* (1 + cos^2)/den^(3/2) */
         double f = (1.0 + A * et) * (C + D * eg + F * cg2[i] + G * chi + I * root[i]);
-        fv[i] = f;
+        rt[i] = ws * f - tgt[i];
       }
-      for (int i = 0; i < m; ++i) rt[i] = ws * fv[i] - tgt[i];
-      if (js)
-        for (int i = 0; i < m; ++i) js[t0 + i] = w * fv[i];
+      square_add_tile(m_pad, rt, acc_r);
       continue;
     }
-    double j0[TILE], j1[TILE], j2[TILE], j3[TILE], j4[TILE], j5[TILE], j6[TILE], j7[TILE],
-        j8[TILE], jf[TILE];
+    double *restrict j0 = col[0], *restrict j1 = col[1], *restrict j2 = col[2],
+                     *restrict j3 = col[3], *restrict j4 = col[4], *restrict j5 = col[5],
+                     *restrict j6 = col[6], *restrict j7 = col[7], *restrict j8 = col[8],
+                     *restrict jf = col[9];
     for (int i = 0; i < m; ++i) {
       double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(E * gam[i]);
       double den = hh - h2 * cg[i], rs = sf_rsqrt_lanes(den), inv_den = rs * rs;
@@ -128,47 +172,42 @@ static SKY_CLONES void hosek_residuals(const sky_fit_view *v, const double *c, d
       j7[i] = wz * G * dchi;
       j8[i] = wz * root[i];
     }
-    double *restrict rows = jc + (size_t)t0 * 9;
-    for (int i = 0; i < m; ++i) {
-      double *restrict row = rows + (size_t)i * 9;
-      row[0] = j0[i];
-      row[1] = j1[i];
-      row[2] = j2[i];
-      row[3] = j3[i];
-      row[4] = j4[i];
-      row[5] = j5[i];
-      row[6] = j6[i];
-      row[7] = j7[i];
-      row[8] = j8[i];
-    }
-    if (js)
-      for (int i = 0; i < m; ++i) js[t0 + i] = jf[i];
+    gram_add_tile(K, m_pad, col, acc);
+  }
+  if (gram) {
+    gram_from_pairs(K, acc, gram);
+    *sum_squares = gram[K * K - 1];
+  } else {
+    *sum_squares = lanes_sum(acc_r);
   }
 }
 
-/* Perez F (models/perez.h) and its gradient, as hosek_residuals. */
-static SKY_CLONES void perez_residuals(const sky_fit_view *v, const double *c, double scale,
-                                       double *restrict r, double *restrict jc,
-                                       double *restrict js) {
+/* Perez F (models/perez.h) and its gradient, as hosek_gram: columns A..E,
+ * the scale K, the residual. */
+static SKY_CLONES void perez_gram(const sky_fit_view *v, const double *c, double scale,
+                                  double *sum_squares, double *gram) {
   const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], w = v->weight, ws = w * scale;
+  enum { K = SF_PEREZ_N_COEFFS + 2 };
+  double acc[K * (K + 1) / 2][LANES] = {{0}}, acc_r[LANES] = {0};
+  double col[K][TILE];
   for (int t0 = 0; t0 < v->n; t0 += TILE) {
-    const int m = v->n - t0 < TILE ? v->n - t0 : TILE;
+    const int m = v->n - t0 < TILE ? v->n - t0 : TILE, m_pad = padded(m);
     const double *restrict inv = v->inv_ct + t0, *restrict gam = v->gamma + t0,
                            *restrict cg2 = v->cg2 + t0, *restrict tgt = v->target + t0;
-    double *restrict rt = r + t0;
-    if (!jc) {
-      double fv[TILE];
+    for (int a = 0; a < K; ++a)
+      for (int i = m; i < m_pad; ++i) col[a][i] = 0.0;
+    double *restrict rt = col[K - 1];
+    if (!gram) {
       for (int i = 0; i < m; ++i) {
         double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(D * gam[i]);
         double f = (1.0 + A * et) * (1.0 + C * eg + E * cg2[i]);
-        fv[i] = f;
+        rt[i] = ws * f - tgt[i];
       }
-      for (int i = 0; i < m; ++i) rt[i] = ws * fv[i] - tgt[i];
-      if (js)
-        for (int i = 0; i < m; ++i) js[t0 + i] = w * fv[i];
+      square_add_tile(m_pad, rt, acc_r);
       continue;
     }
-    double j0[TILE], j1[TILE], j2[TILE], j3[TILE], j4[TILE], jf[TILE];
+    double *restrict j0 = col[0], *restrict j1 = col[1], *restrict j2 = col[2],
+                     *restrict j3 = col[3], *restrict j4 = col[4], *restrict jf = col[5];
     for (int i = 0; i < m; ++i) {
       double et = sf_exp_lanes(B * inv[i]), eg = sf_exp_lanes(D * gam[i]);
       double z = 1.0 + A * et, s = 1.0 + C * eg + E * cg2[i];
@@ -181,33 +220,44 @@ static SKY_CLONES void perez_residuals(const sky_fit_view *v, const double *c, d
       j3[i] = wz * C * gam[i] * eg;
       j4[i] = wz * cg2[i];
     }
-    double *restrict rows = jc + (size_t)t0 * 5;
-    for (int i = 0; i < m; ++i) {
-      double *restrict row = rows + (size_t)i * 5;
-      row[0] = j0[i];
-      row[1] = j1[i];
-      row[2] = j2[i];
-      row[3] = j3[i];
-      row[4] = j4[i];
-    }
-    if (js)
-      for (int i = 0; i < m; ++i) js[t0 + i] = jf[i];
+    gram_add_tile(K, m_pad, col, acc);
+  }
+  if (gram) {
+    gram_from_pairs(K, acc, gram);
+    *sum_squares = gram[K * K - 1];
+  } else {
+    *sum_squares = lanes_sum(acc_r);
   }
 }
 
-static int sky_residuals(void *user, const double *const *params, double *r, double **jac) {
-  const sky_fit_view *v = user;
-  double *jc = jac ? jac[0] : NULL, *js = jac ? jac[1] : NULL;
-  if (v->form == SF_SKY_FORM_HOSEK) hosek_residuals(v, params[0], params[1][0], r, jc, js);
-  else perez_residuals(v, params[0], params[1][0], r, jc, js);
+static void sky_view_gram(const sky_fit_view *v, const double *coeffs, double scale,
+                          double *sum_squares, double *gram) {
+  if (v->form == SF_SKY_FORM_HOSEK) hosek_gram(v, coeffs, scale, sum_squares, gram);
+  else perez_gram(v, coeffs, scale, sum_squares, gram);
+}
+
+/* sf_lsq_gram_fn over blocks [0] coefficients, [1] scale. */
+static int sky_gram(void *user, const double *const *params, double *sum_squares, double *gram) {
+  sky_view_gram(user, params[0], params[1][0], sum_squares, gram);
   return 1;
+}
+
+int sf_sky_fit_gram(const sf_sky_fit_data *d, const double *coeffs, double scale,
+                    double *sum_squares, double *gram) {
+  sky_fit_view view;
+  if (sky_view_make(d, &view)) return -1;
+  sky_view_gram(&view, coeffs, scale, sum_squares, gram);
+  sky_view_free(&view);
+  return 0;
 }
 
 void sf_sky_fit_options_default(sf_lsq_options *o) {
   sf_lsq_options_default(o);
-  /* 2400 x 9 problems: J^T J by Cholesky costs a third of a dense QR; the
-   * coefficients are well scaled, so squaring the condition number loses
-   * nothing measurable */
+  /* the global fit over elevations (fit/fit_sky_elevation.c) hands Ceres
+   * its rows (samples x 60 control points): J^T J by Cholesky costs a
+   * third of a dense QR there; the one-sky fits reach Ceres as the
+   * n_coeffs + 2 rows of their Gram matrix's factor (sf_fit_sky_config),
+   * where both cost the same (bench/ceres_vs_scipy.sh, BENCH_QR) */
   o->normal_equations = 1;
   /* Ceres' Levenberg-Marquardt damps with mu diag(J^T J) (Marquardt's
    * scaling), so its steps do not depend on the columns' scale and Jacobi
@@ -279,9 +329,9 @@ int sf_fit_sky_config(const sf_sky_fit_data *d, sf_sky_bounds bounds, int fix_sc
     else if (!fix_scale) sf_lsq_set_bounds(p, blocks[1], 0, lo, hi);
   }
   if (fix_scale) sf_lsq_set_constant(p, blocks[1]);
-  /* one residual block of all samples: one callback per evaluation (blocks
-   * of 64..1200 samples measured no faster) */
-  sf_lsq_add_residuals(p, sky_residuals, &view, d->n, 2, blocks, SF_LSQ_LOSS_NONE, 0.0);
+  /* all samples as one block through its Gram matrix: Ceres works on
+   * n_coeffs + 2 rows whatever the number of samples (fit/ceres_shim.h) */
+  sf_lsq_add_gram_residuals(p, sky_gram, &view, 2, blocks);
   int rc = sf_lsq_solve(p, o, summary);
   sf_lsq_problem_free(p);
   sky_view_free(&view);

@@ -49,6 +49,14 @@ void sf_sky_clamp_to_bounds(sf_sky_form form, sf_sky_bounds bounds, double *coef
 /* 1/2 sum residual^2 at (coeffs, scale). */
 double sf_sky_fit_cost(const sf_sky_fit_data *d, const double *coeffs, double scale);
 
+/* The fit's residuals r_i (above) at (coeffs, scale): *sum_squares =
+ * sum r_i^2 and, when gram is not NULL, the (n_coeffs + 2)^2 row-major
+ * Gram matrix [J r]^T [J r] with J's columns d r / d coeffs, then
+ * d r / d scale (what Ceres is given, fit/ceres_shim.h). Returns 0, or -1
+ * when out of memory. */
+int sf_sky_fit_gram(const sf_sky_fit_data *d, const double *coeffs, double scale,
+                    double *sum_squares, double *gram);
+
 /* Solves in place from the start in coeffs/scale (clamped into the bounds
  * first). Returns 0 when usable (SF_ERR_INTERNAL with Ceres' message
  * otherwise). */
