@@ -1,0 +1,122 @@
+/* How our per-view sky-radiance RMSE (the report's App. B table,
+ * fit/mlp_sky_metrics.h) compares in scale with seed 000 App. B, and where a
+ * scattering network's error lies. Per standard view (models/views_standard.h,
+ * 192 x 108, exposure x sun irradiance 6 as the report renders):
+ *   - the reference's RMS: the RMSE of a black image, which is what App. B's
+ *     "Empty" column measures on the seed's own pictures (printed beside it);
+ *   - the network's RMSE over every pixel (the report's figure), then split
+ *     into pixels whose ray leaves the atmosphere (sky) and pixels whose ray
+ *     ends on the ground (from a ground viewer those rays have length 0 and
+ *     the reference is exactly 0; viewers in space enter at the top first);
+ *   - App. B's Neural Net figure, and both errors relative to their
+ *     reference's RMS.
+ *   bench_views_scale OUT
+ * OUT: the folder of a `skyfit build` of the built-in scene (its table cache
+ * OUT/cache and OUT/weights/mlp-scattering.json are read). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codegen/report.h"
+#include "data/sky_lookup.h"
+#include "data/table_set.h"
+#include "models/mlp_sky.h"
+#include "models/ray_geometry.h"
+#include "models/scene_file.h"
+#include "models/views_standard.h"
+
+typedef struct pixel_sums {
+  double ref_sq, err_sq;
+  long values;
+} pixel_sums;
+
+static double rms(double sum_sq, long n) { return n > 0 ? sqrt(sum_sq / (double)n) : 0.0; }
+
+static double paper_value(const sf_paper_table *t, const char *row, const char *column) {
+  for (int r = 0; r < t->n_rows; ++r)
+    for (int c = 0; c < t->n_columns; ++c)
+      if (strcmp(t->rows[r], row) == 0 && strcmp(t->columns[c], column) == 0)
+        return t->values[r * t->n_columns + c];
+  return NAN;
+}
+
+int main(int argc, char **argv) {
+  if (argc != 2) {
+    fprintf(stderr, "usage: bench_views_scale OUT   (OUT: a `skyfit build` of the built-in scene)\n");
+    return 2;
+  }
+  sf_error err = {0};
+  sf_scene *scene = malloc(sizeof *scene);
+  sf_scene_default(scene);
+  sf_scene_domain domain;
+  if (sf_scene_get_domain(scene, &domain, &err)) {
+    fprintf(stderr, "%s\n", err.message);
+    return 1;
+  }
+  /* the table options of fit/build_pipeline.c, so the cache is found */
+  char cache[4096], weights[4096];
+  snprintf(cache, sizeof cache, "%s/cache", argv[1]);
+  snprintf(weights, sizeof weights, "%s/weights/mlp-scattering.json", argv[1]);
+  sf_table_set_options topt;
+  sf_table_set_options_default(&topt);
+  topt.cache_dir = cache;
+  topt.has_domain = 1;
+  topt.domain.h_min_km = domain.h_min_km;
+  topt.domain.h_max_km = domain.h_max_km;
+  topt.domain.mu_min = domain.mu_min;
+  topt.domain.mu_s_min = domain.mu_s_min;
+  topt.domain.mu_s_max = domain.mu_s_max;
+  topt.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
+  sf_table_set set;
+  sf_mlp_sky net;
+  if (sf_table_set_make(&set, &scene->atmosphere, &topt, &err) || sf_mlp_sky_load(weights, &net, &err)) {
+    fprintf(stderr, "%s\n", err.message);
+    return 1;
+  }
+  int cached = 0;
+  for (int t = 0; t < set.n_tables; ++t) cached += set.from_cache[t];
+  sf_sky_tables sky;
+  sf_sky_tables_of_set(&sky, &scene->atmosphere, &set);
+  sf_paper_table paper;
+  sf_paper_appendix_b(&paper);
+  const sf_atmosphere *atm = &scene->atmosphere;
+  const sf_view_def *views;
+  int nv = sf_standard_radiance_views(&views);
+  const int W = SF_VIEW_DEFAULT_WIDTH, H = SF_VIEW_DEFAULT_HEIGHT;
+  printf("tables: %d of %d from %s; network %s\n", cached, set.n_tables, cache, weights);
+  printf("%-21s | %9s %9s | %9s %9s %9s | %9s %9s | %8s %8s\n", "view", "ref RMS", "seed Empty", "net all",
+         "net sky", "net ground", "seed NN", "", "net/RMS", "seedNN/Empty");
+  for (int v = 0; v < nv; ++v) {
+    sf_view_camera cam;
+    sf_view_camera_make(&views[v], atm, W, H, &cam);
+    double scale = views[v].exposure * SF_VIEW_SUN_IRRADIANCE;
+    pixel_sums part[2] = {{0}};   /* [0] sky, [1] ground */
+    for (int j = 0; j < H; ++j)
+      for (int i = 0; i < W; ++i) {
+        double in[4], L[SF_MAX_CHANNELS];
+        sf_view_pixel_inputs(&cam, atm, i, j, in);
+        sf_sky_sample ref;
+        sf_sky_lookup(&sky, in[0], in[1], in[2], in[3], &ref);
+        sf_mlp_scattering(&net, in[0], in[1], in[2], in[3], L);
+        double r = atm->bottom_radius_km + in[0];
+        int ground = sf_ray_hits_sphere_from_above(r, in[1], atm->bottom_radius_km);
+        for (int c = 0; c < atm->n_channels; ++c) {
+          double a = ref.radiance[c] * scale, b = L[c] * scale;
+          part[ground].ref_sq += a * a;
+          part[ground].err_sq += (a - b) * (a - b);
+          part[ground].values++;
+        }
+      }
+    long n = part[0].values + part[1].values;
+    double ref_rms = rms(part[0].ref_sq + part[1].ref_sq, n), net_all = rms(part[0].err_sq + part[1].err_sq, n);
+    double empty = paper_value(&paper, views[v].name, "Empty"), nn = paper_value(&paper, views[v].name, "Neural Net");
+    printf("%-21s | %9.3g %9.3g | %9.3g %9.3g %9.3g | %9.3g %9s | %8.3g %8.3g\n", views[v].name, ref_rms, empty,
+           net_all, rms(part[0].err_sq, part[0].values), rms(part[1].err_sq, part[1].values), nn, "",
+           ref_rms > 0 ? net_all / ref_rms : NAN, nn / empty);
+  }
+  sf_mlp_sky_free(&net);
+  sf_table_set_free(&set);
+  free(scene);
+  return 0;
+}
