@@ -4,16 +4,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fit/exp_lanes.h"
+#include "fit/mlp_lanes.h"
 
-/* Sums over samples end in LANES lanes added in a fixed tree
- * (fit/mlp_backward.h); blocks hold a power of two >= LANES samples. */
-#define LANES 8
-/* A block's arrays are sized to stay within about 96 KiB (L1/L2). */
-#define BLOCK_BUDGET_DOUBLES 12288
-#define BLOCK_MAX 256
+/* Sums over samples end in LANES lanes: sample begin + LANES m + k of a
+ * call is added to lane k, in the order of m (fit/mlp_backward.h). */
+#define LANES SF_LANES
+/* Samples go through the network VECS vectors of LANES at a time (a group
+ * of GROUP samples): VECS independent dependency chains through the
+ * exponentials and divisions keep the floating-point units busy, and each
+ * gradient lane is loaded and stored once per group. Vector v of a group
+ * holds the group's samples LANES v .. LANES v + LANES - 1, added to the
+ * lanes in the order of v: the same sums as one vector at a time. */
+#define VECS 4
+#define GROUP (VECS * LANES)
+/* Columns are padded so that a group may read past the last sample. */
+#define COLUMNS_PAD 256
 /* Samples ahead whose rows are prefetched when gathering shuffled rows. */
-#define PREFETCH_AHEAD 24
+#define PREFETCH_AHEAD 32
+/* Memory alignment of the lane arrays: one 64-byte line per 8 doubles. */
+#define ALIGN_BYTES 64
 
 /* The hot function is compiled for three instruction sets and chosen at run
  * time (no -march=native: the binary must run on any x86-64). Every helper
@@ -83,31 +92,43 @@ double sf_mlp_sample_loss(const sf_mlp_loss *loss, int n_out, const double *pred
   return sum * inv_n;
 }
 
-/* f(z) in the vectorisable form (sf_mlp_activate's formulas). */
-static FORCE_INLINE double activate(sf_mlp_activation f, double z) {
+/* f(z) on the lanes (sf_mlp_activate's formulas; tanh through libm). */
+static FORCE_INLINE sf_lanes activate(sf_mlp_activation f, sf_lanes z) {
+  const sf_lanes zero = sf_lanes_set1(0.0), one = sf_lanes_set1(1.0);
   switch (f) {
-    case SF_ACT_SIGMOID: return 1.0 / (1.0 + sf_exp_lanes(-z));
-    case SF_ACT_TANH: return tanh(z);
-    case SF_ACT_RELU: return z > 0.0 ? z : 0.0;
+    case SF_ACT_SIGMOID: return sf_lanes_div(one, sf_lanes_add(one, sf_lanes_exp(sf_lanes_neg(z))));
+    case SF_ACT_TANH: {
+      double v[LANES];
+      sf_lanes_store(v, z);
+      for (int k = 0; k < LANES; ++k) v[k] = tanh(v[k]);
+      return sf_lanes_load(v);
+    }
+    case SF_ACT_RELU: return sf_lanes_select(sf_lanes_gt(z, zero), z, zero);
     case SF_ACT_LINEAR: return z;
-    case SF_ACT_EXP_NEG: return sf_exp_lanes(-z);
-    case SF_ACT_EXP_NEG_EXP: return sf_exp_lanes(-sf_exp_lanes(-z));
+    case SF_ACT_EXP_NEG: return sf_lanes_exp(sf_lanes_neg(z));
+    case SF_ACT_EXP_NEG_EXP: return sf_lanes_exp(sf_lanes_neg(sf_lanes_exp(sf_lanes_neg(z))));
   }
   return z;
 }
 
-/* f'(z) from a = f(z). */
-static FORCE_INLINE double slope(sf_mlp_activation f, double a) {
+/* f'(z) from a = f(z), on the lanes. */
+static FORCE_INLINE sf_lanes slope(sf_mlp_activation f, sf_lanes a) {
+  const sf_lanes zero = sf_lanes_set1(0.0), one = sf_lanes_set1(1.0);
   switch (f) {
-    case SF_ACT_SIGMOID: return a * (1.0 - a);
-    case SF_ACT_TANH: return 1.0 - a * a;
-    case SF_ACT_RELU: return a > 0.0 ? 1.0 : 0.0;
-    case SF_ACT_LINEAR: return 1.0;
-    case SF_ACT_EXP_NEG: return -a;
+    case SF_ACT_SIGMOID: return sf_lanes_mul(a, sf_lanes_sub(one, a));
+    case SF_ACT_TANH: return sf_lanes_sub(one, sf_lanes_mul(a, a));
+    case SF_ACT_RELU: return sf_lanes_select(sf_lanes_gt(a, zero), one, zero);
+    case SF_ACT_LINEAR: return one;
+    case SF_ACT_EXP_NEG: return sf_lanes_neg(a);
     /* d/dz exp(-exp(-z)) = a exp(-z) = -a log a */
-    case SF_ACT_EXP_NEG_EXP: return a > 0.0 ? -a * log(a) : 0.0;
+    case SF_ACT_EXP_NEG_EXP: {
+      double v[LANES];
+      sf_lanes_store(v, a);
+      for (int k = 0; k < LANES; ++k) v[k] = v[k] > 0.0 ? -v[k] * log(v[k]) : 0.0;
+      return sf_lanes_load(v);
+    }
   }
-  return 1.0;
+  return one;
 }
 
 /* Fixed-order sum of the lanes. */
@@ -115,33 +136,51 @@ static FORCE_INLINE double lane_sum(const double *acc) {
   return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
 }
 
-/* Block arrays: act[l] ((sizes[l] + 1) x B, the last row all ones: the
- * bias's input) for l = 0..L, two delta arrays (widest layer x B), targets
- * (n_out x B), per-sample loss (B), a scratch row (B); then the gradient
- * lanes (n_params x LANES). */
-static long block_doubles_per_sample(const sf_mlp_shape *s) {
-  long units = 0;
+/* Where a workspace's arrays lie in ws->mem, each a multiple of LANES
+ * doubles (so 64-byte aligned): act[l] (sizes[l] x GROUP, l = 0..L: the
+ * inputs then every layer's outputs), target (n_out x GROUP), two delta
+ * arrays (widest layer x GROUP), grad (n_params x LANES: the lanes of every
+ * gradient entry, flat parameter order). */
+typedef struct group_arrays {
+  double *act[SF_MLP_MAX_LAYERS + 1];
+  double *target, *delta[2], *grad;
+} group_arrays;
+
+/* Doubles of the arrays; fills g (if not NULL) with pointers into mem. */
+static long group_layout(const sf_mlp_shape *s, double *mem, group_arrays *g) {
+  long act[SF_MLP_MAX_LAYERS + 1], at = 0;
   int widest = 1;
-  for (int l = 0; l <= s->n_layers; ++l) units += s->sizes[l] + 1;
-  for (int l = 1; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
-  return units + 2L * widest + s->sizes[s->n_layers] + 2;
+  for (int l = 0; l <= s->n_layers; ++l) {
+    act[l] = at;
+    at += (long)s->sizes[l] * GROUP;
+    if (l > 0 && s->sizes[l] > widest) widest = s->sizes[l];
+  }
+  long target = at;
+  at += (long)s->sizes[s->n_layers] * GROUP;
+  long delta0 = at;
+  at += (long)widest * GROUP;
+  long delta1 = at;
+  at += (long)widest * GROUP;
+  long grad = at;
+  at += (long)sf_mlp_param_count(s) * LANES;
+  if (g) {
+    for (int l = 0; l <= s->n_layers; ++l) g->act[l] = mem + act[l];
+    g->target = mem + target;
+    g->delta[0] = mem + delta0;
+    g->delta[1] = mem + delta1;
+    g->grad = mem + grad;
+  }
+  return at;
 }
 
 int sf_mlp_workspace_init(sf_mlp_workspace *ws, const sf_mlp_shape *shape) {
-  long per_sample = block_doubles_per_sample(shape);
-  long block = LANES;
-  while (block < BLOCK_MAX && 2 * block * per_sample <= BLOCK_BUDGET_DOUBLES) block *= 2;
+  long doubles = group_layout(shape, NULL, NULL);
   ws->shape = *shape;
-  ws->block = (int)block;
-  ws->mem = malloc((size_t)(per_sample * block + (long)sf_mlp_param_count(shape) * LANES) * sizeof(double));
-  if (!ws->mem) return -1;
-  double *row = ws->mem;
-  for (int l = 0; l <= shape->n_layers; ++l) {
-    row += (long)shape->sizes[l] * block;
-    for (long s = 0; s < block; ++s) row[s] = 1.0;
-    row += block;
-  }
-  return 0;
+  ws->block = GROUP;
+  /* aligned_alloc wants a size that is a multiple of the alignment: every
+   * array is a multiple of LANES doubles = 64 bytes. */
+  ws->mem = aligned_alloc(ALIGN_BYTES, (size_t)doubles * sizeof(double));
+  return ws->mem ? 0 : -1;
 }
 
 void sf_mlp_workspace_free(sf_mlp_workspace *ws) {
@@ -149,260 +188,267 @@ void sf_mlp_workspace_free(sf_mlp_workspace *ws) {
   ws->mem = NULL;
 }
 
-/* z = f(W a + b) for nb samples, rows stride B. Each statement is a loop
- * over the samples of a row: contiguous, no dependence between samples. */
+/* out_r = f(W_r . a + b_r) for the GROUP samples of a group (a: row j at
+ * a + j as), the VECS accumulators in registers across the inputs j. */
 static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
-                                         const double *a, long as, double *z, int nb, int B) {
+                                         const double *a, long as, double *restrict out) {
   for (int r = 0; r < no; ++r) {
     const double *w = W + (long)r * ni;
-    double *restrict zr = z + (long)r * B;
-    const double br = b[r];
-    for (int s = 0; s < nb; ++s) zr[s] = br;
-    for (int j = 0; j < ni; ++j) {
-      const double wj = w[j];
-      const double *restrict aj = a + j * as;
-      for (int s = 0; s < nb; ++s) zr[s] += wj * aj[s];
-    }
-    for (int s = 0; s < nb; ++s) zr[s] = activate(f, zr[s]);
+    sf_lanes z[VECS];
+    /* b + w_0 a_0 + w_1 a_1 + ..., added in this order */
+    for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_add_scalar(sf_lanes_scale(sf_lanes_load(a + v * LANES), w[0]), b[r]);
+    for (int j = 1; j < ni; ++j)
+      for (int v = 0; v < VECS; ++v)
+        z[v] = sf_lanes_add(z[v], sf_lanes_scale(sf_lanes_load(a + j * as + v * LANES), w[j]));
+    for (int v = 0; v < VECS; ++v) sf_lanes_store(out + r * GROUP + v * LANES, activate(f, z[v]));
   }
 }
 
 static FORCE_INLINE void forward_layer(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
-                                       const double *a, long as, double *z, int nb, int B) {
+                                       const double *a, long as, double *out) {
   switch (f) {
-    case SF_ACT_SIGMOID: forward_layer_f(SF_ACT_SIGMOID, W, b, ni, no, a, as, z, nb, B); break;
-    case SF_ACT_TANH: forward_layer_f(SF_ACT_TANH, W, b, ni, no, a, as, z, nb, B); break;
-    case SF_ACT_RELU: forward_layer_f(SF_ACT_RELU, W, b, ni, no, a, as, z, nb, B); break;
-    case SF_ACT_LINEAR: forward_layer_f(SF_ACT_LINEAR, W, b, ni, no, a, as, z, nb, B); break;
-    case SF_ACT_EXP_NEG: forward_layer_f(SF_ACT_EXP_NEG, W, b, ni, no, a, as, z, nb, B); break;
-    case SF_ACT_EXP_NEG_EXP: forward_layer_f(SF_ACT_EXP_NEG_EXP, W, b, ni, no, a, as, z, nb, B); break;
+    case SF_ACT_SIGMOID: forward_layer_f(SF_ACT_SIGMOID, W, b, ni, no, a, as, out); break;
+    case SF_ACT_TANH: forward_layer_f(SF_ACT_TANH, W, b, ni, no, a, as, out); break;
+    case SF_ACT_RELU: forward_layer_f(SF_ACT_RELU, W, b, ni, no, a, as, out); break;
+    case SF_ACT_LINEAR: forward_layer_f(SF_ACT_LINEAR, W, b, ni, no, a, as, out); break;
+    case SF_ACT_EXP_NEG: forward_layer_f(SF_ACT_EXP_NEG, W, b, ni, no, a, as, out); break;
+    case SF_ACT_EXP_NEG_EXP: forward_layer_f(SF_ACT_EXP_NEG_EXP, W, b, ni, no, a, as, out); break;
   }
 }
 
-/* Per-sample squared residuals summed over the outputs (sample_sq), and
- * d = dLoss/dz of the output layer. */
+/* Residual e and de/dpred of one output on the lanes (residual above). */
+static FORCE_INLINE sf_lanes residual_lanes(sf_mlp_loss_kind kind, double delta, sf_lanes pred, sf_lanes target,
+                                            sf_lanes *de) {
+  switch (kind) {
+    case SF_LOSS_REL: {
+      sf_lanes w = sf_lanes_div(sf_lanes_set1(1.0), sf_lanes_add_scalar(sf_lanes_abs(target), delta));
+      *de = w;
+      return sf_lanes_mul(sf_lanes_sub(pred, target), w);
+    }
+    case SF_LOSS_LOG: {
+      double p[LANES], t[LANES], e[LANES], d[LANES];
+      sf_lanes_store(p, pred);
+      sf_lanes_store(t, target);
+      for (int k = 0; k < LANES; ++k) e[k] = residual(SF_LOSS_LOG, delta, p[k], t[k], &d[k]);
+      *de = sf_lanes_load(d);
+      return sf_lanes_load(e);
+    }
+    default:
+      *de = sf_lanes_set1(1.0);
+      return sf_lanes_sub(pred, target);
+  }
+}
+
+/* Per-sample squared residuals summed over the outputs (sq[v]), and d =
+ * dLoss/dz of the output layer, for the GROUP samples of a group. */
 static FORCE_INLINE void output_delta_f(sf_mlp_activation f, sf_mlp_loss_kind kind, const sf_mlp_loss *loss,
-                                        int n_out, const double *pred, const double *target, long ts, double *sample_sq,
-                                        double *d, int nb, int B) {
-  const double inv_n = 1.0 / n_out;
-  double *restrict sq = sample_sq;
-  for (int s = 0; s < nb; ++s) sq[s] = 0.0;
+                                        int n_out, const double *pred, const double *target, long ts, sf_lanes *sq,
+                                        double *restrict d) {
+  const double two_inv_n = 2.0 * (1.0 / n_out);
   for (int r = 0; r < n_out; ++r) {
     const double delta = kind == SF_LOSS_MSE ? 0.0 : loss->delta[r];
-    const double *restrict p = pred + (long)r * B, *restrict t = target + r * ts;
-    double *restrict dr = d + (long)r * B;
-    for (int s = 0; s < nb; ++s) {
-      double de, e = residual(kind, delta, p[s], t[s], &de);
-      sq[s] += e * e;
-      dr[s] = 2.0 * e * de * inv_n * slope(f, p[s]);
+    for (int v = 0; v < VECS; ++v) {
+      sf_lanes p = sf_lanes_load(pred + r * GROUP + v * LANES), de;
+      sf_lanes e = residual_lanes(kind, delta, p, sf_lanes_load(target + r * ts + v * LANES), &de);
+      sq[v] = r == 0 ? sf_lanes_mul(e, e) : sf_lanes_add(sq[v], sf_lanes_mul(e, e));
+      sf_lanes_store(d + r * GROUP + v * LANES, sf_lanes_mul(sf_lanes_mul(sf_lanes_scale(e, two_inv_n), de), slope(f, p)));
     }
   }
 }
 
 static FORCE_INLINE void output_delta_loss(sf_mlp_activation f, const sf_mlp_loss *loss, int n_out,
-                                           const double *pred, const double *target, long ts, double *sample_sq,
-                                           double *d, int nb, int B) {
+                                           const double *pred, const double *target, long ts, sf_lanes *sq,
+                                           double *d) {
   switch (loss->kind) {
-    case SF_LOSS_REL: output_delta_f(f, SF_LOSS_REL, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_LOSS_LOG: output_delta_f(f, SF_LOSS_LOG, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    default: output_delta_f(f, SF_LOSS_MSE, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
+    case SF_LOSS_REL: output_delta_f(f, SF_LOSS_REL, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_LOSS_LOG: output_delta_f(f, SF_LOSS_LOG, loss, n_out, pred, target, ts, sq, d); break;
+    default: output_delta_f(f, SF_LOSS_MSE, loss, n_out, pred, target, ts, sq, d); break;
   }
 }
 
 static FORCE_INLINE void output_delta(sf_mlp_activation f, const sf_mlp_loss *loss, int n_out, const double *pred,
-                                      const double *target, long ts, double *sample_sq, double *d, int nb, int B) {
+                                      const double *target, long ts, sf_lanes *sq, double *d) {
   switch (f) {
-    case SF_ACT_SIGMOID: output_delta_loss(SF_ACT_SIGMOID, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_ACT_TANH: output_delta_loss(SF_ACT_TANH, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_ACT_RELU: output_delta_loss(SF_ACT_RELU, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_ACT_LINEAR: output_delta_loss(SF_ACT_LINEAR, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_ACT_EXP_NEG: output_delta_loss(SF_ACT_EXP_NEG, loss, n_out, pred, target, ts, sample_sq, d, nb, B); break;
-    case SF_ACT_EXP_NEG_EXP:
-      output_delta_loss(SF_ACT_EXP_NEG_EXP, loss, n_out, pred, target, ts, sample_sq, d, nb, B);
-      break;
+    case SF_ACT_SIGMOID: output_delta_loss(SF_ACT_SIGMOID, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_TANH: output_delta_loss(SF_ACT_TANH, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_RELU: output_delta_loss(SF_ACT_RELU, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_LINEAR: output_delta_loss(SF_ACT_LINEAR, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_EXP_NEG: output_delta_loss(SF_ACT_EXP_NEG, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_EXP_NEG_EXP: output_delta_loss(SF_ACT_EXP_NEG_EXP, loss, n_out, pred, target, ts, sq, d); break;
   }
 }
 
-/* Sum of v[0..nb-1] (nb a power of two >= LANES, v overwritten) by halving:
- * v[s] += v[s + half] until LANES values remain, then lane_sum. A fixed
- * order that vectorises (each halving is a loop over contiguous samples). */
-static FORCE_INLINE double fold_sum(double *restrict v, int nb) {
-  for (int half = nb / 2; half >= LANES; half /= 2) {
-    const double *restrict hi = v + half;
-    for (int s = 0; s < half; ++s) v[s] += hi[s];
-  }
-  return lane_sum(v);
-}
-
-/* Gradient lanes of a layer: G[(r (ni+1) + j) LANES + k] += the block's
- * sum of d_r[s] a_j[s] folded to LANES values by halving (fold_to_lanes),
- * where a_ni is the row of ones (the bias). Every step is a loop over
- * contiguous samples that the compiler vectorises at any width with the
- * same per-element arithmetic. */
-static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no, double *G,
-                                         double *scratch, int nb, int B) {
-  double *restrict prod = scratch;
+/* Gradient lanes of a layer: G_W[r][j] += d_r a_j and G_b[r] += d_r, lane
+ * by lane: each lane adds its own samples' products, in sample order,
+ * straight into its accumulator (no per-group fold), loaded and stored once
+ * per group. */
+static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no,
+                                         double *restrict GW, double *restrict Gb) {
   for (int r = 0; r < no; ++r) {
-    const double *restrict dr = d + (long)r * B;
-    for (int j = 0; j <= ni; ++j) {
-      const double *restrict aj = a + j * as;
-      for (int s = 0; s < nb; ++s) prod[s] = dr[s] * aj[s];
-      for (int half = nb / 2; half >= LANES; half /= 2) {
-        const double *restrict hi = prod + half;
-        for (int s = 0; s < half; ++s) prod[s] += hi[s];
-      }
-      double *restrict g = G + ((long)r * (ni + 1) + j) * LANES;
-      for (int k = 0; k < LANES; ++k) g[k] += prod[k];
+    sf_lanes dr[VECS];
+    for (int v = 0; v < VECS; ++v) dr[v] = sf_lanes_load(d + r * GROUP + v * LANES);
+    double *g = GW + (long)r * ni * LANES;
+    for (int j = 0; j < ni; ++j) {
+      sf_lanes acc = sf_lanes_load(g + j * LANES);
+      for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, sf_lanes_mul(dr[v], sf_lanes_load(a + j * as + v * LANES)));
+      sf_lanes_store(g + j * LANES, acc);
     }
+    sf_lanes acc = sf_lanes_load(Gb + r * LANES);
+    for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, dr[v]);
+    sf_lanes_store(Gb + r * LANES, acc);
   }
 }
 
-/* dn_j = f'(z_j) sum_r W[r][j] d_r: dLoss/dz of the layer below. */
+/* dn_j = f'(z_j) sum_r W[r][j] d_r: dLoss/dz of the layer below, the sums
+ * in registers across r. */
 static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
-                                     int no, double *dn, int nb, int B) {
+                                     int no, double *restrict dn) {
   for (int j = 0; j < ni; ++j) {
-    const double *restrict aj = a + (long)j * B;
-    double *restrict dj = dn + (long)j * B;
-    for (int s = 0; s < nb; ++s) dj[s] = 0.0;
-    for (int r = 0; r < no; ++r) {
-      const double w = W[(long)r * ni + j];
-      const double *restrict dr = d + (long)r * B;
-      for (int s = 0; s < nb; ++s) dj[s] += w * dr[s];
-    }
-    for (int s = 0; s < nb; ++s) dj[s] *= slope(f, aj[s]);
+    sf_lanes acc[VECS];
+    for (int v = 0; v < VECS; ++v) acc[v] = sf_lanes_scale(sf_lanes_load(d + v * LANES), W[j]);
+    for (int r = 1; r < no; ++r)
+      for (int v = 0; v < VECS; ++v)
+        acc[v] = sf_lanes_add(acc[v], sf_lanes_scale(sf_lanes_load(d + r * GROUP + v * LANES), W[(long)r * ni + j]));
+    for (int v = 0; v < VECS; ++v)
+      sf_lanes_store(dn + j * GROUP + v * LANES,
+                     sf_lanes_mul(acc[v], slope(f, sf_lanes_load(a + j * GROUP + v * LANES))));
   }
 }
 
 static FORCE_INLINE void propagate(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
-                                   int no, double *dn, int nb, int B) {
+                                   int no, double *dn) {
   switch (f) {
-    case SF_ACT_SIGMOID: propagate_f(SF_ACT_SIGMOID, W, d, a, ni, no, dn, nb, B); break;
-    case SF_ACT_TANH: propagate_f(SF_ACT_TANH, W, d, a, ni, no, dn, nb, B); break;
-    case SF_ACT_RELU: propagate_f(SF_ACT_RELU, W, d, a, ni, no, dn, nb, B); break;
-    case SF_ACT_LINEAR: propagate_f(SF_ACT_LINEAR, W, d, a, ni, no, dn, nb, B); break;
-    case SF_ACT_EXP_NEG: propagate_f(SF_ACT_EXP_NEG, W, d, a, ni, no, dn, nb, B); break;
-    case SF_ACT_EXP_NEG_EXP: propagate_f(SF_ACT_EXP_NEG_EXP, W, d, a, ni, no, dn, nb, B); break;
+    case SF_ACT_SIGMOID: propagate_f(SF_ACT_SIGMOID, W, d, a, ni, no, dn); break;
+    case SF_ACT_TANH: propagate_f(SF_ACT_TANH, W, d, a, ni, no, dn); break;
+    case SF_ACT_RELU: propagate_f(SF_ACT_RELU, W, d, a, ni, no, dn); break;
+    case SF_ACT_LINEAR: propagate_f(SF_ACT_LINEAR, W, d, a, ni, no, dn); break;
+    case SF_ACT_EXP_NEG: propagate_f(SF_ACT_EXP_NEG, W, d, a, ni, no, dn); break;
+    case SF_ACT_EXP_NEG_EXP: propagate_f(SF_ACT_EXP_NEG_EXP, W, d, a, ni, no, dn); break;
   }
 }
 
-/* Rows of the samples into the unit-major block; padding samples (nv..nb-1)
- * get zero inputs and targets, and zero weight below. */
-static FORCE_INLINE void gather(const double *x, const double *y, const int *index, long first, int nv, int nb,
-                                int n_in, int n_out, double *a0, double *t, int B) {
+/* Row of sample i's inputs and targets, asked for early (shuffled rows of a
+ * large set are cache misses). */
+static FORCE_INLINE void prefetch_row(const double *x, const double *y, long i, int n_in, int n_out) {
+#if defined(__GNUC__)
+  const double *xa = x + i * n_in, *ya = y + i * n_out;
+  __builtin_prefetch(xa);
+  __builtin_prefetch(xa + n_in - 1);
+  __builtin_prefetch(ya);
+  __builtin_prefetch(ya + n_out - 1);
+#else
+  (void)x, (void)y, (void)i, (void)n_in, (void)n_out;
+#endif
+}
+
+/* Rows of samples first..first+nv-1 (through index when given) into the
+ * group arrays; samples nv..GROUP-1 get zero inputs and targets (and zero
+ * weight in the caller). Rows PREFETCH_AHEAD samples ahead (before end) are
+ * prefetched. */
+static FORCE_INLINE void gather(const double *x, const double *y, const int *index, long first, long end, int nv,
+                                int n_in, int n_out, double *restrict a0, double *restrict t) {
   for (int s = 0; s < nv; ++s) {
     long i = index ? index[first + s] : first + s;
-#if defined(__GNUC__)
-    /* Shuffled rows of a large set are cache misses: ask for them early. */
-    if (index && s + PREFETCH_AHEAD < nv) {
-      long ahead = index[first + s + PREFETCH_AHEAD];
-      const double *xa = x + ahead * n_in, *ya = y + ahead * n_out;
-      __builtin_prefetch(xa);
-      __builtin_prefetch(xa + n_in - 1);
-      __builtin_prefetch(ya);
-      __builtin_prefetch(ya + n_out - 1);
-    }
-#endif
+    if (index && first + s + PREFETCH_AHEAD < end) prefetch_row(x, y, index[first + s + PREFETCH_AHEAD], n_in, n_out);
     const double *xr = x + i * n_in, *yr = y + i * n_out;
-    for (int j = 0; j < n_in; ++j) a0[(long)j * B + s] = xr[j];
-    for (int k = 0; k < n_out; ++k) t[(long)k * B + s] = yr[k];
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = xr[j];
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = yr[k];
   }
-  for (int s = nv; s < nb; ++s) {
-    for (int j = 0; j < n_in; ++j) a0[(long)j * B + s] = 0.0;
-    for (int k = 0; k < n_out; ++k) t[(long)k * B + s] = 0.0;
+  for (int s = nv; s < GROUP; ++s) {
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = 0.0;
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = 0.0;
   }
 }
 
 HOT_CLONES
-static double loss_blocks(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const double *x,
+static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const double *x,
                           const double *y, const int *index, const sf_mlp_columns *columns, long begin, long end,
                           double *grad, sf_mlp_workspace *ws) {
-  const int L = s->n_layers, n_in = s->sizes[0], n_out = s->sizes[L], B = ws->block;
-  double *act[SF_MLP_MAX_LAYERS + 1];
-  int widest = 1;
-  double *p = ws->mem;
-  for (int l = 0; l <= L; ++l) {
-    act[l] = p;
-    p += (long)(s->sizes[l] + 1) * B;
-    if (l > 0 && s->sizes[l] > widest) widest = s->sizes[l];
-  }
-  double *delta[2] = {p, p + (long)widest * B};
-  double *target = p + 2L * widest * B;
-  double *sample_sq = target + (long)n_out * B;
-  double *scratch = sample_sq + B;
-  double *lanes = scratch + B;
+  const int L = s->n_layers, n_in = s->sizes[0], n_out = s->sizes[L];
+  group_arrays g;
+  group_layout(s, ws->mem, &g);
   const int np = sf_mlp_param_count(s);
-  if (grad) memset(lanes, 0, (size_t)np * LANES * sizeof(double));
+  if (grad) memset(g.grad, 0, (size_t)np * LANES * sizeof(double));
   int w_off[SF_MLP_MAX_LAYERS], b_off[SF_MLP_MAX_LAYERS];
   for (int l = 0; l < L; ++l) {
     w_off[l] = sf_mlp_weight_offset(s, l);
     b_off[l] = sf_mlp_bias_offset(s, l);
   }
+  if (index)
+    for (long i = begin; i < end && i < begin + PREFETCH_AHEAD; ++i) prefetch_row(x, y, index[i], n_in, n_out);
   const double inv_n = 1.0 / n_out;
-  double total = 0.0;
-  for (long first = begin; first < end; first += B) {
-    int nv = end - first < B ? (int)(end - first) : B;
-    int nb = LANES;
-    while (nb < nv) nb *= 2;
-    /* The inputs (with their row of ones) and targets of the block. */
-    const double *a0 = act[0], *t = target;
-    long a0_stride = B, t_stride = B;
+  sf_lanes loss_lanes = sf_lanes_set1(0.0);
+  for (long first = begin; first < end; first += GROUP) {
+    const int nv = end - first < GROUP ? (int)(end - first) : GROUP;
+    /* The group's inputs and targets: read in place from columns (padded
+     * past the last sample), else gathered. */
+    const double *a0 = g.act[0], *t = g.target;
+    long a0_stride = GROUP, t_stride = GROUP;
     if (columns) {
       a0 = columns->x + first;
       t = columns->y + first;
       a0_stride = t_stride = columns->stride;
     } else {
-      gather(x, y, index, first, nv, nb, n_in, n_out, act[0], target, B);
+      gather(x, y, index, first, end, nv, n_in, n_out, g.act[0], g.target);
     }
     for (int l = 0; l < L; ++l)
       forward_layer(l + 1 == L ? s->output : s->hidden, params + w_off[l], params + b_off[l], s->sizes[l],
-                    s->sizes[l + 1], l == 0 ? a0 : act[l], l == 0 ? a0_stride : B, act[l + 1], nb, B);
-    double *d = delta[0];
-    output_delta(s->output, loss, n_out, act[L], t, t_stride, sample_sq, d, nb, B);
+                    s->sizes[l + 1], l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, g.act[l + 1]);
+    double *d = g.delta[0];
+    sf_lanes sq[VECS];
+    output_delta(s->output, loss, n_out, g.act[L], t, t_stride, sq, d);
     /* Padding samples weigh nothing: zero loss and zero delta (which stays
      * zero through the layers below). */
-    for (int k = nv; k < nb; ++k) {
-      sample_sq[k] = 0.0;
-      for (int r = 0; r < n_out; ++r) d[(long)r * B + k] = 0.0;
+    if (nv < GROUP) {
+      double v[GROUP];
+      for (int u = 0; u < VECS; ++u) sf_lanes_store(v + u * LANES, sq[u]);
+      for (int k = nv; k < GROUP; ++k) {
+        v[k] = 0.0;
+        for (int r = 0; r < n_out; ++r) d[r * GROUP + k] = 0.0;
+      }
+      for (int u = 0; u < VECS; ++u) sq[u] = sf_lanes_load(v + u * LANES);
     }
-    for (int k = 0; k < nb; ++k) sample_sq[k] *= inv_n;
-    total += fold_sum(sample_sq, nb);
+    for (int u = 0; u < VECS; ++u) loss_lanes = sf_lanes_add(loss_lanes, sf_lanes_scale(sq[u], inv_n));
     if (!grad) continue;
     for (int l = L - 1; l >= 0; --l) {
       int ni = s->sizes[l], no = s->sizes[l + 1];
-      weight_gradient(d, l == 0 ? a0 : act[l], l == 0 ? a0_stride : B, ni, no, lanes + (long)w_off[l] * LANES,
-                      scratch, nb, B);
+      weight_gradient(d, l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, ni, no, g.grad + (long)w_off[l] * LANES,
+                      g.grad + (long)b_off[l] * LANES);
       if (l == 0) break;
-      double *dn = d == delta[0] ? delta[1] : delta[0];
-      propagate(s->hidden, params + w_off[l], d, act[l], ni, no, dn, nb, B);
+      double *dn = d == g.delta[0] ? g.delta[1] : g.delta[0];
+      propagate(s->hidden, params + w_off[l], d, g.act[l], ni, no, dn);
       d = dn;
     }
   }
   if (grad)
-    for (int l = 0; l < L; ++l) {
-      int ni = s->sizes[l], no = s->sizes[l + 1];
-      const double *G = lanes + (long)w_off[l] * LANES;
-      for (int r = 0; r < no; ++r) {
-        for (int j = 0; j < ni; ++j) grad[w_off[l] + r * ni + j] += lane_sum(G + ((long)r * (ni + 1) + j) * LANES);
-        grad[b_off[l] + r] += lane_sum(G + ((long)r * (ni + 1) + ni) * LANES);
-      }
-    }
-  return total;
+    for (int k = 0; k < np; ++k) grad[k] += lane_sum(g.grad + (long)k * LANES);
+  double total[LANES];
+  sf_lanes_store(total, loss_lanes);
+  return lane_sum(total);
 }
 
 double sf_mlp_loss_range_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                             const double *x, const double *y, const int *index, long begin, long end,
                             double *grad, sf_mlp_workspace *ws) {
-  return loss_blocks(s, params, loss, x, y, index, NULL, begin, end, grad, ws);
+  return loss_groups(s, params, loss, x, y, index, NULL, begin, end, grad, ws);
+}
+
+/* 64-byte aligned, zeroed (NULL when out of memory). */
+static double *aligned_zeros(long n) {
+  size_t bytes = ((size_t)n * sizeof(double) + ALIGN_BYTES - 1) / ALIGN_BYTES * ALIGN_BYTES;
+  double *p = aligned_alloc(ALIGN_BYTES, bytes);
+  if (p) memset(p, 0, bytes);
+  return p;
 }
 
 int sf_mlp_columns_make(sf_mlp_columns *c, const double *x, const double *y, long n, int n_in, int n_out) {
-  /* Blocks may read up to a block (<= BLOCK_MAX) past the last sample. */
+  /* A group may read up to GROUP - 1 samples past the last one. */
   c->n = n;
-  c->stride = (n + BLOCK_MAX - 1) / BLOCK_MAX * BLOCK_MAX + BLOCK_MAX;
+  c->stride = (n + COLUMNS_PAD - 1) / COLUMNS_PAD * COLUMNS_PAD + COLUMNS_PAD;
   c->n_in = n_in;
   c->n_out = n_out;
-  c->x = calloc((size_t)((n_in + 1) * c->stride), sizeof(double));
-  c->y = calloc((size_t)(n_out * c->stride), sizeof(double));
+  c->x = aligned_zeros((n_in + 1) * c->stride);
+  c->y = aligned_zeros(n_out * c->stride);
   if (!c->x || !c->y) {
     sf_mlp_columns_free(c);
     return -1;
@@ -423,7 +469,7 @@ void sf_mlp_columns_free(sf_mlp_columns *c) {
 
 double sf_mlp_loss_columns_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                               const sf_mlp_columns *c, long begin, long end, double *grad, sf_mlp_workspace *ws) {
-  return loss_blocks(s, params, loss, NULL, NULL, NULL, c, begin, end, grad, ws);
+  return loss_groups(s, params, loss, NULL, NULL, NULL, c, begin, end, grad, ws);
 }
 
 double sf_mlp_loss_range(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
@@ -431,7 +477,7 @@ double sf_mlp_loss_range(const sf_mlp_shape *s, const double *params, const sf_m
                          double *grad) {
   sf_mlp_workspace ws;
   if (sf_mlp_workspace_init(&ws, s)) return NAN;
-  double total = loss_blocks(s, params, loss, x, y, index, NULL, begin, end, grad, &ws);
+  double total = loss_groups(s, params, loss, x, y, index, NULL, begin, end, grad, &ws);
   sf_mlp_workspace_free(&ws);
   return total;
 }

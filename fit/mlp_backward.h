@@ -12,19 +12,20 @@
  * take it as a small fraction of the output's RMS (fit/dataset.h). log needs
  * p_k > -delta_k: use it with a positive output (exp_neg, sigmoid).
  *
- * Speed. Samples are processed in blocks (a power of two, at most 256,
- * chosen from the shape so that a block's arrays stay in the first cache
- * levels), layer by layer, as dense arrays stored unit-major
- * (block[unit][sample], samples contiguous): every inner loop runs over the
- * samples with the same operations for each, so the compiler vectorises it
- * whatever the layer widths (2, 4, 8, ...), and the exponentials use
- * fit/exp_lanes.h. Summation order, fixed by the samples alone: a block's
- * products for a gradient entry (and its per-sample losses) are summed by
- * halving (v[s] += v[s + half]) down to 8 lanes, the lanes accumulated over
- * the blocks in order and added in a fixed tree at the end. So the result
- * does not depend on the vector width the CPU offers (the hot function is
- * compiled for AVX-512, AVX2 and baseline x86-64 and picked at run time,
- * never contracting into fused multiply-adds) nor on who calls. */
+ * Speed. Samples go through the whole network a group of 32 at a time, as
+ * 4 vectors of 8 lanes (fit/mlp_lanes.h: one AVX-512 register, two AVX2 or
+ * four SSE2 ones), layer by layer, with every accumulator in registers: a
+ * unit's weighted sum across its inputs, a delta's sum across the units
+ * above, and a gradient entry's 8 lanes, loaded and stored once per group
+ * (gradient lanes are accumulated directly, G[p][lane] += d * a, with no
+ * per-block fold). The 4 vectors are independent dependency chains through
+ * the exponentials (Estrin-evaluated, fit/mlp_lanes.h) and divisions.
+ * Summation order, fixed by the samples alone: sample begin + 8 m + k of a
+ * call is added to lane k in the order of m (its loss and its gradient
+ * products), and the 8 lanes are added in a fixed tree at the end. So the
+ * result does not depend on the vector width the CPU offers (the hot
+ * function is compiled for AVX-512, AVX2 and baseline x86-64 and picked at
+ * run time, never contracting into fused multiply-adds) nor on who calls. */
 #ifndef SKYFIT_FIT_MLP_BACKWARD_H
 #define SKYFIT_FIT_MLP_BACKWARD_H
 
@@ -46,9 +47,9 @@ int sf_mlp_loss_parse(const char *name, sf_mlp_loss_kind *out);
 double sf_mlp_sample_loss(const sf_mlp_loss *loss, int n_out, const double *pred, const double *target,
                           double *dloss_dpred);
 
-/* Scratch memory of the block computation for one network shape (one per
- * thread). block: samples per block, a multiple of 8 chosen from the shape
- * so that a block's arrays stay in the first cache levels. */
+/* Scratch memory of the group computation for one network shape (one per
+ * thread): a group's activations and deltas and the gradient lanes, a few
+ * KiB to tens of KiB. block: samples per group (32). */
 typedef struct sf_mlp_workspace {
   sf_mlp_shape shape;
   int block;
@@ -71,7 +72,8 @@ double sf_mlp_loss_range_ws(const sf_mlp_shape *shape, const double *params, con
 /* A data set stored unit-major for passes over contiguous samples without
  * gathering rows (full batches, validation): x holds n_in rows and a row of
  * ones (the biases' input), y n_out rows, each stride long (zero padded past
- * n). The same sums as sf_mlp_loss_range_ws with index NULL. */
+ * n; 64-byte aligned). The same sums as sf_mlp_loss_range_ws with index
+ * NULL. */
 typedef struct sf_mlp_columns {
   long n, stride;
   int n_in, n_out;

@@ -95,7 +95,10 @@ static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf
    * machine, where a waiting thread spins): a small batch of a small
    * network is faster on one. The chunks, hence the result, are the same. */
   if ((double)n * (double)sf_mlp_param_count(s) < cs->parallel_work) threads = 1;
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+  /* Dynamic: a thread slowed by another process (a shared machine) takes
+   * fewer chunks; each chunk's sums are stored apart and added in chunk
+   * order below, so the result does not depend on who computed what. */
+#pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (threads > 1)
   for (long c = 0; c < n_chunks; ++c) {
     long b = begin + c * SF_TRAIN_CHUNK;
     long e = b + SF_TRAIN_CHUNK < end ? b + SF_TRAIN_CHUNK : end;

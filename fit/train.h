@@ -29,7 +29,11 @@
 
 #define SF_TRAIN_CHUNK 256
 /* A batch is split among threads only when samples x parameters reaches
- * this (below, one thread is faster than starting the others). */
+ * this (below, one thread is faster than starting the others). Measured on
+ * a shared 2-core machine: a batch of 1024 samples of the 193-parameter
+ * scattering network (~0.1 ms of work) split in 2 ran an epoch 40x SLOWER
+ * (6.7 s instead of 0.17 s) whenever another process held the second core:
+ * every fork/join then waits for the descheduled thread. */
 #define SF_TRAIN_PARALLEL_WORK 1048576.0
 
 typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
