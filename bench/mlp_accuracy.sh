@@ -118,6 +118,18 @@ trow t224243_lm --layers 2,24,24,3 --output exp_neg --epochs "$(e 300)" --lr-dec
   --polish-samples 3000
 trow t224243_lm_exp_neg_exp --layers 2,24,24,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 600)" --polish-samples 3000
 trow t232323_lm_exp_neg_exp --layers 2,32,32,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 450)" --polish-samples 2500
+# depth: three and four hidden layers of 16
+trow t216161603_lm --layers 2,16,16,16,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 600)" --polish-samples 3000
+trow t21616161603_lm --layers 2,16,16,16,16,3 --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 600)" \
+  --polish-samples 3000
+# where the floor comes from: the same 2-24-24-3 on the built-in atmosphere
+# without ozone absorption (its tent profile's kinks at 10, 25 and 40 km;
+# bench_transmittance_error_map shows the error peaking for rays whose
+# lowest point lies at 20-50 km)
+echo '{"base": "default", "constituents": [{"name": "ozone", "absorption": [0, 0, 0]}]}' >"$work/no-ozone.json"
+mkdir -p "$tables-no-ozone"
+trow t224243_lm_no_ozone --atmosphere "$work/no-ozone.json" --tables "$tables-no-ozone" --layers 2,24,24,3 \
+  --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 600)" --polish-samples 3000
 
 echo "== transmittance inputs: (sqrt h, mu) against Bruneton's (x_r, x_mu), same CSV trainer =="
 nice "$skyfit" fit mlp-transmittance --tables "$tables" --quiet --input-map sqrt_h_mu --dump-dataset "$work/t.csv"
