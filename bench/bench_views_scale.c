@@ -21,6 +21,7 @@
 #include "codegen/report.h"
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
+#include "fit/build_pipeline.h"
 #include "models/mlp_sky.h"
 #include "models/ray_geometry.h"
 #include "models/scene_file.h"
@@ -54,20 +55,14 @@ int main(int argc, char **argv) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }
-  /* the table options of fit/build_pipeline.c, so the cache is found */
+  /* the build's own table options (default base), so its cache is found */
   char cache[4096], weights[4096];
   snprintf(cache, sizeof cache, "%s/cache", argv[1]);
   snprintf(weights, sizeof weights, "%s/weights/mlp-scattering.json", argv[1]);
+  sf_build_options build;
+  sf_build_options_default(&build);
   sf_table_set_options topt;
-  sf_table_set_options_default(&topt);
-  topt.cache_dir = cache;
-  topt.has_domain = 1;
-  topt.domain.h_min_km = domain.h_min_km;
-  topt.domain.h_max_km = domain.h_max_km;
-  topt.domain.mu_min = domain.mu_min;
-  topt.domain.mu_s_min = domain.mu_s_min;
-  topt.domain.mu_s_max = domain.mu_s_max;
-  topt.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
+  sf_build_table_options(scene, &domain, &build.tables, cache, &topt);
   sf_table_set set;
   sf_mlp_sky net;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, &err) || sf_mlp_sky_load(weights, &net, &err)) {
@@ -85,8 +80,8 @@ int main(int argc, char **argv) {
   int nv = sf_standard_radiance_views(&views);
   const int W = SF_VIEW_DEFAULT_WIDTH, H = SF_VIEW_DEFAULT_HEIGHT;
   printf("tables: %d of %d from %s; network %s\n", cached, set.n_tables, cache, weights);
-  printf("%-21s | %9s %9s | %9s %9s %9s | %9s %9s | %8s %8s\n", "view", "ref RMS", "seed Empty", "net all",
-         "net sky", "net ground", "seed NN", "", "net/RMS", "seedNN/Empty");
+  printf("%-21s | %9s %10s | %9s %9s %10s | %9s | %8s %12s\n", "view", "ref RMS", "seed Empty", "net all",
+         "net sky", "net ground", "seed NN", "net/RMS", "seedNN/Empty");
   for (int v = 0; v < nv; ++v) {
     sf_view_camera cam;
     sf_view_camera_make(&views[v], atm, W, H, &cam);
@@ -111,8 +106,8 @@ int main(int argc, char **argv) {
     long n = part[0].values + part[1].values;
     double ref_rms = rms(part[0].ref_sq + part[1].ref_sq, n), net_all = rms(part[0].err_sq + part[1].err_sq, n);
     double empty = paper_value(&paper, views[v].name, "Empty"), nn = paper_value(&paper, views[v].name, "Neural Net");
-    printf("%-21s | %9.3g %9.3g | %9.3g %9.3g %9.3g | %9.3g %9s | %8.3g %8.3g\n", views[v].name, ref_rms, empty,
-           net_all, rms(part[0].err_sq, part[0].values), rms(part[1].err_sq, part[1].values), nn, "",
+    printf("%-21s | %9.3g %10.3g | %9.3g %9.3g %10.3g | %9.3g | %8.3g %12.3g\n", views[v].name, ref_rms, empty,
+           net_all, rms(part[0].err_sq, part[0].values), rms(part[1].err_sq, part[1].values), nn,
            ref_rms > 0 ? net_all / ref_rms : NAN, nn / empty);
   }
   sf_mlp_sky_free(&net);

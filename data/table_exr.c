@@ -16,6 +16,7 @@
 
 #include "data/hash64.h"
 #include "util/atomic_file.h"
+#include "util/exr_fd_write.h"
 
 /* The ZIP level is set per file so that the bytes do not depend on the
  * library's process-wide default (which any code could change). */
@@ -42,19 +43,7 @@ static void keep_first_error(exr_const_context_t ctxt, exr_result_t code, const 
 
 static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz,
                             uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  exr_stream *s = (exr_stream *)user;
-  const char *p = (const char *)buffer;
-  uint64_t done = 0;
-  while (done < sz) {
-    ssize_t n = pwrite(s->fd, p + done, (size_t)(sz - done), (off_t)(offset + done));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      error_cb(ctxt, EXR_ERR_WRITE_IO, "write failed: %s", n < 0 ? strerror(errno) : "no progress");
-      return -1;
-    }
-    done += (uint64_t)n;
-  }
-  return (int64_t)done;
+  return sf_exr_write_fd(ctxt, ((exr_stream *)user)->fd, buffer, sz, offset, error_cb);
 }
 
 static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,

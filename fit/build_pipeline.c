@@ -131,6 +131,21 @@ static void log_note(void *ctx, const char *message) {
   if (l->forward) l->forward(l->forward_ctx, message);
 }
 
+void sf_build_table_options(const sf_scene *scene, const sf_scene_domain *domain,
+                            const sf_table_set_options *base, const char *cache_dir,
+                            sf_table_set_options *out) {
+  *out = *base;
+  out->cache_dir = cache_dir;
+  out->has_domain = 1;
+  out->domain.h_min_km = domain->h_min_km;
+  out->domain.h_max_km = domain->h_max_km;
+  out->domain.mu_min = domain->mu_min;
+  out->domain.mu_s_min = domain->mu_s_min;
+  out->domain.mu_s_max = domain->mu_s_max;
+  out->domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
+  out->transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
+}
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
   double t_start = sf_wall_seconds(), c_start = sf_cpu_seconds();
@@ -140,19 +155,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   snprintf(cache, sizeof cache, "%s/cache", o->out_dir);
   snprintf(work, sizeof work, "%s/weights", o->out_dir);
 
-  sf_table_set_options topt = o->tables;
-  topt.cache_dir = cache;
-  /* Sample only the scene's domain (SPEC §5): the scattering tables cover
-   * it alone, and a scene without sky radiance gets the transmittance table
-   * only. */
-  topt.has_domain = 1;
-  topt.domain.h_min_km = domain.h_min_km;
-  topt.domain.h_max_km = domain.h_max_km;
-  topt.domain.mu_min = domain.mu_min;
-  topt.domain.mu_s_min = domain.mu_s_min;
-  topt.domain.mu_s_max = domain.mu_s_max;
-  topt.domain.sky_only = scene->view == SF_VIEW_ABOVE_HORIZON;
-  topt.transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
+  sf_table_set_options topt;
+  sf_build_table_options(scene, &domain, &o->tables, cache, &topt);
   /* Bad input (an impossible resolution, tables larger than memory allows)
    * is refused before anything is created: nothing written on bad input. */
   if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;

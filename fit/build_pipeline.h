@@ -38,6 +38,14 @@ typedef struct sf_build_result {
   char header_c[SF_REPORT_PATH_LEN], header_glsl[SF_REPORT_PATH_LEN];
 } sf_build_result;
 
+/* The table options a build uses for a scene: base with cache_dir and the
+ * scene's domain (SPEC §5: the scattering tables cover it alone; a scene
+ * without sky radiance gets the transmittance table only). Whoever reads a
+ * build's OUT/cache passes the same base to find the same tables. */
+void sf_build_table_options(const sf_scene *scene, const sf_scene_domain *domain,
+                            const sf_table_set_options *base, const char *cache_dir,
+                            sf_table_set_options *out);
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err);
 
 #endif

@@ -88,10 +88,10 @@ class GramCost final : public ceres::CostFunction {
     const double *g = gram_.data();
     double *R = factor_.data();
     for (int k = 0; k < m; ++k) {
-      double d = k + 1 == m ? sum_squares : g[(size_t)k * m + k];
+      const double diagonal = k + 1 == m ? sum_squares : g[(size_t)k * m + k];
+      double d = diagonal;
       for (int i = 0; i < k; ++i) d -= R[(size_t)i * m + k] * R[(size_t)i * m + k];
       if (!std::isfinite(d)) return false;
-      const double diagonal = k + 1 == m ? sum_squares : g[(size_t)k * m + k];
       const bool lost = k + 1 == m ? d <= 0.0 : d <= kLostPivot * diagonal;
       for (int j = 0; j < m; ++j) R[(size_t)k * m + j] = 0.0;
       if (lost) continue;
@@ -130,6 +130,18 @@ struct sf_lsq_problem {
   std::vector<int> sizes;
   int n_residuals = 0;
 };
+
+// The sizes and value arrays of the parameter blocks a residual block
+// depends on; false for an index that names no block.
+static bool blocks_of_residual(const sf_lsq_problem *p, int n_blocks, const int *blocks,
+                               std::vector<int> *sizes, std::vector<double *> *values) {
+  for (int b = 0; b < n_blocks; ++b) {
+    if (blocks[b] < 0 || blocks[b] >= (int)p->blocks.size()) return false;
+    sizes->push_back(p->sizes[blocks[b]]);
+    values->push_back(p->blocks[blocks[b]]);
+  }
+  return true;
+}
 
 extern "C" {
 
@@ -187,11 +199,7 @@ int sf_lsq_add_residuals(sf_lsq_problem *p, sf_lsq_residual_fn fn, void *user, i
   if (loss != SF_LSQ_LOSS_NONE && !(loss_scale > 0.0 && std::isfinite(loss_scale))) return -1;
   std::vector<int> sizes;
   std::vector<double *> values;
-  for (int b = 0; b < n_blocks; ++b) {
-    if (blocks[b] < 0 || blocks[b] >= (int)p->blocks.size()) return -1;
-    sizes.push_back(p->sizes[blocks[b]]);
-    values.push_back(p->blocks[blocks[b]]);
-  }
+  if (!blocks_of_residual(p, n_blocks, blocks, &sizes, &values)) return -1;
   p->problem.AddResidualBlock(new CallbackCost(fn, user, n_residuals, sizes),
                               make_loss(loss, loss_scale), values);
   p->n_residuals += n_residuals;
@@ -203,11 +211,7 @@ int sf_lsq_add_gram_residuals(sf_lsq_problem *p, sf_lsq_gram_fn fn, void *user, 
   if (!p || !fn || n_blocks <= 0 || !blocks) return -1;
   std::vector<int> sizes;
   std::vector<double *> values;
-  for (int b = 0; b < n_blocks; ++b) {
-    if (blocks[b] < 0 || blocks[b] >= (int)p->blocks.size()) return -1;
-    sizes.push_back(p->sizes[blocks[b]]);
-    values.push_back(p->blocks[blocks[b]]);
-  }
+  if (!blocks_of_residual(p, n_blocks, blocks, &sizes, &values)) return -1;
   auto *cost = new (std::nothrow) GramCost(fn, user, sizes);
   if (!cost) return -1;
   p->problem.AddResidualBlock(cost, nullptr, values);

@@ -1,13 +1,12 @@
 #include "util/exr_image.h"
 
 #include <OpenEXR/openexr.h>
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "util/atomic_file.h"
+#include "util/exr_fd_write.h"
 
 #define EXR_IMAGE_ZIP_LEVEL 6
 
@@ -57,19 +56,7 @@ static void quiet_errors(exr_const_context_t ctxt, exr_result_t code, const char
  * the same temporary-then-rename, fsync and permissions as every output. */
 static int64_t write_to_fd(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz, uint64_t offset,
                            exr_stream_error_func_ptr_t error_cb) {
-  int fd = *(const int *)user;
-  const char *p = (const char *)buffer;
-  uint64_t done = 0;
-  while (done < sz) {
-    ssize_t n = pwrite(fd, p + done, (size_t)(sz - done), (off_t)(offset + done));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      error_cb(ctxt, EXR_ERR_WRITE_IO, "write failed: %s", n < 0 ? strerror(errno) : "no progress");
-      return -1;
-    }
-    done += (uint64_t)n;
-  }
-  return (int64_t)done;
+  return sf_exr_write_fd(ctxt, *(const int *)user, buffer, sz, offset, error_cb);
 }
 
 int sf_exr_write_image(const char *path, int width, int height, int n_channels,
