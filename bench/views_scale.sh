@@ -3,9 +3,11 @@
 # (bench/bench_views_scale.c): our reference's RMS per standard view beside
 # App. B's "Empty" column, and the scattering network's error split into
 # sky and ground pixels.
-#   bench/views_scale.sh [OUT]
+#   bench/views_scale.sh [OUT [W.json]]
 # OUT: a `skyfit build` of the built-in scene (made there if missing, about
-# a minute; default /tmp/skyfit-views-scale).
+# a minute; default /tmp/skyfit-views-scale). W.json: another scattering
+# network to measure in place of the build's (e.g. a longer `skyfit fit
+# mlp-scattering` run).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$here/build-bench}
@@ -13,4 +15,4 @@ out=${1:-/tmp/skyfit-views-scale}
 cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target skyfit bench_views_scale >/dev/null
 [ -s "$out/weights/mlp-scattering.json" ] || "$build/skyfit" build --out "$out" --quiet
-"$build/bench_views_scale" "$out"
+"$build/bench_views_scale" "$out" "${@:2}"

@@ -41,6 +41,9 @@ static void sky_usage(FILE *out, int scattering) {
                        "--lr 0.01 --lr-decay 0.995 --polish 60 (the seed's 2-4-3: --layers 2,4,3).",
           scattering ? "  --target T              separate (single per constituent without phase, then\n"
                        "                          multiple; default) or radiance (phase included, as the seed)\n"
+                       "  --split S               horizon (default: one network for rays to the sky, one for\n"
+                       "                          rays to the ground, trained one after the other; the\n"
+                       "                          second checkpoints to FILE.ground) or none (one network)\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
                        "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
@@ -52,6 +55,7 @@ typedef struct sky_job {
   const char *scene_path, *tables_dir, *dump_path;
   sf_mlp_target target;
   sf_mlp_input_map input_map;   /* transmittance network */
+  int split;                    /* scattering: the horizon split (models/mlp_sky.h) */
   sf_mlp_cli mlp;
   sf_table_cli tables;
 } sky_job;
@@ -76,6 +80,44 @@ static cJSON *error_json(const sf_mlp_error *e, const sf_atmosphere *atm) {
   return o;
 }
 
+/* One network of the command: held-out split, Adam (checkpointing to
+ * checkpoint, resuming from it if resume), then the polish. Returns SF_OK,
+ * -1 when interrupted (checkpoint written, said), or an error status. */
+static int train_network(sky_job *job, const char *command, const sf_dataset *data, const char *checkpoint,
+                         int resume, sf_dataset *train, sf_dataset *val, sf_train_result *result,
+                         sf_mlp_lm_result *lm, sf_error *err) {
+  sf_train_options *t = &job->mlp.train;
+  memset(result, 0, sizeof *result);
+  memset(lm, 0, sizeof *lm);
+  if (sf_dataset_split(data, job->mlp.validation_fraction, t->seed, train, val, err)) return err->status;
+  t->checkpoint_path = checkpoint;
+  t->resume = resume;
+  sf_mlp_progress progress;
+  sf_mlp_progress_init(&progress, job->mlp.quiet);
+  t->progress = sf_mlp_progress_update;
+  t->progress_ctx = &progress;
+  int status = sf_mlp_train(train, val, t, result, err);
+  sf_mlp_progress_finish(&progress);
+  if (status) return status;
+  if (result->interrupted) {
+    fprintf(stderr, "%s: interrupted after %d epochs; checkpoint %s; continue with --resume\n", command,
+            result->epochs_run, checkpoint);
+    sf_mlp_free(&result->net);
+    return -1;
+  }
+  if (sf_mlp_cli_polish(&job->mlp, train, val, result, lm, err)) {
+    sf_mlp_free(&result->net);
+    return err->status;
+  }
+  return SF_OK;
+}
+
+static int file_exists(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (f) fclose(f);
+  return f != NULL;
+}
+
 static int run_sky(int argc, char **argv, int scattering) {
   const char *command = scattering ? "skyfit fit mlp-scattering" : "skyfit fit mlp-transmittance";
   sky_job job;
@@ -85,6 +127,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   /* Bruneton's inputs: lower held-out, full-ray and view errors than
    * (sqrt h, mu) at equal budget (bench/mlp_accuracy.sh, issue 6) */
   job.input_map = SF_MLP_INPUTS_BRUNETON;
+  job.split = scattering;
   sf_mlp_cli_default(&job.mlp);
   sf_table_cli_default(&job.tables);
   sf_train_options *t = &job.mlp.train;
@@ -116,7 +159,8 @@ static int run_sky(int argc, char **argv, int scattering) {
     if (r > 0) continue;
     int has_value = i + 1 < argc;
     if ((strcmp(a, "--scene") == 0 || strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
-         (scattering && strcmp(a, "--target") == 0) || (!scattering && strcmp(a, "--input-map") == 0)) &&
+         (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0)) ||
+         (!scattering && strcmp(a, "--input-map") == 0)) &&
         !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
       return 2;
@@ -130,6 +174,13 @@ static int run_sky(int argc, char **argv, int scattering) {
         fprintf(stderr, "%s: --input-map: expected sqrt_h_mu or bruneton, got '%s'\n", command, v);
         return 2;
       }
+    } else if (scattering && strcmp(a, "--split") == 0) {
+      const char *v = argv[++i];
+      if (strcmp(v, "horizon") != 0 && strcmp(v, "none") != 0) {
+        fprintf(stderr, "%s: --split: expected horizon or none, got '%s'\n", command, v);
+        return 2;
+      }
+      job.split = strcmp(v, "horizon") == 0;
     } else if (scattering && strcmp(a, "--target") == 0) {
       const char *v = argv[++i];
       if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
@@ -156,10 +207,18 @@ static int run_sky(int argc, char **argv, int scattering) {
   int status = 0;
   sf_table_set set;
   memset(&set, 0, sizeof set);
-  sf_dataset data, train, val;
+  sf_dataset data, train, val, ground, train_g, val_g, val_all;
   memset(&data, 0, sizeof data);
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);
+  memset(&ground, 0, sizeof ground);
+  memset(&train_g, 0, sizeof train_g);
+  memset(&val_g, 0, sizeof val_g);
+  memset(&val_all, 0, sizeof val_all);
+  sf_train_result result, result_g;
+  memset(&result, 0, sizeof result);
+  memset(&result_g, 0, sizeof result_g);
+  sf_mlp_lm_result lm, lm_g;
   sf_mlp_sky model;
   memset(&model, 0, sizeof model);
   double *init = NULL;
@@ -217,7 +276,24 @@ static int run_sky(int argc, char **argv, int scattering) {
               data.n_out, job.dump_path);
     if (!job.mlp.out) goto done;
   }
-  if (sf_dataset_split(&data, job.mlp.validation_fraction, t->seed, &train, &val, &err)) goto fail;
+  /* the horizon split (models/mlp_sky.h): data becomes the sky half */
+  if (scattering && job.split) {
+    sf_dataset sky;
+    if (sf_dataset_scattering_halves(&set, atm, &dom, job.target, &sky, &ground, &n_single, constituent, &err))
+      goto fail;
+    if (sky.n < SF_MLP_SPLIT_MIN_SAMPLES || ground.n < SF_MLP_SPLIT_MIN_SAMPLES) {
+      if (!job.mlp.quiet)
+        fprintf(stderr, "%s: %ld rays to the sky, %ld to the ground in the domain: one network (--split none)\n",
+                command, sky.n, ground.n);
+      sf_dataset_free(&sky);
+      sf_dataset_free(&ground);
+      job.split = 0;
+    } else {
+      sf_dataset_free(&data);
+      data = sky;
+    }
+  }
+  int split = scattering && job.split;
 
   int np = sf_mlp_param_count(&t->shape);
   if (job.mlp.init_weights) {
@@ -226,37 +302,67 @@ static int run_sky(int argc, char **argv, int scattering) {
     if ((status = sf_mlp_cli_read_init(command, job.mlp.init_weights, &t->shape, init))) goto done;
     t->init_params = init;
   }
-  char checkpoint[4200];
+  char checkpoint[4200], checkpoint_g[4300];
   snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", job.mlp.out);
-  t->checkpoint_path = job.mlp.checkpoint ? job.mlp.checkpoint : checkpoint;
+  const char *ckpt = job.mlp.checkpoint ? job.mlp.checkpoint : checkpoint;
+  snprintf(checkpoint_g, sizeof checkpoint_g, "%s.ground", ckpt);
   t->interrupt = sf_mlp_catch_interrupt();
-  sf_mlp_progress progress;
-  sf_mlp_progress_init(&progress, job.mlp.quiet);
-  t->progress = sf_mlp_progress_update;
-  t->progress_ctx = &progress;
-  sf_train_result result;
-  int train_status = sf_mlp_train(&train, &val, t, &result, &err);
-  sf_mlp_progress_finish(&progress);
-  if (train_status) goto fail;
-  if (result.interrupted) {
-    fprintf(stderr, "%s: interrupted after %d epochs; checkpoint %s; continue with --resume\n", command,
-            result.epochs_run, t->checkpoint_path);
-    sf_mlp_free(&result.net);
+  /* --resume with the split: each network resumes from its own checkpoint
+   * if it has one; a network that had finished before the interruption
+   * (no checkpoint left) trains again, to the same bytes. */
+  int resume = t->resume, resume_sky = resume, resume_ground = 0;
+  if (split && resume) {
+    resume_ground = file_exists(checkpoint_g);
+    resume_sky = file_exists(ckpt) || !resume_ground;   /* neither: the usual "no checkpoint" error */
+  }
+  if (split && !job.mlp.quiet) fprintf(stderr, "%s: network 1 of 2: rays to the sky\n", command);
+  int ts = train_network(&job, command, &data, ckpt, resume_sky, &train, &val, &result, &lm, &err);
+  if (ts == -1) {
     status = 130;
     goto done;
   }
-  sf_mlp_lm_result lm;
-  if (sf_mlp_cli_polish(&job.mlp, &train, &val, &result, &lm, &err)) {
-    sf_mlp_free(&result.net);
-    goto fail;
+  if (ts) goto fail;
+  if (split) {
+    if (!job.mlp.quiet) fprintf(stderr, "%s: network 2 of 2: rays to the ground\n", command);
+    /* the test hook counts the command's epochs: the rest go to this
+     * network (at least one: 0 would mean no hook) */
+    if (t->stop_after_epochs > 0)
+      t->stop_after_epochs = t->stop_after_epochs > result.epochs_this_call + 1
+                                 ? t->stop_after_epochs - result.epochs_this_call : 1;
+    ts = train_network(&job, command, &ground, checkpoint_g, resume_ground, &train_g, &val_g, &result_g, &lm_g, &err);
+    if (ts == -1) {
+      sf_mlp_free(&result.net);
+      status = 130;
+      goto done;
+    }
+    if (ts) {
+      sf_mlp_free(&result.net);
+      goto fail;
+    }
   }
   double offset[4], scale[4];
   for (int k = 0; k < data.n_in; ++k) {
     offset[k] = data.input_offset[k];
     scale[k] = data.input_scale[k];
   }
-  if (sf_mlp_sky_make(&model, &result.net, job.target, atm, offset, scale, n_single, constituent, &err)) goto fail;
+  if (sf_mlp_sky_make(&model, &result.net, job.target, atm, offset, scale, n_single, constituent, &err)) {
+    sf_mlp_free(&result_g.net);
+    goto fail;
+  }
   model.input_map = scattering ? SF_MLP_INPUTS_SQRT_H_MU : job.input_map;
+  if (split && sf_mlp_sky_set_ground_net(&model, &result_g.net, &err)) goto fail;
+  /* the model's figures over both halves: losses weighted by their sizes,
+   * errors on both validation sets */
+  const sf_dataset *val_model = &val;
+  if (split) {
+    result.train_loss = (result.train_loss * (double)train.n + result_g.train_loss * (double)train_g.n) /
+                        (double)(train.n + train_g.n);
+    if (val.n + val_g.n > 0)
+      result.validation_loss = (result.validation_loss * (double)val.n + result_g.validation_loss * (double)val_g.n) /
+                               (double)(val.n + val_g.n);
+    if (sf_dataset_concat(&val, &val_g, &val_all, &err)) goto fail;
+    val_model = &val_all;
+  }
 
   /* weights file */
   doc = sf_weights_new(scattering ? "mlp-scattering" : "mlp-transmittance",
@@ -272,6 +378,8 @@ static int run_sky(int argc, char **argv, int scattering) {
     cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
   }
   if (sf_mlp_add_to_weights(doc, &model.net)) goto fail;
+  if (split && sf_mlp_add_params_to_weights(doc, &model.net_ground, "ground_")) goto fail;
+  if (scattering) cJSON_AddStringToObject(training, "split", split ? "horizon" : "none");
   cJSON_AddNumberToObject(training, "seed", (double)t->seed);
   cJSON_AddNumberToObject(training, "epochs", t->epochs);
   cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
@@ -291,12 +399,21 @@ static int run_sky(int argc, char **argv, int scattering) {
   cJSON_AddNumberToObject(training, "best_epoch", result.best_epoch);
   cJSON_AddNumberToObject(training, "training_samples", (double)train.n);
   cJSON_AddNumberToObject(training, "validation_samples", (double)val.n);
+  if (split) {   /* the figures above are the sky network's */
+    cJSON *g = cJSON_AddObjectToObject(training, "ground_network");
+    cJSON_AddNumberToObject(g, "epochs_run", result_g.epochs_run);
+    if (job.mlp.polish.iterations > 0) cJSON_AddNumberToObject(g, "polish_accepted", lm_g.accepted);
+    cJSON_AddNumberToObject(g, "best_restart", result_g.best_restart);
+    cJSON_AddNumberToObject(g, "best_epoch", result_g.best_epoch);
+    cJSON_AddNumberToObject(g, "training_samples", (double)train_g.n);
+    cJSON_AddNumberToObject(g, "validation_samples", (double)val_g.n);
+  }
   cJSON *metrics = sf_weights_metrics(doc);
   cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
-  if (val.n > 0) cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
+  if (val_model->n > 0) cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
   sf_mlp_error e;
-  if (val.n > 0) {
-    sf_mlp_error_validation(&model, &val, &e);
+  if (val_model->n > 0) {
+    sf_mlp_error_validation(&model, val_model, &e);
     cJSON_AddItemToObject(metrics, "validation", error_json(&e, atm));
     cJSON_AddNumberToObject(metrics, "rmse", e.rmse_all);
     cJSON_AddNumberToObject(metrics, "max_abs", e.max_abs_all);
@@ -355,6 +472,10 @@ done:
   sf_dataset_free(&data);
   sf_dataset_free(&train);
   sf_dataset_free(&val);
+  sf_dataset_free(&ground);
+  sf_dataset_free(&train_g);
+  sf_dataset_free(&val_g);
+  sf_dataset_free(&val_all);
   sf_table_set_free(&set);
   free(init);
   free(scene);

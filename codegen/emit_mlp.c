@@ -175,11 +175,11 @@ static void emit_network_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_act
   o->last = s->n_layers;
 }
 
-static void emit_network(sf_code_writer *w, const sf_mlp_sky *m, sf_mlp_activation out_act, int out_by,
+static void emit_network(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act, int out_by,
                          net_outputs *o) {
   memset(o, 0, sizeof *o);
-  if (w->lang == SF_CODE_C) emit_network_c(w, &m->net_f, out_act);
-  else emit_network_glsl(w, &m->net_f, out_act, out_by, o);
+  if (w->lang == SF_CODE_C) emit_network_c(w, net, out_act);
+  else emit_network_glsl(w, net, out_act, out_by, o);
 }
 
 /* float x = (value - offset) * scale, as the model's float path. */
@@ -256,7 +256,7 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
   }
   net_outputs o;
   sf_mlp_activation out_act = depth ? SF_ACT_LINEAR : t->net.shape.output;
-  emit_network(w, t, out_act, 0, &o);
+  emit_network(w, &t->net_f, out_act, 0, &o);
   sf_cw_emit(w, "  return %C", n);
   for (int c = 0; c < n; ++c) {
     char name[32];
@@ -384,33 +384,55 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
   radii g = radii_of(s);
   char zeros[64];
   splat(zeros, sizeof zeros, n, "0.0f");
-  sf_cw_emit(w, "/* mlp sky radiance (seed 000 §9.6.2): network %d", s->net.shape.sizes[0]);
+  sf_cw_emit(w, "/* mlp sky radiance (seed 000 §9.6.2): %s %d",
+             s->horizon_split ? "networks (rays to the sky, rays to the ground)" : "network", s->net.shape.sizes[0]);
   for (int l = 1; l <= s->net.shape.n_layers; ++l) sf_cw_emit(w, "-%d", s->net.shape.sizes[l]);
   sf_cw_emit(w, ", %s hidden, %s output, target %s; inputs sqrt(h), mu, mu_s, nu. Sun irradiance 1. */\n",
              sf_mlp_activation_name(s->net.shape.hidden), sf_mlp_activation_name(s->net.shape.output),
              sf_mlp_target_name(s->target));
-  sf_cw_emit(w, "@fn %V skyfit_mlp_sky_radiance_inside(float h_km, float mu, float mu_s, float nu) {\n", n);
+  int split = s->horizon_split;
+  if (split)   /* models/mlp_sky.h, the horizon split's test */
+    sf_cw_emit(w,
+               "/* 1 when the ray ends on the ground: the ground-ray network's */\n"
+               "@fn int skyfit_mlp_ray_ends_on_ground(float h_km, float mu) {\n"
+               "  float h = @max(h_km, 0.0f);\n"
+               "  float r = %F + h;\n"
+               "  return (mu < 0.0f && -h * (%F + r) + (r * mu) * (r * mu) >= 0.0f) ? 1 : 0;\n"
+               "}\n\n",
+               g.R, g.R);
+  sf_cw_emit(w, "@fn %V skyfit_mlp_sky_radiance_inside(float h_km, float mu, float mu_s, float nu%s) {\n", n,
+             split ? ", int ground" : "");
+  int separate = s->target == SF_MLP_TARGET_SEPARATE;
+  if (split)   /* from h = 0 a ray to the ground has length 0 */
+    sf_cw_emit(w, "  if (ground != 0 && !(h_km > 0.0f)) return %E;\n", zeros);
   emit_input(w, s, 0, "@sqrt(@max(h_km, 0.0f))");
   emit_input(w, s, 1, "mu");
   emit_input(w, s, 2, "mu_s");
   emit_input(w, s, 3, "nu");
-  net_outputs o;
-  int separate = s->target == SF_MLP_TARGET_SEPARATE;
-  emit_network(w, s, s->net.shape.output, separate ? n : 0, &o);
   if (separate)
     for (int k = 0; k < s->n_single; ++k) emit_phase(w, k, &s->phases[k]);
-  sf_cw_emit(w, "  return %C", n);
-  for (int c = 0; c < n; ++c) {
-    char name[32];
-    if (c) sf_cw_emit(w, ",\n              ");
-    out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
-    sf_cw_emit(w, "%s", name);
-    for (int k = 0; separate && k < s->n_single; ++k) {
-      out_name(w, &o, k * n + c, name, sizeof name);
-      sf_cw_emit(w, " + p%d * %s", k, name);
+  for (int half = s->horizon_split ? 1 : 0; half >= 0; --half) {
+    /* half 1: the ground-ray network, in its own block (same local names) */
+    const char *indent = s->horizon_split ? "  " : "";
+    if (half == 1) sf_cw_emit(w, "  if (ground != 0) {  /* rays to the ground */\n");
+    else if (s->horizon_split) sf_cw_emit(w, "  {  /* rays to the sky */\n");
+    net_outputs o;
+    emit_network(w, half ? &s->net_ground_f : &s->net_f, s->net.shape.output, separate ? n : 0, &o);
+    sf_cw_emit(w, "  %sreturn %C", indent, n);
+    for (int c = 0; c < n; ++c) {
+      char name[32];
+      if (c) sf_cw_emit(w, ",\n              %s", indent);
+      out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
+      sf_cw_emit(w, "%s", name);
+      for (int k = 0; separate && k < s->n_single; ++k) {
+        out_name(w, &o, k * n + c, name, sizeof name);
+        sf_cw_emit(w, " + p%d * %s", k, name);
+      }
     }
+    sf_cw_emit(w, ");\n");
+    if (s->horizon_split) sf_cw_emit(w, "  }\n");
   }
-  sf_cw_emit(w, ");\n}\n\n");
+  sf_cw_emit(w, "}\n\n");
 
   sf_cw_emit(w,
              "/* the whole ray; a viewer in space first moved to where its ray enters */\n"
@@ -419,9 +441,9 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  float c = skyfit_clamp_nu(m, ms, nu);\n"
              "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, m, ms, c);\n"
              "  if (e.w < 0.0f) return %E;\n"
-             "  return skyfit_mlp_sky_radiance_inside(e.x, e.y, e.z, c);\n"
+             "  return skyfit_mlp_sky_radiance_inside(e.x, e.y, e.z, c%s);\n"
              "}\n\n",
-             n, g.R, g.h_top, zeros);
+             n, g.R, g.h_top, zeros, split ? ", skyfit_mlp_ray_ends_on_ground(e.x, e.y)" : "");
   sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_CLAMP_NU);
   if (!t) return;
   sf_cw_emit(w,
@@ -442,11 +464,14 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  float inv_r_d = 1.0f / @max(%F + end.y, 1e-6f);\n"
              "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
              "  float mu_s_d = @min(@max((r * ms + d * c) * inv_r_d, -1.0f), 1.0f);\n"
-             "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c);\n"
-             "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c);\n"
+             "%s"
+             "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c%s);\n"
+             "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c%s);\n"
              "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
              "  return %C",
-             n, g.R, g.h_top, zeros, g.R, g.h_top, g.R, n, n, n, n);
+             n, g.R, g.h_top, zeros, g.R, g.h_top, g.R,
+             split ? "  int ground = skyfit_mlp_ray_ends_on_ground(h, m);  /* both ends: one ray */\n" : "", n,
+             split ? ", ground" : "", n, split ? ", ground" : "", n, n);
   for (int c = 0; c < n; ++c) {
     const char *m = member(n, c);
     if (c) sf_cw_emit(w, ",\n              ");

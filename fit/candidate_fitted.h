@@ -9,7 +9,7 @@
 /* Training inside `skyfit build` (fit/candidate_mlp.c); `skyfit fit mlp-*`
  * trains longer by default. Overridden by sf_candidate_inputs. */
 #define SF_BUILD_MLP_TRANSMITTANCE_EPOCHS 50
-#define SF_BUILD_MLP_SCATTERING_EPOCHS 15
+#define SF_BUILD_MLP_SCATTERING_EPOCHS 40
 #define SF_BUILD_MLP_SCATTERING_SAMPLES 200000L
 
 /* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */

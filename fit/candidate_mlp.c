@@ -92,25 +92,71 @@ static void train_progress(void *ctx, int restart, int n_restarts, int epoch, in
                      ((double)restart + (double)epoch / n_epochs) / n_restarts);
 }
 
-/* Trains and writes the weights file to path (if not ""). */
-static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const char *path, sf_mlp_sky *model,
-                           sf_error *err) {
-  sf_dataset data, train, val;
-  memset(&data, 0, sizeof data);
+/* One network on one data set: a seeded 10 % held out, the training set cut
+ * to max_samples, Adam, then the polish. result->net is the network (caller
+ * frees). */
+static int train_network(const sf_candidate_inputs *in, mlp_job *job, const sf_dataset *data,
+                         sf_train_result *result, long *n_train, long *n_val, sf_error *err) {
+  sf_dataset train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);
-  int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
-  sf_mlp_target target = job->scattering ? SF_MLP_TARGET_SEPARATE : SF_MLP_TARGET_TRANSMITTANCE_TOP;
-  int status = job->scattering ? sf_dataset_scattering(in->tables, in->atm, &in->domain, target, &data, &n_single,
-                                                       constituent, err)
-                               : sf_dataset_transmittance_mapped(in->tables, in->atm, &in->domain,
-                                                                 SF_MLP_INPUTS_BRUNETON, &data, err);
-  if (status == SF_OK) status = sf_dataset_split(&data, 0.1, job->train.seed, &train, &val, err);
+  memset(result, 0, sizeof *result);
+  int status = sf_dataset_split(data, 0.1, job->train.seed, &train, &val, err);
   /* The split shuffles: the first max_samples are a seeded random subset. */
   if (status == SF_OK && job->max_samples > 0 && train.n > job->max_samples) sf_dataset_truncate(&train, job->max_samples);
   if (status == SF_OK && val.n > 20000) sf_dataset_truncate(&val, 20000);
-  sf_train_result result;
-  memset(&result, 0, sizeof result);
+  if (status == SF_OK) {
+    job->train.n_threads = in->run.n_threads;
+    job->train.progress = train_progress;
+    job->train.progress_ctx = (void *)in;
+    status = sf_mlp_train(&train, &val, &job->train, result, err);
+  }
+  /* Adam stalls; a few damped Gauss-Newton steps on a seeded subset of the
+   * training set then cut the loss several-fold (fit/mlp_lm.h). */
+  if (status == SF_OK && job->polish_iterations > 0) {
+    sf_mlp_lm_options lm_opt;
+    sf_mlp_lm_options_default(&lm_opt);
+    lm_opt.iterations = job->polish_iterations;
+    lm_opt.max_samples = job->polish_samples;
+    sf_mlp_loss loss = {job->train.loss, NULL};   /* both networks train on MSE: no per-output delta */
+    sf_mlp_lm_result lm;
+    status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
+    if (status == SF_OK) {
+      result->train_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &train, in->run.n_threads);
+      result->validation_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &val, in->run.n_threads);
+    } else {
+      sf_mlp_free(&result->net);
+    }
+  }
+  *n_train = train.n;
+  *n_val = val.n;
+  sf_dataset_free(&train);
+  sf_dataset_free(&val);
+  return status;
+}
+
+/* Trains and writes the weights file to path (if not ""). The scattering
+ * model is split at the horizon (models/mlp_sky.h) when the domain holds
+ * both kinds of ray: a network per half, each on its own samples. */
+static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const char *path, sf_mlp_sky *model,
+                           sf_error *err) {
+  sf_dataset data, ground;
+  memset(&data, 0, sizeof data);
+  memset(&ground, 0, sizeof ground);
+  int n_single = 0, constituent[SF_MAX_CONSTITUENTS];
+  sf_mlp_target target = job->scattering ? SF_MLP_TARGET_SEPARATE : SF_MLP_TARGET_TRANSMITTANCE_TOP;
+  int status = job->scattering ? sf_dataset_scattering_halves(in->tables, in->atm, &in->domain, target, &data,
+                                                              &ground, &n_single, constituent, err)
+                               : sf_dataset_transmittance_mapped(in->tables, in->atm, &in->domain,
+                                                                 SF_MLP_INPUTS_BRUNETON, &data, err);
+  /* a half too small to train on goes back with the other: one network */
+  if (status == SF_OK && job->scattering && (data.n < SF_MLP_SPLIT_MIN_SAMPLES || ground.n < SF_MLP_SPLIT_MIN_SAMPLES)) {
+    sf_dataset_free(&data);
+    sf_dataset_free(&ground);
+    status = sf_dataset_scattering(in->tables, in->atm, &in->domain, target, &data, &n_single, constituent, err);
+  }
+  int split = ground.n > 0;
+  double n_all = (double)data.n + (double)ground.n;
   if (status == SF_OK) {
     char layers[64];
     int nch = in->atm->n_channels;
@@ -125,28 +171,21 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     job->train.shape.hidden = SF_ACT_SIGMOID;
     job->train.shape.output = job->scattering ? SF_ACT_EXP_NEG : SF_ACT_EXP_NEG_EXP;
   }
-  if (status == SF_OK) {
-    job->train.n_threads = in->run.n_threads;
-    job->train.progress = train_progress;
-    job->train.progress_ctx = (void *)in;
-    status = sf_mlp_train(&train, &val, &job->train, &result, err);
-  }
-  /* Adam stalls; a few damped Gauss-Newton steps on a seeded subset of the
-   * training set then cut the loss several-fold (fit/mlp_lm.h). */
-  if (status == SF_OK && job->polish_iterations > 0) {
-    sf_mlp_lm_options lm_opt;
-    sf_mlp_lm_options_default(&lm_opt);
-    lm_opt.iterations = job->polish_iterations;
-    lm_opt.max_samples = job->polish_samples;
-    sf_mlp_loss loss = {job->train.loss, NULL};   /* both networks train on MSE: no per-output delta */
-    sf_mlp_lm_result lm;
-    status = sf_mlp_lm_polish(&job->train.shape, result.net.params, &loss, &train, &val, &lm_opt, &lm, err);
-    if (status == SF_OK) {
-      result.train_loss = sf_mlp_dataset_loss(&job->train.shape, result.net.params, &loss, &train, in->run.n_threads);
-      result.validation_loss = sf_mlp_dataset_loss(&job->train.shape, result.net.params, &loss, &val, in->run.n_threads);
-    } else {
-      sf_mlp_free(&result.net);
-    }
+  sf_train_result result, result_ground;
+  memset(&result, 0, sizeof result);
+  memset(&result_ground, 0, sizeof result_ground);
+  long n_train = 0, n_val = 0, n_train_ground = 0, n_val_ground = 0;
+  if (status == SF_OK) status = train_network(in, job, &data, &result, &n_train, &n_val, err);
+  if (status == SF_OK && split)
+    status = train_network(in, job, &ground, &result_ground, &n_train_ground, &n_val_ground, err);
+  if (status == SF_OK && split) {
+    /* the losses of the two halves together: means weighted by their sizes */
+    result.train_loss = (result.train_loss * n_train + result_ground.train_loss * n_train_ground) /
+                        (double)(n_train + n_train_ground);
+    result.validation_loss = (result.validation_loss * n_val + result_ground.validation_loss * n_val_ground) /
+                             (double)(n_val + n_val_ground);
+    n_train += n_train_ground;
+    n_val += n_val_ground;
   }
   double offset[4], scale[4];
   for (int k = 0; k < data.n_in && k < 4; ++k) {
@@ -156,8 +195,10 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   if (status == SF_OK) {
     status = sf_mlp_sky_make(model, &result.net, target, in->atm, offset, scale, n_single, constituent, err);
     if (status == SF_OK && !job->scattering) model->input_map = SF_MLP_INPUTS_BRUNETON;
-  } else
-    sf_mlp_free(&result.net);
+    if (status == SF_OK && split) status = sf_mlp_sky_set_ground_net(model, &result_ground.net, err);
+  }
+  sf_mlp_free(&result.net);
+  sf_mlp_free(&result_ground.net);
   cJSON *doc = NULL;
   if (status == SF_OK && path[0]) {
     doc = sf_weights_new(job->scattering ? "mlp-scattering" : "mlp-transmittance",
@@ -174,26 +215,28 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
         cJSON_AddItemToArray(comps, cJSON_CreateString(in->atm->constituents[constituent[k]].name));
       cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
     }
-    if (sf_mlp_add_to_weights(doc, &model->net) != SF_OK) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    if (sf_mlp_add_to_weights(doc, &model->net) != SF_OK ||
+        (model->horizon_split && sf_mlp_add_params_to_weights(doc, &model->net_ground, "ground_") != SF_OK))
+      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    if (job->scattering) cJSON_AddStringToObject(training, "split", model->horizon_split ? "horizon" : "none");
     cJSON_AddNumberToObject(training, "seed", (double)job->train.seed);
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
     cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
     cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(job->train.loss));
     cJSON_AddNumberToObject(training, "batch", (double)job->train.batch);
     cJSON_AddNumberToObject(training, "lr", job->train.adam.lr);
-    cJSON_AddNumberToObject(training, "training_samples", (double)train.n);
-    cJSON_AddNumberToObject(training, "validation_samples", (double)val.n);
-    cJSON_AddNumberToObject(training, "grid_points_in_domain", (double)data.n);
+    cJSON_AddNumberToObject(training, "training_samples", (double)n_train);
+    cJSON_AddNumberToObject(training, "validation_samples", (double)n_val);
+    cJSON_AddNumberToObject(training, "grid_points_in_domain", n_all);
     cJSON *metrics = sf_weights_metrics(doc);
     cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
-    if (val.n > 0 && isfinite(result.validation_loss))
+    if (n_val > 0 && isfinite(result.validation_loss))
       cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
     if (status == SF_OK) status = sf_weights_write(doc, path, err);
     cJSON_Delete(doc);
   }
   sf_dataset_free(&data);
-  sf_dataset_free(&train);
-  sf_dataset_free(&val);
+  sf_dataset_free(&ground);
   return status;
 }
 
@@ -210,6 +253,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   sf_cache_key_add_number(&key, "polish", job->polish_iterations);
   sf_cache_key_add_number(&key, "polish_samples", (double)job->polish_samples);
   if (!job->scattering) sf_cache_key_add_number(&key, "input_map", SF_MLP_INPUTS_BRUNETON);
+  else sf_cache_key_add_number(&key, "split_min_samples", SF_MLP_SPLIT_MIN_SAMPLES);   /* horizon split */
   char path[4400];
   if (sf_cache_path(in->cache_dir, "fits", job->name, &key, path, sizeof path, err) != SF_OK) return err->status;
   sf_mlp_sky *m = calloc(1, sizeof *m);
@@ -260,9 +304,11 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   }
   if (job->scattering)
     snprintf(out->description, sizeof out->description,
-             "Network %s, sigmoid hidden units, exp(-x) outputs (seed 000 §9.6.2): single scattering per "
+             "%s %s, sigmoid hidden units, exp(-x) outputs (seed 000 §9.6.2): single scattering per "
              "constituent (phase applied exactly) and multiple; %d epochs of Adam on %s of the tables' grid "
              "points in the domain.",
+             m->horizon_split ? "Two networks split at the horizon (rays to the sky, rays to the ground; one "
+                                "per pixel)," : "Network",
              shape, job->train.epochs, job->max_samples > 0 ? "a seeded subset" : "all");
   else
     snprintf(out->description, sizeof out->description,
@@ -270,7 +316,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
              "ground from two reversed rays (eq. 43); %d epochs of Adam on the transmittance table's grid.",
              shape, job->train.epochs);
   out->n_channels = m->n_channels;
-  out->n_params = m->net.n_params;
+  out->n_params = m->net.n_params + (m->horizon_split ? m->net_ground.n_params : 0);
   out->constant_bytes = 4 * out->n_params + 4 * 2 * m->n_inputs;   /* weights, biases, input normalisation */
   out->valid.h_min_km = in->domain.h_min_km;
   out->valid.h_max_km = in->domain.h_max_km;

@@ -46,6 +46,26 @@ void sf_dataset_truncate(sf_dataset *d, long n) {
   if (n < d->n) d->n = n;
 }
 
+int sf_dataset_concat(const sf_dataset *a, const sf_dataset *b, sf_dataset *out, sf_error *err) {
+  if (a->n_in != b->n_in || a->n_out != b->n_out)
+    return sf_fail(err, SF_ERR_INTERNAL, "sf_dataset_concat: %d+%d and %d+%d columns", a->n_in, a->n_out, b->n_in,
+                   b->n_out);
+  if (sf_dataset_init(out, a->n + b->n, a->n_in, a->n_out, err)) return err->status;
+  memcpy(out->names, a->names, sizeof out->names);
+  memcpy(out->input_offset, a->input_offset, sizeof out->input_offset);
+  memcpy(out->input_scale, a->input_scale, sizeof out->input_scale);
+  size_t xa = (size_t)a->n * (size_t)a->n_in, ya = (size_t)a->n * (size_t)a->n_out;
+  if (a->n > 0) {
+    memcpy(out->x, a->x, sizeof(double) * xa);
+    memcpy(out->y, a->y, sizeof(double) * ya);
+  }
+  if (b->n > 0) {
+    memcpy(out->x + xa, b->x, sizeof(double) * (size_t)b->n * (size_t)b->n_in);
+    memcpy(out->y + ya, b->y, sizeof(double) * (size_t)b->n * (size_t)b->n_out);
+  }
+  return SF_OK;
+}
+
 int sf_dataset_write_csv(const sf_dataset *d, const char *path, sf_error *err) {
   sf_atomic_file f;
   if (sf_atomic_open(&f, path, err)) return err->status;

@@ -28,6 +28,8 @@ int sf_dataset_init(sf_dataset *d, long n, int n_in, int n_out, sf_error *err);
 void sf_dataset_free(sf_dataset *d);
 /* Keeps the first n samples (n <= d->n). */
 void sf_dataset_truncate(sf_dataset *d, long n);
+/* a's samples then b's (same columns; names and normalisation from a). */
+int sf_dataset_concat(const sf_dataset *a, const sf_dataset *b, sf_dataset *out, sf_error *err);
 
 /* Writes the CSV atomically. */
 int sf_dataset_write_csv(const sf_dataset *d, const char *path, sf_error *err);

@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "models/phase.h"
@@ -97,9 +98,12 @@ int sf_dataset_transmittance_mapped(const sf_table_set *set, const sf_atmosphere
   return SF_OK;
 }
 
-int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
-                          sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
-                          sf_error *err) {
+/* sf_dataset_scattering; with ground_of, also an array (allocated here, one
+ * byte per row) saying whether the row's ray ends on the ground, as the
+ * table's half holds it. */
+static int scattering_rows(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                           sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
+                           unsigned char **ground_of, sf_error *err) {
   memset(d, 0, sizeof *d);
   if (set->params.kind != SF_PARAM_BRUNETON)
     return sf_fail(err, SF_ERR_INPUT, "the scattering network is trained on Bruneton's tables");
@@ -118,6 +122,10 @@ int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, con
   for (int pass = 0; pass < 2; ++pass) {
     if (pass == 1) {
       if (sf_dataset_init(d, count, 4, n_out, err)) return err->status;
+      if (ground_of && !(*ground_of = malloc((size_t)count))) {
+        sf_dataset_free(d);
+        return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+      }
       set_input(d, 0, "sqrt_h_km", sqrt(h_min), sqrt(h_max));
       set_input(d, 1, "mu", dom->mu_min, dom->mu_max);
       set_input(d, 2, "mu_s", dom->mu_s_min, dom->mu_s_max);
@@ -153,6 +161,7 @@ int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, con
               x[1] = norm_input(d, 1, c.mu);
               x[2] = norm_input(d, 2, c.mu_s);
               x[3] = norm_input(d, 3, nu);
+              if (ground_of) (*ground_of)[count] = (unsigned char)(c.hits_ground != 0);
               const float *m = sf_table_at(ms, idx);
               if (target == SF_MLP_TARGET_SEPARATE) {
                 for (int k = 0; k < set->n_single; ++k) {
@@ -174,4 +183,48 @@ int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, con
     if (count == 0) return sf_fail(err, SF_ERR_INPUT, "the scene's domain holds no scattering table sample");
   }
   return SF_OK;
+}
+
+int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                          sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
+                          sf_error *err) {
+  return scattering_rows(set, atm, dom, target, d, n_single, constituent, NULL, err);
+}
+
+/* Copies the rows whose flag equals want, names and normalisation too. */
+static int rows_where(const sf_dataset *all, const unsigned char *flag, unsigned char want, sf_dataset *out,
+                      sf_error *err) {
+  long n = 0;
+  for (long i = 0; i < all->n; ++i) n += flag[i] == want;
+  if (sf_dataset_init(out, n, all->n_in, all->n_out, err)) return err->status;
+  memcpy(out->names, all->names, sizeof out->names);
+  memcpy(out->input_offset, all->input_offset, sizeof out->input_offset);
+  memcpy(out->input_scale, all->input_scale, sizeof out->input_scale);
+  long k = 0;
+  for (long i = 0; i < all->n; ++i) {
+    if (flag[i] != want) continue;
+    memcpy(out->x + k * all->n_in, all->x + i * all->n_in, sizeof(double) * (size_t)all->n_in);
+    memcpy(out->y + k * all->n_out, all->y + i * all->n_out, sizeof(double) * (size_t)all->n_out);
+    ++k;
+  }
+  return SF_OK;
+}
+
+int sf_dataset_scattering_halves(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
+                                 sf_mlp_target target, sf_dataset *sky, sf_dataset *ground, int *n_single,
+                                 int *constituent, sf_error *err) {
+  memset(sky, 0, sizeof *sky);
+  memset(ground, 0, sizeof *ground);
+  sf_dataset all;
+  unsigned char *flag = NULL;
+  int status = scattering_rows(set, atm, dom, target, &all, n_single, constituent, &flag, err);
+  if (status == SF_OK) status = rows_where(&all, flag, 0, sky, err);
+  if (status == SF_OK) status = rows_where(&all, flag, 1, ground, err);
+  if (status != SF_OK) {
+    sf_dataset_free(sky);
+    sf_dataset_free(ground);
+  }
+  sf_dataset_free(&all);
+  free(flag);
+  return status;
 }

@@ -244,6 +244,7 @@ static void start_restart(train_state *st, const sf_train_options *o, int np) {
 int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_options *o,
                  sf_train_result *result, sf_error *err) {
   memset(result, 0, sizeof *result);
+  int epochs_this_call = 0;
   const sf_mlp_shape *s = &o->shape;
   if (train->n_in != s->sizes[0] || train->n_out != s->sizes[s->n_layers])
     return sf_fail(err, SF_ERR_INPUT, "--layers: the data have %d inputs and %d targets, the network %d and %d",
@@ -306,7 +307,6 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
 
   double t_start = sf_wall_seconds();
   clock_t cpu_start = clock();
-  int epochs_this_call = 0;
   while (st.restart < o->restarts) {
     int stop_restart = 0;
     while (st.epoch < o->epochs && !stop_restart) {
@@ -371,6 +371,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   result->best_restart = st.best_restart;
   result->best_epoch = st.best_epoch;
   result->epochs_run = st.epochs_run;
+  result->epochs_this_call = epochs_this_call;
   result->seconds_per_epoch = epochs_this_call > 0 ? (sf_wall_seconds() - t_start) / epochs_this_call : 0.0;
   result->cpu_seconds_per_epoch =
       epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : 0.0;
@@ -381,6 +382,7 @@ done:
   if (status != SF_OK || result->interrupted) {
     if (status != SF_OK) sf_mlp_free(&result->net);
     result->epochs_run = st.epochs_run;
+    result->epochs_this_call = epochs_this_call;
     result->seconds_per_epoch = 0.0;
   }
   free(delta);

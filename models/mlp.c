@@ -155,6 +155,19 @@ void sf_mlp_forward_f(const sf_mlp_f *net, const float *x, float *out) {
   }
 }
 
+int sf_mlp_add_params_to_weights(cJSON *doc, const sf_mlp *net, const char *prefix) {
+  const sf_mlp_shape *s = &net->shape;
+  for (int l = 0; l < s->n_layers; ++l) {
+    char name[48];
+    int wshape[2] = {s->sizes[l + 1], s->sizes[l]};
+    snprintf(name, sizeof name, "%sW%d", prefix, l);
+    if (sf_weights_add_param(doc, name, 2, wshape, net->params + sf_mlp_weight_offset(s, l))) return -1;
+    snprintf(name, sizeof name, "%sb%d", prefix, l);
+    if (sf_weights_add_param(doc, name, 1, wshape, net->params + sf_mlp_bias_offset(s, l))) return -1;
+  }
+  return 0;
+}
+
 int sf_mlp_add_to_weights(cJSON *doc, const sf_mlp *net) {
   const sf_mlp_shape *s = &net->shape;
   cJSON *training = sf_weights_training(doc);
@@ -164,15 +177,7 @@ int sf_mlp_add_to_weights(cJSON *doc, const sf_mlp *net) {
   cJSON *layers = cJSON_AddArrayToObject(training, "layers");
   if (!layers) return -1;
   for (int l = 0; l <= s->n_layers; ++l) cJSON_AddItemToArray(layers, cJSON_CreateNumber(s->sizes[l]));
-  for (int l = 0; l < s->n_layers; ++l) {
-    char name[16];
-    int wshape[2] = {s->sizes[l + 1], s->sizes[l]};
-    snprintf(name, sizeof name, "W%d", l);
-    if (sf_weights_add_param(doc, name, 2, wshape, net->params + sf_mlp_weight_offset(s, l))) return -1;
-    snprintf(name, sizeof name, "b%d", l);
-    if (sf_weights_add_param(doc, name, 1, wshape, net->params + sf_mlp_bias_offset(s, l))) return -1;
-  }
-  return 0;
+  return sf_mlp_add_params_to_weights(doc, net, "");
 }
 
 static int read_activation(const sf_weights *w, const cJSON *training, const char *key,
@@ -184,7 +189,17 @@ static int read_activation(const sf_weights *w, const cJSON *training, const cha
   return SF_OK;
 }
 
+int sf_mlp_weights_has(const sf_weights *w, const char *prefix) {
+  char name[48];
+  snprintf(name, sizeof name, "%sW0", prefix);
+  return cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(w->root, "params"), name) != NULL;
+}
+
 int sf_mlp_from_weights(const sf_weights *w, sf_mlp *net, sf_error *err) {
+  return sf_mlp_from_weights_prefixed(w, "", net, err);
+}
+
+int sf_mlp_from_weights_prefixed(const sf_weights *w, const char *prefix, sf_mlp *net, sf_error *err) {
   memset(net, 0, sizeof *net);
   const cJSON *training = cJSON_GetObjectItemCaseSensitive(w->root, "training");
   sf_mlp_shape s;
@@ -196,20 +211,20 @@ int sf_mlp_from_weights(const sf_weights *w, sf_mlp *net, sf_error *err) {
   const cJSON *params = cJSON_GetObjectItemCaseSensitive(w->root, "params");
   int n_layers = 0;
   for (; n_layers <= SF_MLP_MAX_LAYERS; ++n_layers) {
-    char name[16];
-    snprintf(name, sizeof name, "W%d", n_layers);
+    char name[48];
+    snprintf(name, sizeof name, "%sW%d", prefix, n_layers);
     if (!cJSON_GetObjectItemCaseSensitive(params, name)) break;
   }
   if (n_layers < 1 || n_layers > SF_MLP_MAX_LAYERS)
-    return sf_fail(err, SF_ERR_INPUT, "%s: params: expected W0 .. W%d (1 to %d layers), found %d", w->source,
-                   SF_MLP_MAX_LAYERS - 1, SF_MLP_MAX_LAYERS, n_layers);
+    return sf_fail(err, SF_ERR_INPUT, "%s: params: expected %sW0 .. %sW%d (1 to %d layers), found %d", w->source,
+                   prefix, prefix, SF_MLP_MAX_LAYERS - 1, SF_MLP_MAX_LAYERS, n_layers);
   s.n_layers = n_layers;
   double *scratch = malloc(sizeof(double) * SF_MLP_MAX_WIDTH * SF_MLP_MAX_WIDTH);
   if (!scratch) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   for (int l = 0; l < n_layers; ++l) {
-    char name[16];
+    char name[48];
     int shape[2] = {-1, l == 0 ? -1 : s.sizes[l]};
-    snprintf(name, sizeof name, "W%d", l);
+    snprintf(name, sizeof name, "%sW%d", prefix, l);
     if (sf_weights_param(w, name, 2, shape, scratch, SF_MLP_MAX_WIDTH * SF_MLP_MAX_WIDTH, err)) {
       free(scratch);
       return SF_ERR_INPUT;
@@ -219,18 +234,18 @@ int sf_mlp_from_weights(const sf_weights *w, sf_mlp *net, sf_error *err) {
   }
   free(scratch);
   if (w->n_inputs != s.sizes[0])
-    return sf_fail(err, SF_ERR_INPUT, "%s: inputs: %d entries, but W0 has %d columns", w->source, w->n_inputs,
-                   s.sizes[0]);
+    return sf_fail(err, SF_ERR_INPUT, "%s: inputs: %d entries, but %sW0 has %d columns", w->source, w->n_inputs,
+                   prefix, s.sizes[0]);
   if (sf_mlp_init(net, &s)) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   for (int l = 0; l < n_layers; ++l) {
-    char name[16];
+    char name[48];
     int wshape[2] = {s.sizes[l + 1], s.sizes[l]};
     int bshape[1] = {s.sizes[l + 1]};
-    snprintf(name, sizeof name, "W%d", l);
+    snprintf(name, sizeof name, "%sW%d", prefix, l);
     if (sf_weights_param(w, name, 2, wshape, net->params + sf_mlp_weight_offset(&s, l), wshape[0] * wshape[1],
                          err))
       goto fail;
-    snprintf(name, sizeof name, "b%d", l);
+    snprintf(name, sizeof name, "%sb%d", prefix, l);
     if (sf_weights_param(w, name, 1, bshape, net->params + sf_mlp_bias_offset(&s, l), bshape[0], err))
       goto fail;
   }

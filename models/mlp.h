@@ -118,9 +118,17 @@ void sf_mlp_forward_f(const sf_mlp_f *net, const float *x, float *out);
 /* Adds training.hidden_activation/output_activation/layers and params
  * W0, b0, ... to a weights document. Returns nonzero when out of memory. */
 int sf_mlp_add_to_weights(cJSON *doc, const sf_mlp *net);
+/* Adds a second network of the same activations as params <prefix>W0,
+ * <prefix>b0, ... (e.g. "ground_", models/mlp_sky.h); its layer sizes are
+ * read back from the arrays. */
+int sf_mlp_add_params_to_weights(cJSON *doc, const sf_mlp *net, const char *prefix);
 /* Reads the network back from a loaded weights file, checking the layer
  * shapes against each other and the inputs; SF_ERR_INPUT naming the file and
  * key otherwise. */
 int sf_mlp_from_weights(const sf_weights *w, sf_mlp *net, sf_error *err);
+/* The same for the params named <prefix>W0, <prefix>b0, ... */
+int sf_mlp_from_weights_prefixed(const sf_weights *w, const char *prefix, sf_mlp *net, sf_error *err);
+/* Whether the file holds params <prefix>W0. */
+int sf_mlp_weights_has(const sf_weights *w, const char *prefix);
 
 #endif

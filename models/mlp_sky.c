@@ -34,11 +34,20 @@ static void net_forward_f(const sf_mlp_sky *m, const float *x, float *out, int d
   sf_mlp_forward_f(&net, x, out);
 }
 
+/* The horizon split's ground-ray network (scattering only, no depth mode). */
+static void net_forward_ground_d(const sf_mlp_sky *m, const double *x, double *out) {
+  sf_mlp_forward(&m->net_ground.shape, m->net_ground.params, x, out);
+}
+static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out) {
+  sf_mlp_forward_f(&m->net_ground_f, x, out);
+}
+
 #define REAL double
 #define SKY_FN(name) name
 #define R_SQRT sqrt
 #define R_EXP exp
 #define NET_FORWARD net_forward_d
+#define NET_FORWARD_GROUND net_forward_ground_d
 #define RAY_SEGMENT sf_ray_atmosphere_segment
 #define RAY_HITS sf_ray_hits_sphere_from_above
 #define RAY_RADIUS_AT sf_ray_radius_at
@@ -51,6 +60,7 @@ static void net_forward_f(const sf_mlp_sky *m, const float *x, float *out, int d
 #undef R_SQRT
 #undef R_EXP
 #undef NET_FORWARD
+#undef NET_FORWARD_GROUND
 #undef RAY_SEGMENT
 #undef RAY_HITS
 #undef RAY_RADIUS_AT
@@ -63,6 +73,7 @@ static void net_forward_f(const sf_mlp_sky *m, const float *x, float *out, int d
 #define R_SQRT sqrtf
 #define R_EXP expf
 #define NET_FORWARD net_forward_f
+#define NET_FORWARD_GROUND net_forward_ground_f
 #define RAY_SEGMENT sf_ray_atmosphere_segment_f
 #define RAY_HITS sf_ray_hits_sphere_from_above_f
 #define RAY_RADIUS_AT sf_ray_radius_at_f
@@ -146,6 +157,31 @@ int sf_mlp_sky_make(sf_mlp_sky *m, sf_mlp *net, sf_mlp_target target, const sf_a
 void sf_mlp_sky_free(sf_mlp_sky *m) {
   sf_mlp_free(&m->net);
   sf_mlp_f_free(&m->net_f);
+  sf_mlp_free(&m->net_ground);
+  sf_mlp_f_free(&m->net_ground_f);
+  m->horizon_split = 0;
+}
+
+int sf_mlp_sky_set_ground_net(sf_mlp_sky *m, sf_mlp *net, sf_error *err) {
+  const sf_mlp_shape *a = &m->net.shape, *b = &net->shape;
+  int same = m->target != SF_MLP_TARGET_TRANSMITTANCE_TOP && a->n_layers == b->n_layers && a->hidden == b->hidden &&
+             a->output == b->output;
+  for (int l = 0; same && l <= a->n_layers; ++l) same = a->sizes[l] == b->sizes[l];
+  if (!same) {
+    sf_mlp_free(net);
+    return sf_fail(err, SF_ERR_INPUT, "the ground-ray network must be a scattering network's second copy: "
+                   "the same layers and activations");
+  }
+  sf_mlp_free(&m->net_ground);
+  sf_mlp_f_free(&m->net_ground_f);
+  m->net_ground = *net;
+  memset(net, 0, sizeof *net);
+  if (sf_mlp_to_float(&m->net_ground, &m->net_ground_f)) {
+    sf_mlp_free(&m->net_ground);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  }
+  m->horizon_split = 1;
+  return SF_OK;
 }
 
 int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
@@ -198,6 +234,20 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
     return err->status;
   }
   m->input_map = input_map;
+  if (target != SF_MLP_TARGET_TRANSMITTANCE_TOP && sf_mlp_weights_has(w, "ground_")) {
+    sf_mlp ground;
+    if (sf_mlp_from_weights_prefixed(w, "ground_", &ground, err)) {
+      sf_mlp_sky_free(m);
+      return err->status;
+    }
+    if (sf_mlp_sky_set_ground_net(m, &ground, err)) {
+      char message[1024];
+      snprintf(message, sizeof message, "%.380s: params ground_W0 ...: %.600s", w->source, err->message);
+      snprintf(err->message, sizeof err->message, "%s", message);
+      sf_mlp_sky_free(m);
+      return err->status;
+    }
+  }
   return SF_OK;
 }
 

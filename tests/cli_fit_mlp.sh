@@ -20,6 +20,28 @@ if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
 if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
 
+# the scattering model split at the horizon (models/mlp_sky.h): two networks
+# in one file; the hook interrupting the second (3 epochs each, the hook at
+# 5 of the command's epochs), then the first; each resumed to the straight run
+grep -q '"ground_W0"' "$TMP/s1.json" && grep -q '"split":[[:space:]]*"horizon"' "$TMP/s1.json" &&
+  pass "scattering weights hold the ground-ray network (split horizon)" || fail "no ground-ray network in the weights"
+for stop in 5 2; do
+  set +e
+  "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sr.json" --stop-after-epochs $stop --quiet
+  rc=$?
+  set -e
+  if [ $stop = 5 ]; then want="$TMP/sr.json.checkpoint.ground"; other="$TMP/sr.json.checkpoint"; else want="$TMP/sr.json.checkpoint"; other="$TMP/sr.json.checkpoint.ground"; fi
+  [ "$rc" = 130 ] && [ -f "$want" ] && [ ! -f "$other" ] && [ ! -f "$TMP/sr.json" ] &&
+    pass "split, hook after $stop epochs: exit 130, checkpoint $(basename "$want") only" || fail "split interrupt after $stop: rc $rc"
+  "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sr.json" --resume --quiet
+  cmp -s "$TMP/sr.json" "$TMP/s1.json" && [ ! -f "$want" ] &&
+    pass "split, resumed after $stop epochs: identical to the straight run, checkpoint removed" || fail "split resume after $stop differs"
+  rm -f "$TMP/sr.json"
+done
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --split none --out "$TMP/s0.json" --quiet
+! grep -q '"ground_W0"' "$TMP/s0.json" && grep -q '"split":[[:space:]]*"none"' "$TMP/s0.json" &&
+  pass "--split none: one network" || fail "--split none still wrote a ground-ray network"
+
 # interruption by the test hook, twice, then --resume
 set +e
 "$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
@@ -133,6 +155,7 @@ expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3
 expect_error "bad polish" "--polish" "$BIN" fit mlp-transmittance --polish -3 --out "$TMP/bad.json"
 expect_error "bad input map" "--input-map" "$BIN" fit mlp-transmittance --input-map polar --out "$TMP/bad.json"
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
+expect_error "bad split" "--split" "$BIN" fit mlp-scattering --split vertical --out "$TMP/bad.json"
 expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
 expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"

@@ -665,6 +665,11 @@ static int write_mlp_weights(const char *path, const sf_atmosphere *atm, int sca
     sf_weights_add_input(doc, "nu", 0.0, 1.0);
   }
   sf_mlp_add_to_weights(doc, &net);
+  if (scattering) {   /* the horizon split's ground-ray network (models/mlp_sky.h), as builds write */
+    sf_mlp_init_xavier(&s, 11, 0, net.params);
+    for (int i = 0; i < s.sizes[s.n_layers]; ++i) net.params[sf_mlp_bias_offset(&s, last) + i] = 4.0;
+    sf_mlp_add_params_to_weights(doc, &net, "ground_");
+  }
   cJSON *training = sf_weights_training(doc);
   cJSON_AddStringToObject(training, "target", scattering ? "separate" : "transmittance_top");
   if (scattering) {
