@@ -158,7 +158,8 @@ echo "== scattering network 4-8-8-9 (target separate, split at the horizon), MSE
 sfit s4889_default --epochs "$(e 60)"
 sfit s4889_adam_only --epochs "$(e 30)" --polish 0
 sfit s4889_rel --loss rel --epochs "$(e 30)" --polish 0
-sfit s4889_build --epochs "$(e 15)" --lr-decay 0.9 --polish 30
+# skyfit build's budget (fit/candidate_mlp.c)
+sfit s4889_build --epochs "$(e 40)" --lr-decay 0.95 --polish 30 --polish-samples 5000
 sfit s416169 --layers 4,16,16,9 --epochs "$(e 30)" --polish 0
 
 echo "== scattering trained to convergence: size and loss against accuracy on the standard views =="

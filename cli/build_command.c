@@ -32,7 +32,7 @@ static void usage(FILE *out, const char *command, int emit) {
           "  --seed N             seed of the samples and fits (default 1)\n"
           "  --mlp-epochs T,S     epochs of the transmittance and scattering networks (default %d,%d;\n"
           "                       `skyfit fit mlp-*` trains longer)\n"
-          "  --mlp-samples N      training samples of the scattering network (default %ld; 0: every grid\n"
+          "  --mlp-samples N      training samples of each scattering network (default 0: every grid\n"
           "                       point in the domain)\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
@@ -43,7 +43,7 @@ static void usage(FILE *out, const char *command, int emit) {
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
                : "builds\nthe candidates, ",
-          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_BUILD_MLP_SCATTERING_SAMPLES);
+          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS);
 }
 
 static void print_note(void *ctx, const char *message) {

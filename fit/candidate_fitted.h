@@ -10,7 +10,7 @@
  * trains longer by default. Overridden by sf_candidate_inputs. */
 #define SF_BUILD_MLP_TRANSMITTANCE_EPOCHS 50
 #define SF_BUILD_MLP_SCATTERING_EPOCHS 40
-#define SF_BUILD_MLP_SCATTERING_SAMPLES 200000L
+#define SF_BUILD_MLP_SCATTERING_SAMPLES 0L   /* every grid point in the domain */
 
 /* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */
 int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len);
