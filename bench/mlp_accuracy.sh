@@ -176,8 +176,12 @@ sfit s4883_radiance_long --split none --target radiance --layers 4,8,8,3 --epoch
 sfit s4889_long_one --split none --epochs "$(e 200)" --lr-decay 0.98 --polish "$(e 200)" --threads 2
 sfit s4889_long_split --epochs "$(e 200)" --lr-decay 0.98 --polish "$(e 200)" --threads 2
 # dawn: the split with the log loss (floor 1e-6 of each output's largest
-# target): the dawn views' error halves, noon and orbit views lose 2-3x
+# target). 60 epochs: the dawn views' error halved, noon and orbit views
+# 2-3x worse; trained longer (200 epochs, 200 LM steps) worse almost
+# everywhere (ground-sunrise 0.14, ground-dawn 0.026): not a fix for dawn
 sfit s4889_split_log --epochs "$(e 60)" --loss log --loss-floor 1e-6 --threads 2
+sfit s4889_split_log_long --epochs "$(e 200)" --lr-decay 0.98 --polish "$(e 200)" --loss log --loss-floor 1e-6 \
+  --threads 2
 # size: one 4-32-32-9 (8x the evaluation cost), MSE and log loss
 sfit s432329_long --split none --layers 4,32,32,9 --epochs "$(e 150)" --lr-decay 0.98 --polish 0 --threads 2
 sfit s432329_log_long --split none --layers 4,32,32,9 --epochs "$(e 150)" --lr-decay 0.98 --polish 0 --loss log \
