@@ -10,6 +10,7 @@
 #include "cli/fit_commands.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
+#include "fit/candidate_cache.h"
 #include "fit/dataset_sky.h"
 #include "fit/mlp_sky_metrics.h"
 #include "models/atmosphere_file.h"
@@ -110,12 +111,6 @@ static int train_network(sky_job *job, const char *command, const sf_dataset *da
     return err->status;
   }
   return SF_OK;
-}
-
-static int file_exists(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (f) fclose(f);
-  return f != NULL;
 }
 
 static int run_sky(int argc, char **argv, int scattering) {
@@ -281,12 +276,11 @@ static int run_sky(int argc, char **argv, int scattering) {
     sf_dataset sky;
     if (sf_dataset_scattering_halves(&set, atm, &dom, job.target, &sky, &ground, &n_single, constituent, &err))
       goto fail;
-    if (sky.n < SF_MLP_SPLIT_MIN_SAMPLES || ground.n < SF_MLP_SPLIT_MIN_SAMPLES) {
+    if (ground.n == 0) {   /* a half too small to train on */
       if (!job.mlp.quiet)
-        fprintf(stderr, "%s: %ld rays to the sky, %ld to the ground in the domain: one network (--split none)\n",
-                command, sky.n, ground.n);
+        fprintf(stderr, "%s: fewer than %d rays to the sky or to the ground in the domain: one network "
+                "(--split none)\n", command, SF_MLP_SPLIT_MIN_SAMPLES);
       sf_dataset_free(&sky);
-      sf_dataset_free(&ground);
       job.split = 0;
     } else {
       sf_dataset_free(&data);
@@ -312,8 +306,8 @@ static int run_sky(int argc, char **argv, int scattering) {
    * (no checkpoint left) trains again, to the same bytes. */
   int resume = t->resume, resume_sky = resume, resume_ground = 0;
   if (split && resume) {
-    resume_ground = file_exists(checkpoint_g);
-    resume_sky = file_exists(ckpt) || !resume_ground;   /* neither: the usual "no checkpoint" error */
+    resume_ground = sf_cache_exists(checkpoint_g);
+    resume_sky = sf_cache_exists(ckpt) || !resume_ground;   /* neither: the usual "no checkpoint" error */
   }
   if (split && !job.mlp.quiet) fprintf(stderr, "%s: network 1 of 2: rays to the sky\n", command);
   int ts = train_network(&job, command, &data, ckpt, resume_sky, &train, &val, &result, &lm, &err);

@@ -151,13 +151,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
                                                               &ground, &n_single, constituent, err)
                                : sf_dataset_transmittance_mapped(in->tables, in->atm, &in->domain,
                                                                  SF_MLP_INPUTS_BRUNETON, &data, err);
-  /* a half too small to train on goes back with the other: one network */
-  if (status == SF_OK && job->scattering && (data.n < SF_MLP_SPLIT_MIN_SAMPLES || ground.n < SF_MLP_SPLIT_MIN_SAMPLES)) {
-    sf_dataset_free(&data);
-    sf_dataset_free(&ground);
-    status = sf_dataset_scattering(in->tables, in->atm, &in->domain, target, &data, &n_single, constituent, err);
-  }
-  int split = ground.n > 0;
+  int split = ground.n > 0;   /* empty: a half too small, one network */
   double n_all = (double)data.n + (double)ground.n;
   if (status == SF_OK) {
     char layers[64];

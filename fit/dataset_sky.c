@@ -218,6 +218,13 @@ int sf_dataset_scattering_halves(const sf_table_set *set, const sf_atmosphere *a
   sf_dataset all;
   unsigned char *flag = NULL;
   int status = scattering_rows(set, atm, dom, target, &all, n_single, constituent, &flag, err);
+  long n_ground = 0;
+  for (long i = 0; status == SF_OK && i < all.n; ++i) n_ground += flag[i];
+  if (status == SF_OK && (n_ground < SF_MLP_SPLIT_MIN_SAMPLES || all.n - n_ground < SF_MLP_SPLIT_MIN_SAMPLES)) {
+    *sky = all;   /* one network: every sample, ground left empty */
+    free(flag);
+    return SF_OK;
+  }
   if (status == SF_OK) status = rows_where(&all, flag, 0, sky, err);
   if (status == SF_OK) status = rows_where(&all, flag, 1, ground, err);
   if (status != SF_OK) {

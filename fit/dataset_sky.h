@@ -46,7 +46,9 @@ int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, con
 /* The same samples in the two sets of the horizon split (models/mlp_sky.h):
  * rays that leave through the top, and rays that end on the ground (as the
  * table's halves hold them), each in the order above, with the same
- * normalisation. Either may be empty. */
+ * normalisation. With fewer than SF_MLP_SPLIT_MIN_SAMPLES in either half,
+ * every sample goes to sky, in the order of sf_dataset_scattering, and
+ * ground is left empty: train one network. */
 int sf_dataset_scattering_halves(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
                                  sf_mlp_target target, sf_dataset *sky, sf_dataset *ground, int *n_single,
                                  int *constituent, sf_error *err);
