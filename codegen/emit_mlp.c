@@ -384,16 +384,16 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
   radii g = radii_of(s);
   char zeros[64];
   splat(zeros, sizeof zeros, n, "0.0f");
+  int split = s->horizon_split;
   sf_cw_emit(w, "/* mlp sky radiance (seed 000 §9.6.2): %s %d",
-             s->horizon_split ? "networks (rays to the sky, rays to the ground)" : "network", s->net.shape.sizes[0]);
+             split ? "networks (rays to the sky, rays to the ground)" : "network", s->net.shape.sizes[0]);
   for (int l = 1; l <= s->net.shape.n_layers; ++l) sf_cw_emit(w, "-%d", s->net.shape.sizes[l]);
   sf_cw_emit(w, ", %s hidden, %s output, target %s; inputs sqrt(h), mu, mu_s, nu. Sun irradiance 1. */\n",
              sf_mlp_activation_name(s->net.shape.hidden), sf_mlp_activation_name(s->net.shape.output),
              sf_mlp_target_name(s->target));
-  int split = s->horizon_split;
   if (split)   /* models/mlp_sky.h, the horizon split's test */
     sf_cw_emit(w,
-               "/* 1 when the ray ends on the ground: the ground-ray network's */\n"
+               "/* 1 when the ray ends on the ground (the ground-ray network evaluates it) */\n"
                "@fn int skyfit_mlp_ray_ends_on_ground(float h_km, float mu) {\n"
                "  float h = @max(h_km, 0.0f);\n"
                "  float r = %F + h;\n"
@@ -411,11 +411,11 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
   emit_input(w, s, 3, "nu");
   if (separate)
     for (int k = 0; k < s->n_single; ++k) emit_phase(w, k, &s->phases[k]);
-  for (int half = s->horizon_split ? 1 : 0; half >= 0; --half) {
+  for (int half = split; half >= 0; --half) {
     /* half 1: the ground-ray network, in its own block (same local names) */
-    const char *indent = s->horizon_split ? "  " : "";
+    const char *indent = split ? "  " : "";
     if (half == 1) sf_cw_emit(w, "  if (ground != 0) {  /* rays to the ground */\n");
-    else if (s->horizon_split) sf_cw_emit(w, "  {  /* rays to the sky */\n");
+    else if (split) sf_cw_emit(w, "  {  /* rays to the sky */\n");
     net_outputs o;
     emit_network(w, half ? &s->net_ground_f : &s->net_f, s->net.shape.output, separate ? n : 0, &o);
     sf_cw_emit(w, "  %sreturn %C", indent, n);
@@ -430,7 +430,7 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
       }
     }
     sf_cw_emit(w, ");\n");
-    if (s->horizon_split) sf_cw_emit(w, "  }\n");
+    if (split) sf_cw_emit(w, "  }\n");
   }
   sf_cw_emit(w, "}\n\n");
 
