@@ -153,15 +153,14 @@ static int run_sky(int argc, char **argv, int scattering) {
     if (r < 0) return 2;
     if (r > 0) continue;
     int has_value = i + 1 < argc;
-    if ((strcmp(a, "--scene") == 0 || strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
+    if ((strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
          (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0)) ||
          (!scattering && strcmp(a, "--input-map") == 0)) &&
         !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
       return 2;
     }
-    if (strcmp(a, "--scene") == 0) job.scene_path = argv[++i];
-    else if (strcmp(a, "--tables") == 0) job.tables_dir = argv[++i];
+    if (strcmp(a, "--tables") == 0) job.tables_dir = argv[++i];
     else if (strcmp(a, "--dump-dataset") == 0) job.dump_path = argv[++i];
     else if (!scattering && strcmp(a, "--input-map") == 0) {
       const char *v = argv[++i];
@@ -187,6 +186,8 @@ static int run_sky(int argc, char **argv, int scattering) {
       return 2;
     }
   }
+  /* --scene is a table option (cli/table_options.h): its domain restricts the data */
+  job.scene_path = job.tables.scene_path;
   if (!job.mlp.out && !job.dump_path && !job.mlp.write_init) {
     fprintf(stderr, "%s: --out W.json (or --dump-dataset / --write-init) is required\n", command);
     return 2;
@@ -278,8 +279,8 @@ static int run_sky(int argc, char **argv, int scattering) {
       goto fail;
     if (ground.n == 0) {   /* a half too small to train on */
       if (!job.mlp.quiet)
-        fprintf(stderr, "%s: fewer than %d rays to the sky or to the ground in the domain: one network "
-                "(--split none)\n", command, SF_MLP_SPLIT_MIN_SAMPLES);
+        fprintf(stderr, "%s: fewer than %d rays to the sky or to the ground (of length > 0) in the domain: "
+                "one network (--split none)\n", command, SF_MLP_SPLIT_MIN_SAMPLES);
       sf_dataset_free(&sky);
       job.split = 0;
     } else {

@@ -98,9 +98,14 @@ int sf_dataset_transmittance_mapped(const sf_table_set *set, const sf_atmosphere
   return SF_OK;
 }
 
+/* Row kinds of the horizon split. */
+#define ROW_SKY 0
+#define ROW_GROUND 1
+#define ROW_GROUND_LENGTH_0 2   /* from h = 0 toward the ground: the model's exact 0 */
+
 /* sf_dataset_scattering; with ground_of, also an array (allocated here, one
  * byte per row) saying whether the row's ray ends on the ground, as the
- * table's half holds it. */
+ * table's half holds it (ROW_*). */
 static int scattering_rows(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
                            sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
                            unsigned char **ground_of, sf_error *err) {
@@ -161,7 +166,8 @@ static int scattering_rows(const sf_table_set *set, const sf_atmosphere *atm, co
               x[1] = norm_input(d, 1, c.mu);
               x[2] = norm_input(d, 2, c.mu_s);
               x[3] = norm_input(d, 3, nu);
-              if (ground_of) (*ground_of)[count] = (unsigned char)(c.hits_ground != 0);
+              if (ground_of)
+                (*ground_of)[count] = !c.hits_ground ? ROW_SKY : c.h > DOMAIN_TOL ? ROW_GROUND : ROW_GROUND_LENGTH_0;
               const float *m = sf_table_at(ms, idx);
               if (target == SF_MLP_TARGET_SEPARATE) {
                 for (int k = 0; k < set->n_single; ++k) {
@@ -191,18 +197,19 @@ int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, con
   return scattering_rows(set, atm, dom, target, d, n_single, constituent, NULL, err);
 }
 
-/* Copies the rows whose flag equals want, names and normalisation too. */
-static int rows_where(const sf_dataset *all, const unsigned char *flag, unsigned char want, sf_dataset *out,
+/* Copies the rows whose ray ends on the ground (ground 1) or not (0), names
+ * and normalisation too. */
+static int rows_where(const sf_dataset *all, const unsigned char *flag, int ground, sf_dataset *out,
                       sf_error *err) {
   long n = 0;
-  for (long i = 0; i < all->n; ++i) n += flag[i] == want;
+  for (long i = 0; i < all->n; ++i) n += (flag[i] != ROW_SKY) == ground;
   if (sf_dataset_init(out, n, all->n_in, all->n_out, err)) return err->status;
   memcpy(out->names, all->names, sizeof out->names);
   memcpy(out->input_offset, all->input_offset, sizeof out->input_offset);
   memcpy(out->input_scale, all->input_scale, sizeof out->input_scale);
   long k = 0;
   for (long i = 0; i < all->n; ++i) {
-    if (flag[i] != want) continue;
+    if ((flag[i] != ROW_SKY) != ground) continue;
     memcpy(out->x + k * all->n_in, all->x + i * all->n_in, sizeof(double) * (size_t)all->n_in);
     memcpy(out->y + k * all->n_out, all->y + i * all->n_out, sizeof(double) * (size_t)all->n_out);
     ++k;
@@ -218,9 +225,16 @@ int sf_dataset_scattering_halves(const sf_table_set *set, const sf_atmosphere *a
   sf_dataset all;
   unsigned char *flag = NULL;
   int status = scattering_rows(set, atm, dom, target, &all, n_single, constituent, &flag, err);
-  long n_ground = 0;
-  for (long i = 0; status == SF_OK && i < all.n; ++i) n_ground += flag[i];
-  if (status == SF_OK && (n_ground < SF_MLP_SPLIT_MIN_SAMPLES || all.n - n_ground < SF_MLP_SPLIT_MIN_SAMPLES)) {
+  /* Rays of length 0 do not count: the model never asks a network for them,
+   * so a scene whose viewers stand on the ground (every ray to the ground of
+   * length 0) gets one network, not a second one trained on zeros. They
+   * still go to the ground half when it is trained. */
+  long n_sky = 0, n_ground = 0;
+  for (long i = 0; status == SF_OK && i < all.n; ++i) {
+    n_sky += flag[i] == ROW_SKY;
+    n_ground += flag[i] == ROW_GROUND;
+  }
+  if (status == SF_OK && (n_ground < SF_MLP_SPLIT_MIN_SAMPLES || n_sky < SF_MLP_SPLIT_MIN_SAMPLES)) {
     *sky = all;   /* one network: every sample, ground left empty */
     free(flag);
     return SF_OK;

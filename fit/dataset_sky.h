@@ -41,7 +41,8 @@ int sf_dataset_transmittance_mapped(const sf_table_set *set, const sf_atmosphere
 int sf_dataset_scattering(const sf_table_set *set, const sf_atmosphere *atm, const sf_scene_domain *dom,
                           sf_mlp_target target, sf_dataset *d, int *n_single, int *constituent,
                           sf_error *err);
-/* Fewer samples than this in either half: one network for both. */
+/* Fewer samples than this in either half (rays of length 0, from h = 0 to
+ * the ground, not counted): one network for both. */
 #define SF_MLP_SPLIT_MIN_SAMPLES 1000
 /* The same samples in the two sets of the horizon split (models/mlp_sky.h):
  * rays that leave through the top, and rays that end on the ground (as the

@@ -25,6 +25,19 @@ if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical
 # 5 of the command's epochs), then the first; each resumed to the straight run
 grep -q '"ground_W0"' "$TMP/s1.json" && grep -q '"split":[[:space:]]*"horizon"' "$TMP/s1.json" &&
   pass "scattering weights hold the ground-ray network (split horizon)" || fail "no ground-ray network in the weights"
+# --scene restricts the data to its domain; viewers on the ground looking
+# everywhere: every ray to the ground has length 0 (the model's exact 0), so
+# no ground-ray network is trained (the sky half alone has 2048 rays here,
+# enough to split)
+printf '{"name": "on-ground", "viewer_altitude_km": [0, 0], "view": "all", "sun_elevation_deg": [0, 90], "quantities": ["sky_radiance"], "color": "rgb"}\n' >"$TMP/ground.json"
+"$BIN" fit mlp-scattering --tables "$TMP/tables-g" --resolution 64x16,8x64x16x4 --orders 2 --scene "$TMP/ground.json" \
+  --epochs 1 --batch 256 --polish 1 --dump-dataset "$TMP/sg.csv" --out "$TMP/sg.json" --quiet
+h_values=$(tail -n +2 "$TMP/sg.csv" | cut -d, -f1 | sort -u | wc -l)
+mu_range=$(tail -n +2 "$TMP/sg.csv" | cut -d, -f2 | sort -g | sed -n '1p;$p' | tr '\n' ' ')
+[ "$h_values" = 1 ] && [ "$mu_range" = "-1 1 " ] && pass "--scene: the data are the domain's rays, from h = 0 in every direction" ||
+  fail "--scene: rows at $h_values altitudes (want 1), mu from $mu_range(want -1 1)"
+! grep -q '"ground_W0"' "$TMP/sg.json" && pass "viewers on the ground: one network (rays to the ground all of length 0)" ||
+  fail "viewers on the ground: a ground-ray network was trained on rays of length 0"
 for stop in 5 2; do
   set +e
   "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sr.json" --stop-after-epochs $stop --quiet
