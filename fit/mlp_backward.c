@@ -1,8 +1,13 @@
+/* Before any include: madvise (MADV_HUGEPAGE) is a Linux extension. */
+#define _DEFAULT_SOURCE
 #include "fit/mlp_backward.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "fit/mlp_lanes.h"
 
@@ -19,24 +24,26 @@
 #define GROUP (VECS * LANES)
 /* Columns are padded so that a group may read past the last sample. */
 #define COLUMNS_PAD 256
-/* Samples ahead whose rows are prefetched when gathering shuffled rows. */
-#define PREFETCH_AHEAD 32
 /* Memory alignment of the lane arrays: one 64-byte line per 8 doubles. */
 #define ALIGN_BYTES 64
+/* A transparent huge page (x86-64 Linux) */
+#define HUGE_PAGE ((size_t)2 << 20)
 
 /* The hot function is compiled for three instruction sets and chosen at run
- * time (no -march=native: the binary must run on any x86-64). Every helper
- * below is forced inline so that it is compiled inside each clone. The
- * operations per lane are the same in all three (no contraction into fused
- * multiply-adds), hence the same results. */
+ * time (no -march=native: the binary must run on any x86-64): AVX-512F,
+ * AVX2 with FMA, and baseline x86-64. Every helper below is forced inline
+ * so that it is compiled inside each. The operations per lane are the same
+ * in all three: multiply-adds fused where the code says so (sf_lanes_fma:
+ * an instruction on the first two, libm's correctly rounded fma on the
+ * baseline) and nowhere else, hence the same results. */
 #if defined(__GNUC__) && !defined(__clang__)
 /* the same even if this file is built in GNU mode, where GCC contracts */
 #pragma GCC optimize("fp-contract=off")
 #endif
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define HOT_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define KERNEL_DISPATCH 1
 #else
-#define HOT_CLONES
+#define KERNEL_DISPATCH 0
 #endif
 
 #if defined(__GNUC__)
@@ -195,11 +202,10 @@ static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, c
   for (int r = 0; r < no; ++r) {
     const double *w = W + (long)r * ni;
     sf_lanes z[VECS];
-    /* b + w_0 a_0 + w_1 a_1 + ..., added in this order */
-    for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_add_scalar(sf_lanes_scale(sf_lanes_load(a + v * LANES), w[0]), b[r]);
+    /* b + w_0 a_0 + w_1 a_1 + ..., added in this order, each term fused */
+    for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalars(sf_lanes_load(a + v * LANES), w[0], b[r]);
     for (int j = 1; j < ni; ++j)
-      for (int v = 0; v < VECS; ++v)
-        z[v] = sf_lanes_add(z[v], sf_lanes_scale(sf_lanes_load(a + j * as + v * LANES), w[j]));
+      for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalar(sf_lanes_load(a + j * as + v * LANES), w[j], z[v]);
     for (int v = 0; v < VECS; ++v) sf_lanes_store(out + r * GROUP + v * LANES, activate(f, z[v]));
   }
 }
@@ -278,8 +284,8 @@ static FORCE_INLINE void output_delta(sf_mlp_activation f, const sf_mlp_loss *lo
   }
 }
 
-/* Gradient lanes of a layer: G_W[r][j] += d_r a_j and G_b[r] += d_r, lane
- * by lane: each lane adds its own samples' products, in sample order,
+/* Gradient lanes of a layer: G_W[r][j] += d_r a_j (fused) and G_b[r] +=
+ * d_r, lane by lane: each lane adds its own samples' products, in sample order,
  * straight into its accumulator (no per-group fold), loaded and stored once
  * per group. */
 static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no,
@@ -290,7 +296,7 @@ static FORCE_INLINE void weight_gradient(const double *d, const double *a, long 
     double *g = GW + (long)r * ni * LANES;
     for (int j = 0; j < ni; ++j) {
       sf_lanes acc = sf_lanes_load(g + j * LANES);
-      for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, sf_lanes_mul(dr[v], sf_lanes_load(a + j * as + v * LANES)));
+      for (int v = 0; v < VECS; ++v) acc = sf_lanes_fma(dr[v], sf_lanes_load(a + j * as + v * LANES), acc);
       sf_lanes_store(g + j * LANES, acc);
     }
     sf_lanes acc = sf_lanes_load(Gb + r * LANES);
@@ -308,7 +314,7 @@ static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const
     for (int v = 0; v < VECS; ++v) acc[v] = sf_lanes_scale(sf_lanes_load(d + v * LANES), W[j]);
     for (int r = 1; r < no; ++r)
       for (int v = 0; v < VECS; ++v)
-        acc[v] = sf_lanes_add(acc[v], sf_lanes_scale(sf_lanes_load(d + r * GROUP + v * LANES), W[(long)r * ni + j]));
+        acc[v] = sf_lanes_fma_scalar(sf_lanes_load(d + r * GROUP + v * LANES), W[(long)r * ni + j], acc[v]);
     for (int v = 0; v < VECS; ++v)
       sf_lanes_store(dn + j * GROUP + v * LANES,
                      sf_lanes_mul(acc[v], slope(f, sf_lanes_load(a + j * GROUP + v * LANES))));
@@ -329,28 +335,42 @@ static FORCE_INLINE void propagate(sf_mlp_activation f, const double *W, const d
 
 /* Row of sample i's inputs and targets, asked for early (shuffled rows of a
  * large set are cache misses). */
-static FORCE_INLINE void prefetch_row(const double *x, const double *y, long i, int n_in, int n_out) {
+static FORCE_INLINE void prefetch_row(const double *x, long xs, const double *y, long ys, long i, int n_in,
+                                      int n_out) {
 #if defined(__GNUC__)
-  const double *xa = x + i * n_in, *ya = y + i * n_out;
+  const double *xa = x + i * xs, *ya = y + i * ys;
   __builtin_prefetch(xa);
   __builtin_prefetch(xa + n_in - 1);
   __builtin_prefetch(ya);
   __builtin_prefetch(ya + n_out - 1);
 #else
-  (void)x, (void)y, (void)i, (void)n_in, (void)n_out;
+  (void)x, (void)xs, (void)y, (void)ys, (void)i, (void)n_in, (void)n_out;
 #endif
 }
 
-/* Rows of samples first..first+nv-1 (through index when given) into the
- * group arrays; samples nv..GROUP-1 get zero inputs and targets (and zero
- * weight in the caller). Rows PREFETCH_AHEAD samples ahead (before end) are
- * prefetched. */
-static FORCE_INLINE void gather(const double *x, const double *y, const int *index, long first, long end, int nv,
-                                int n_in, int n_out, double *restrict a0, double *restrict t) {
+/* Shuffled rows of the next group, asked for a few at a time while this
+ * group computes: asked all at once (64 lines for 32 rows), they exceed the
+ * misses a core keeps in flight, and the prefetch instructions themselves
+ * stalled (perf: a third of the kernel's time in a shuffled epoch). */
+typedef struct prefetch_cursor {
+  long next, stop;   /* samples next..stop-1 are still to be asked for */
+} prefetch_cursor;
+
+static FORCE_INLINE void prefetch_some(prefetch_cursor *pc, const double *x, long xs, const double *y, long ys,
+                                       const int *index, long count, int n_in, int n_out) {
+  long stop = pc->next + count < pc->stop ? pc->next + count : pc->stop;
+  for (; pc->next < stop; ++pc->next) prefetch_row(x, xs, y, ys, index[pc->next], n_in, n_out);
+}
+
+/* Rows of samples first..first+nv-1 (through index when given; sample i's
+ * inputs at x + i xs, its targets at y + i ys) into the group arrays;
+ * samples nv..GROUP-1 get zero inputs and targets (and zero weight in the
+ * caller). */
+static FORCE_INLINE void gather(const double *x, long xs, const double *y, long ys, const int *index, long first,
+                                int nv, int n_in, int n_out, double *restrict a0, double *restrict t) {
   for (int s = 0; s < nv; ++s) {
     long i = index ? index[first + s] : first + s;
-    if (index && first + s + PREFETCH_AHEAD < end) prefetch_row(x, y, index[first + s + PREFETCH_AHEAD], n_in, n_out);
-    const double *xr = x + i * n_in, *yr = y + i * n_out;
+    const double *xr = x + i * xs, *yr = y + i * ys;
     for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = xr[j];
     for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = yr[k];
   }
@@ -360,10 +380,10 @@ static FORCE_INLINE void gather(const double *x, const double *y, const int *ind
   }
 }
 
-HOT_CLONES
-static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const double *x,
-                          const double *y, const int *index, const sf_mlp_columns *columns, long begin, long end,
-                          double *grad, sf_mlp_workspace *ws) {
+static FORCE_INLINE double loss_groups_body(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
+                                            const double *x, long xs, const double *y, long ys, const int *index,
+                                            const sf_mlp_columns *columns, long begin, long end, double *grad,
+                                            sf_mlp_workspace *ws) {
   const int L = s->n_layers, n_in = s->sizes[0], n_out = s->sizes[L];
   group_arrays g;
   group_layout(s, ws->mem, &g);
@@ -374,12 +394,20 @@ static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_
     w_off[l] = sf_mlp_weight_offset(s, l);
     b_off[l] = sf_mlp_bias_offset(s, l);
   }
-  if (index)
-    for (long i = begin; i < end && i < begin + PREFETCH_AHEAD; ++i) prefetch_row(x, y, index[i], n_in, n_out);
+  /* the first group's rows now, the next group's spread over 2 L steps */
+  prefetch_cursor pc = {begin, begin + GROUP < end ? begin + GROUP : end};
+  const long per_step = (GROUP + 2 * L - 1) / (2 * L);
+  if (index) prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);
+#define PREFETCH_STEP() \
+  if (index) prefetch_some(&pc, x, xs, y, ys, index, per_step, n_in, n_out)
   const double inv_n = 1.0 / n_out;
   sf_lanes loss_lanes = sf_lanes_set1(0.0);
   for (long first = begin; first < end; first += GROUP) {
     const int nv = end - first < GROUP ? (int)(end - first) : GROUP;
+    if (index) {
+      prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);   /* what the last group left */
+      pc.stop = first + 2 * GROUP < end ? first + 2 * GROUP : end;
+    }
     /* The group's inputs and targets: read in place from columns (padded
      * past the last sample), else gathered. */
     const double *a0 = g.act[0], *t = g.target;
@@ -389,11 +417,13 @@ static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_
       t = columns->y + first;
       a0_stride = t_stride = columns->stride;
     } else {
-      gather(x, y, index, first, end, nv, n_in, n_out, g.act[0], g.target);
+      gather(x, xs, y, ys, index, first, nv, n_in, n_out, g.act[0], g.target);
     }
-    for (int l = 0; l < L; ++l)
+    for (int l = 0; l < L; ++l) {
+      PREFETCH_STEP();
       forward_layer(l + 1 == L ? s->output : s->hidden, params + w_off[l], params + b_off[l], s->sizes[l],
                     s->sizes[l + 1], l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, g.act[l + 1]);
+    }
     double *d = g.delta[0];
     sf_lanes sq[VECS];
     output_delta(s->output, loss, n_out, g.act[L], t, t_stride, sq, d);
@@ -412,6 +442,7 @@ static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_
     if (!grad) continue;
     for (int l = L - 1; l >= 0; --l) {
       int ni = s->sizes[l], no = s->sizes[l + 1];
+      PREFETCH_STEP();
       weight_gradient(d, l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, ni, no, g.grad + (long)w_off[l] * LANES,
                       g.grad + (long)b_off[l] * LANES);
       if (l == 0) break;
@@ -420,6 +451,7 @@ static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_
       d = dn;
     }
   }
+#undef PREFETCH_STEP
   if (grad)
     for (int k = 0; k < np; ++k) grad[k] += lane_sum(g.grad + (long)k * LANES);
   double total[LANES];
@@ -427,10 +459,52 @@ static double loss_groups(const sf_mlp_shape *s, const double *params, const sf_
   return lane_sum(total);
 }
 
+#define LOSS_GROUPS_PARAMS                                                                                       \
+  const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const double *x, long xs, const double *y, \
+      long ys, const int *index, const sf_mlp_columns *columns, long begin, long end, double *grad,                 \
+      sf_mlp_workspace *ws
+#define LOSS_GROUPS_ARGS s, params, loss, x, xs, y, ys, index, columns, begin, end, grad, ws
+
+#if KERNEL_DISPATCH
+__attribute__((target("avx512f"))) static double loss_groups_avx512(LOSS_GROUPS_PARAMS) {
+  return loss_groups_body(LOSS_GROUPS_ARGS);
+}
+__attribute__((target("avx2,fma"))) static double loss_groups_avx2(LOSS_GROUPS_PARAMS) {
+  return loss_groups_body(LOSS_GROUPS_ARGS);
+}
+#endif
+static double loss_groups_baseline(LOSS_GROUPS_PARAMS) { return loss_groups_body(LOSS_GROUPS_ARGS); }
+
+int sf_mlp_isa_available(sf_mlp_isa isa) {
+  switch (isa) {
+    case SF_MLP_ISA_AUTO:
+    case SF_MLP_ISA_BASELINE: return 1;
+#if KERNEL_DISPATCH
+    case SF_MLP_ISA_AVX2_FMA: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case SF_MLP_ISA_AVX512: return __builtin_cpu_supports("avx512f");
+#endif
+    default: return 0;
+  }
+}
+
+static double loss_groups_isa(sf_mlp_isa isa, LOSS_GROUPS_PARAMS) {
+  if (isa == SF_MLP_ISA_AUTO)
+    isa = sf_mlp_isa_available(SF_MLP_ISA_AVX512)     ? SF_MLP_ISA_AVX512
+          : sf_mlp_isa_available(SF_MLP_ISA_AVX2_FMA) ? SF_MLP_ISA_AVX2_FMA
+                                                      : SF_MLP_ISA_BASELINE;
+#if KERNEL_DISPATCH
+  if (isa == SF_MLP_ISA_AVX512) return loss_groups_avx512(LOSS_GROUPS_ARGS);
+  if (isa == SF_MLP_ISA_AVX2_FMA) return loss_groups_avx2(LOSS_GROUPS_ARGS);
+#endif
+  return loss_groups_baseline(LOSS_GROUPS_ARGS);
+}
+
+static double loss_groups(LOSS_GROUPS_PARAMS) { return loss_groups_isa(SF_MLP_ISA_AUTO, LOSS_GROUPS_ARGS); }
+
 double sf_mlp_loss_range_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                             const double *x, const double *y, const int *index, long begin, long end,
                             double *grad, sf_mlp_workspace *ws) {
-  return loss_groups(s, params, loss, x, y, index, NULL, begin, end, grad, ws);
+  return loss_groups(s, params, loss, x, s->sizes[0], y, s->sizes[s->n_layers], index, NULL, begin, end, grad, ws);
 }
 
 /* 64-byte aligned, zeroed (NULL when out of memory). */
@@ -467,17 +541,57 @@ void sf_mlp_columns_free(sf_mlp_columns *c) {
   c->x = c->y = NULL;
 }
 
+int sf_mlp_rows_make(sf_mlp_rows *r, const double *x, const double *y, long n, int n_in, int n_out) {
+  r->n = n;
+  r->n_in = n_in;
+  r->n_out = n_out;
+  r->stride = (n_in + n_out + LANES - 1) / LANES * LANES;
+  /* Shuffled rows of a large set miss the TLB too: in 2 MiB pages where
+   * the system grants them (Linux transparent huge pages on request). */
+  size_t bytes = ((size_t)n * (size_t)r->stride * sizeof(double) + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
+  r->data = aligned_alloc(HUGE_PAGE, bytes);
+  if (!r->data) return -1;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  madvise(r->data, bytes, MADV_HUGEPAGE);   /* a hint: without it, 4 KiB pages */
+#endif
+  memset(r->data, 0, bytes);
+  for (long i = 0; i < n; ++i) {
+    memcpy(r->data + i * r->stride, x + i * n_in, (size_t)n_in * sizeof(double));
+    memcpy(r->data + i * r->stride + n_in, y + i * n_out, (size_t)n_out * sizeof(double));
+  }
+  return 0;
+}
+
+void sf_mlp_rows_free(sf_mlp_rows *r) {
+  free(r->data);
+  r->data = NULL;
+}
+
+double sf_mlp_loss_rows_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_mlp_rows *r,
+                           const int *index, long begin, long end, double *grad, sf_mlp_workspace *ws) {
+  return loss_groups(s, params, loss, r->data, r->stride, r->data + r->n_in, r->stride, index, NULL, begin, end, grad,
+                     ws);
+}
+
 double sf_mlp_loss_columns_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                               const sf_mlp_columns *c, long begin, long end, double *grad, sf_mlp_workspace *ws) {
-  return loss_groups(s, params, loss, NULL, NULL, NULL, c, begin, end, grad, ws);
+  return loss_groups(s, params, loss, NULL, 0, NULL, 0, NULL, c, begin, end, grad, ws);
+}
+
+double sf_mlp_loss_range_isa(sf_mlp_isa isa, const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
+                             const double *x, const double *y, const int *index, long begin, long end,
+                             double *grad) {
+  if (!sf_mlp_isa_available(isa)) return NAN;
+  sf_mlp_workspace ws;
+  if (sf_mlp_workspace_init(&ws, s)) return NAN;
+  double total =
+      loss_groups_isa(isa, s, params, loss, x, s->sizes[0], y, s->sizes[s->n_layers], index, NULL, begin, end, grad, &ws);
+  sf_mlp_workspace_free(&ws);
+  return total;
 }
 
 double sf_mlp_loss_range(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                          const double *x, const double *y, const int *index, long begin, long end,
                          double *grad) {
-  sf_mlp_workspace ws;
-  if (sf_mlp_workspace_init(&ws, s)) return NAN;
-  double total = loss_groups(s, params, loss, x, y, index, NULL, begin, end, grad, &ws);
-  sf_mlp_workspace_free(&ws);
-  return total;
+  return sf_mlp_loss_range_isa(SF_MLP_ISA_AUTO, s, params, loss, x, y, index, begin, end, grad);
 }

@@ -50,6 +50,7 @@ typedef struct chunk_sums {
   int n_params;
   int n_threads;
   double parallel_work;   /* sf_train_options.parallel_work */
+  int small_threads;      /* threads for a batch below parallel_work: 1, or n_threads if measured faster */
   double *grad;   /* n_chunks x n_params */
   double *loss;   /* n_chunks */
   sf_mlp_workspace *ws;   /* n_threads */
@@ -63,6 +64,7 @@ static int chunk_sums_init(chunk_sums *c, const sf_mlp_shape *s, long max_sample
   if (c->n_chunks < 1) c->n_chunks = 1;
   c->n_params = n_params;
   c->parallel_work = SF_TRAIN_PARALLEL_WORK;
+  c->small_threads = 1;
   c->grad = malloc((size_t)c->n_chunks * (size_t)n_params * sizeof(double));
   c->loss = malloc((size_t)c->n_chunks * sizeof(double));
   c->ws = calloc((size_t)n_threads, sizeof *c->ws);
@@ -81,32 +83,42 @@ static void chunk_sums_free(chunk_sums *c) {
 }
 
 /* Sum of the loss (and, if grad, of its gradient) over samples
- * index[begin..end-1] (index NULL: begin..end-1, read from columns when
- * given: the same sums), in fixed chunks added in chunk order. */
+ * index[begin..end-1] (index NULL: begin..end-1, read from columns or rows
+ * when given: the same sums), in fixed chunks added in chunk order. */
 static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
-                           const sf_dataset *d, const sf_mlp_columns *columns, const int *index, long begin,
-                           long end, double *grad, chunk_sums *cs) {
+                           const sf_dataset *d, const sf_mlp_columns *columns, const sf_mlp_rows *rows,
+                           const int *index, long begin, long end, double *grad, chunk_sums *cs) {
   long n = end - begin;
   long n_chunks = (n + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
   int np = cs->n_params;
   int threads = cs->n_threads;
   if (threads > n_chunks) threads = (int)(n_chunks > 0 ? n_chunks : 1);
   /* Starting and joining threads costs microseconds (much more on a loaded
-   * machine, where a waiting thread spins): a small batch of a small
-   * network is faster on one. The chunks, hence the result, are the same. */
-  if ((double)n * (double)sf_mlp_param_count(s) < cs->parallel_work) threads = 1;
+   * machine, where a descheduled thread holds up the join): a small batch
+   * of a small network may be faster on one (fit/train.h). The chunks,
+   * hence the result, are the same. */
+  if ((double)n * (double)sf_mlp_param_count(s) < cs->parallel_work && cs->small_threads < threads)
+    threads = cs->small_threads;
   /* Dynamic: a thread slowed by another process (a shared machine) takes
    * fewer chunks; each chunk's sums are stored apart and added in chunk
-   * order below, so the result does not depend on who computed what. */
-#pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (threads > 1)
+   * order below, so the result does not depend on who computed what. A
+   * thread takes up to 8 chunks at a time, fewer in a small batch (4 chunks
+   * of a 1024-sample batch: one each, else one thread takes all). */
+  long grab = n_chunks / (2L * threads);
+  grab = grab < 1 ? 1 : grab > 8 ? 8 : grab;
+#pragma omp parallel for schedule(dynamic, grab) num_threads(threads) if (threads > 1)
   for (long c = 0; c < n_chunks; ++c) {
     long b = begin + c * SF_TRAIN_CHUNK;
     long e = b + SF_TRAIN_CHUNK < end ? b + SF_TRAIN_CHUNK : end;
     double *g = grad ? cs->grad + c * np : NULL;
     if (g) memset(g, 0, (size_t)np * sizeof(double));
     sf_mlp_workspace *ws = &cs->ws[omp_get_thread_num()];
-    cs->loss[c] = columns && columns->x && !index ? sf_mlp_loss_columns_ws(s, params, loss, columns, b, e, g, ws)
-                                    : sf_mlp_loss_range_ws(s, params, loss, d->x, d->y, index, b, e, g, ws);
+    if (columns && columns->x && !index)
+      cs->loss[c] = sf_mlp_loss_columns_ws(s, params, loss, columns, b, e, g, ws);
+    else if (rows && rows->data)
+      cs->loss[c] = sf_mlp_loss_rows_ws(s, params, loss, rows, index, b, e, g, ws);
+    else
+      cs->loss[c] = sf_mlp_loss_range_ws(s, params, loss, d->x, d->y, index, b, e, g, ws);
   }
   double total = 0.0;
   if (grad) memset(grad, 0, (size_t)np * sizeof(double));
@@ -128,9 +140,42 @@ double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf
     chunk_sums_free(&cs);
     return NAN;
   }
-  double total = chunked_loss(s, params, loss, d, NULL, NULL, 0, d->n, NULL, &cs);
+  double total = chunked_loss(s, params, loss, d, NULL, NULL, NULL, 0, d->n, NULL, &cs);
   chunk_sums_free(&cs);
   return total / (double)d->n;
+}
+
+/* Whether a batch below parallel_work runs split or on one thread
+ * (fit/train.h): the first 2 SF_TRAIN_PROBE_BATCHES batches after a start
+ * alternate (split first) and are timed; the rest run the faster way. Only
+ * the speed depends on it, never the result. */
+typedef struct thread_probe {
+  int active;
+  long k;              /* batches timed so far */
+  double seconds[2];   /* split, one thread */
+} thread_probe;
+
+static void thread_probe_start(thread_probe *p) {
+  p->active = 1;
+  p->k = 0;
+  p->seconds[0] = p->seconds[1] = 0.0;
+}
+
+/* Sets cs's threads for the next batch; 1 if that batch is to be timed. */
+static int thread_probe_before(thread_probe *p, chunk_sums *cs) {
+  if (!p->active) return 0;
+  if (p->k < 2 * SF_TRAIN_PROBE_BATCHES) {
+    cs->small_threads = p->k % 2 ? 1 : cs->n_threads;
+    return 1;
+  }
+  cs->small_threads = p->seconds[0] < p->seconds[1] ? cs->n_threads : 1;
+  p->active = 0;
+  return 0;
+}
+
+static void thread_probe_after(thread_probe *p, double seconds) {
+  p->seconds[p->k % 2] += seconds;
+  p->k += 1;
 }
 
 /* Everything the rest of a run depends on (what a checkpoint holds). */
@@ -271,11 +316,15 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   sf_mlp_columns train_columns, val_columns;
   memset(&train_columns, 0, sizeof train_columns);
   memset(&val_columns, 0, sizeof val_columns);
+  /* A packed copy for the shuffled mini-batches (fewer lines per row). */
+  sf_mlp_rows train_rows;
+  memset(&train_rows, 0, sizeof train_rows);
   int status = SF_OK;
   if (!delta || !grad || !perm || !st.params || !st.restart_best || !st.overall_best ||
       sf_adam_init(&st.adam, np) || chunk_sums_init(&cs, s, batch, np, thread_count(o->n_threads)) ||
       (has_val && chunk_sums_init(&val_cs, s, val->n, 1, thread_count(o->n_threads))) ||
       (batch >= train->n && sf_mlp_columns_make(&train_columns, train->x, train->y, train->n, train->n_in, train->n_out)) ||
+      (batch < train->n && sf_mlp_rows_make(&train_rows, train->x, train->y, train->n, train->n_in, train->n_out)) ||
       (has_val && sf_mlp_columns_make(&val_columns, val->x, val->y, val->n, val->n_in, val->n_out)) ||
       sf_mlp_init(&result->net, s)) {
     status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
@@ -305,6 +354,14 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     start_restart(&st, o, np);
   }
 
+  /* Batches below parallel_work: split or one thread, as measured. */
+  thread_probe probe = {0, 0, {0.0, 0.0}};
+  int probe_each_epoch = 0;
+  if (cs.n_threads > 1 && (double)batch * np < cs.parallel_work) {
+    probe_each_epoch = (train->n + batch - 1) / batch > 4 * SF_TRAIN_PROBE_BATCHES;
+    thread_probe_start(&probe);
+  }
+
   double t_start = sf_wall_seconds();
   clock_t cpu_start = clock();
   while (st.restart < o->restarts) {
@@ -322,15 +379,22 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
       if (order)
         sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
       double epoch_loss = 0.0;
+      /* An epoch of many batches measures again (the machine's load
+       * changes); one of a few batches keeps what the first batches of the
+       * call measured. */
+      if (probe_each_epoch) thread_probe_start(&probe);
       for (long b = 0; b < train->n; b += batch) {
         long e = b + batch < train->n ? b + batch : train->n;
         double inv = 1.0 / (double)(e - b);
-        epoch_loss += chunked_loss(s, st.params, &loss, train, &train_columns, order, b, e, grad, &cs);
+        int probing = thread_probe_before(&probe, &cs);
+        double t0 = probing ? sf_wall_seconds() : 0.0;
+        epoch_loss += chunked_loss(s, st.params, &loss, train, &train_columns, &train_rows, order, b, e, grad, &cs);
+        if (probing) thread_probe_after(&probe, sf_wall_seconds() - t0);
         for (int k = 0; k < np; ++k) grad[k] *= inv;
         sf_adam_step(&st.adam, &o->adam, lr, st.params, grad);
       }
       epoch_loss /= (double)train->n;
-      double val_loss = has_val ? chunked_loss(s, st.params, &loss, val, &val_columns, NULL, 0, val->n, NULL, &val_cs) / (double)val->n : NAN;
+      double val_loss = has_val ? chunked_loss(s, st.params, &loss, val, &val_columns, NULL, NULL, 0, val->n, NULL, &val_cs) / (double)val->n : NAN;
       st.epoch += 1;
       st.epochs_run += 1;
       epochs_this_call += 1;
@@ -396,5 +460,6 @@ done:
   chunk_sums_free(&val_cs);
   sf_mlp_columns_free(&train_columns);
   sf_mlp_columns_free(&val_columns);
+  sf_mlp_rows_free(&train_rows);
   return status;
 }

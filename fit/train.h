@@ -7,8 +7,9 @@
  * batch gradient is summed over fixed chunks of SF_TRAIN_CHUNK samples,
  * each chunk in sample order, the chunk sums added in chunk order - the
  * result is byte-identical for any thread count. A full batch is not
- * shuffled (its gradient is the same sum in any order); a batch with little
- * work runs on one thread (parallel_work).
+ * shuffled (its gradient is the same sum in any order); a batch with
+ * little work runs split or on one thread, whichever measured faster
+ * (parallel_work).
  *
  * Checkpoints: when *interrupt becomes nonzero (a SIGINT handler sets it) or
  * after stop_after_epochs epochs (for tests), training stops at the end of
@@ -28,13 +29,18 @@
 #include "models/mlp.h"
 
 #define SF_TRAIN_CHUNK 256
-/* A batch is split among threads only when samples x parameters reaches
- * this (below, one thread is faster than starting the others). Measured on
- * a shared 2-core machine: a batch of 1024 samples of the 193-parameter
- * scattering network (~0.1 ms of work) split in 2 ran an epoch 40x SLOWER
- * (6.7 s instead of 0.17 s) whenever another process held the second core:
- * every fork/join then waits for the descheduled thread. */
+/* A batch is always split among threads when samples x parameters reaches
+ * this. Below, splitting may cost more than it saves: measured on a shared
+ * 2-core machine, a batch of 1024 samples of the 193-parameter scattering
+ * network (~0.1 ms of work) split in 2 ran an epoch 40x SLOWER (6.7 s
+ * instead of 0.17 s) whenever another process held the second core (every
+ * fork/join then waits for the descheduled thread), and 1.3-1.9x faster
+ * when the core was free. So batches below it are timed both ways
+ * (SF_TRAIN_PROBE_BATCHES each, alternating) and the rest run the faster
+ * way: at the start of every epoch of more than 4 SF_TRAIN_PROBE_BATCHES
+ * batches, else at the start of the call (a full batch: its first epochs). */
 #define SF_TRAIN_PARALLEL_WORK 1048576.0
+#define SF_TRAIN_PROBE_BATCHES 4
 
 typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
                                      double train_loss, double validation_loss);
@@ -50,7 +56,9 @@ typedef struct sf_train_options {
   int patience;             /* epochs without a better validation loss before stopping; 0 = never */
   uint64_t seed;
   int n_threads;            /* <= 0: OpenMP's default */
-  double parallel_work;     /* a batch (or the validation set) with fewer samples x parameters runs on one
+  double parallel_work;     /* a batch (or the validation set) with at least this many samples x
+                               parameters is split among the threads; a smaller training batch is
+                               split if that measured faster, a smaller validation set runs on one
                                thread; 0: always split; default SF_TRAIN_PARALLEL_WORK */
   const double *init_params;   /* optional initial network of restart 0 (n_params values) */
   const char *checkpoint_path; /* NULL: no checkpoints */
