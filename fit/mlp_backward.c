@@ -380,6 +380,32 @@ static FORCE_INLINE void gather(const double *x, long xs, const double *y, long 
   }
 }
 
+/* gather for packed rows (sf_mlp_rows: inputs then targets, stride a
+ * multiple of LANES): 8 samples at a time, each LANES-wide piece of their
+ * rows loaded as a vector and transposed into the group's columns. The same
+ * values as gather. */
+static FORCE_INLINE void gather_packed(const double *rows, long stride, const int *index, long first, int nv,
+                                       int n_in, int n_out, double *restrict a0, double *restrict t) {
+  const int fields = n_in + n_out;
+  int s0 = 0;
+  for (; s0 + LANES <= nv; s0 += LANES) {
+    const double *row[LANES];
+    for (int k = 0; k < LANES; ++k) row[k] = rows + (long)index[first + s0 + k] * stride;
+    for (int piece = 0; piece * LANES < fields; ++piece) {
+      sf_lanes v[LANES];
+      for (int k = 0; k < LANES; ++k) v[k] = sf_lanes_load(row[k] + piece * LANES);
+      sf_lanes_transpose8(v);
+      for (int f = piece * LANES; f < fields && f < piece * LANES + LANES; ++f)
+        sf_lanes_store(f < n_in ? a0 + f * GROUP + s0 : t + (f - n_in) * GROUP + s0, v[f - piece * LANES]);
+    }
+  }
+  for (int s = s0; s < GROUP; ++s) {
+    const double *r = s < nv ? rows + (long)index[first + s] * stride : NULL;
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = r ? r[j] : 0.0;
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = r ? r[n_in + k] : 0.0;
+  }
+}
+
 static FORCE_INLINE double loss_groups_body(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                                             const double *x, long xs, const double *y, long ys, const int *index,
                                             const sf_mlp_columns *columns, long begin, long end, double *grad,
@@ -416,6 +442,8 @@ static FORCE_INLINE double loss_groups_body(const sf_mlp_shape *s, const double 
       a0 = columns->x + first;
       t = columns->y + first;
       a0_stride = t_stride = columns->stride;
+    } else if (index && xs == ys && y == x + n_in && xs % LANES == 0) {
+      gather_packed(x, xs, index, first, nv, n_in, n_out, g.act[0], g.target);
     } else {
       gather(x, xs, y, ys, index, first, nv, n_in, n_out, g.act[0], g.target);
     }

@@ -85,6 +85,33 @@ SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
   return (sf_lanes)((sf_lanes_bits)a + ((sf_lanes_bits)nb << 52));
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) { return a[k]; }
+/* Lanes i0..i7 of the 16 lanes of a then b (constants). */
+#if defined(__clang__)
+#define SF_LANES_SHUFFLE(a, b, i0, i1, i2, i3, i4, i5, i6, i7) \
+  __builtin_shufflevector(a, b, i0, i1, i2, i3, i4, i5, i6, i7)
+#else
+#define SF_LANES_SHUFFLE(a, b, i0, i1, i2, i3, i4, i5, i6, i7) \
+  __builtin_shuffle(a, b, (sf_lanes_mask){i0, i1, i2, i3, i4, i5, i6, i7})
+#endif
+/* v[r][c] becomes v[c][r]: 8 rows of 8 into 8 columns, in three rounds of
+ * two-input shuffles (pairs of lanes, then pairs of pairs, then halves). */
+SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
+  sf_lanes t[8], u[8];
+  for (int k = 0; k < 8; k += 2) {
+    t[k] = SF_LANES_SHUFFLE(v[k], v[k + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+    t[k + 1] = SF_LANES_SHUFFLE(v[k], v[k + 1], 1, 9, 3, 11, 5, 13, 7, 15);
+  }
+  for (int k = 0; k < 8; k += 4) {
+    u[k] = SF_LANES_SHUFFLE(t[k], t[k + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+    u[k + 1] = SF_LANES_SHUFFLE(t[k + 1], t[k + 3], 0, 1, 8, 9, 4, 5, 12, 13);
+    u[k + 2] = SF_LANES_SHUFFLE(t[k], t[k + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    u[k + 3] = SF_LANES_SHUFFLE(t[k + 1], t[k + 3], 2, 3, 10, 11, 6, 7, 14, 15);
+  }
+  for (int k = 0; k < 4; ++k) {
+    v[k] = SF_LANES_SHUFFLE(u[k], u[k + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    v[k + 4] = SF_LANES_SHUFFLE(u[k], u[k + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+}
 #else
 #define SF_LANES_INLINE static inline
 typedef struct sf_lanes {
@@ -183,6 +210,14 @@ SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
   return r;
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) { return a.v[k]; }
+SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
+  for (int r = 0; r < 8; ++r)
+    for (int c = r + 1; c < 8; ++c) {
+      double t = v[r].v[c];
+      v[r].v[c] = v[c].v[r];
+      v[c].v[r] = t;
+    }
+}
 #endif
 
 /* e^x on every lane, by fit/exp_lanes.h's method (Cody & Waite reduction

@@ -4,12 +4,13 @@
  * gradient's size; the forward pass against a hand-computed 2-2-1 network;
  * the blocked kernel on many shuffled samples (several blocks, a partial
  * one) against the one-sample forward pass of models/mlp.h and against
- * finite differences; the kernel compiled for each instruction set this CPU
- * runs (AVX-512F, AVX2 with FMA) against the baseline one, bit for bit. */
-#include <string.h>
+ * finite differences, and read from packed rows; the kernel compiled for
+ * each instruction set this CPU runs (AVX-512F, AVX2 with FMA) against the
+ * baseline one, bit for bit. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "fit/mlp_backward.h"
 #include "models/mlp.h"
@@ -117,6 +118,18 @@ static void many_samples(void) {
   }
   printf("1001 shuffled samples: worst rel. gradient error of 10 parameters %.3g\n", worst);
   CHECK(worst <= 1e-6);
+  /* the packed rows of shuffled training (fit/mlp_backward.h): the same sums */
+  sf_mlp_rows rows;
+  sf_mlp_workspace ws;
+  double *g_rows = calloc(np, sizeof(double));
+  CHECK(sf_mlp_rows_make(&rows, x, y, N, 4, 9) == 0 && sf_mlp_workspace_init(&ws, &s) == 0);
+  double got_rows = sf_mlp_loss_rows_ws(&s, p, &loss, &rows, index, BEGIN, END, g_rows, &ws);
+  int same = memcmp(&got_rows, &got, sizeof got) == 0 && memcmp(g_rows, g, sizeof(double) * np) == 0;
+  printf("packed rows: loss and gradient bit for bit those of x and y rows: %s\n", same ? "yes" : "no");
+  CHECK(same);
+  sf_mlp_rows_free(&rows);
+  sf_mlp_workspace_free(&ws);
+  free(g_rows);
   free(x);
   free(y);
   free(p);
