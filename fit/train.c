@@ -146,35 +146,52 @@ double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf
 }
 
 /* Whether a batch below parallel_work runs split or on one thread
- * (fit/train.h): the first 2 SF_TRAIN_PROBE_BATCHES batches after a start
- * alternate (split first) and are timed; the rest run the faster way. Only
- * the speed depends on it, never the result. */
+ * (fit/train.h): 2 SF_TRAIN_PROBE_BATCHES batches alternate (one thread
+ * first) and are timed; the rest run the way whose median batch was faster
+ * (the median: the first split batch also starts the threads, and a batch
+ * may be lucky or unlucky on a shared machine). A split batch 3x slower
+ * than the one-thread batch before it ends the probe at once: another
+ * process holds a core, and each split batch costs milliseconds. Only the
+ * speed depends on the choice, never the result. */
 typedef struct thread_probe {
   int active;
-  long k;              /* batches timed so far */
-  double seconds[2];   /* split, one thread */
+  int k;   /* batches timed so far */
+  double seconds[2][SF_TRAIN_PROBE_BATCHES];   /* one thread, split */
 } thread_probe;
 
 static void thread_probe_start(thread_probe *p) {
   p->active = 1;
   p->k = 0;
-  p->seconds[0] = p->seconds[1] = 0.0;
+}
+
+static int compare_doubles(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double median_seconds(double *v) {
+  qsort(v, SF_TRAIN_PROBE_BATCHES, sizeof *v, compare_doubles);
+  return 0.5 * (v[(SF_TRAIN_PROBE_BATCHES - 1) / 2] + v[SF_TRAIN_PROBE_BATCHES / 2]);
 }
 
 /* Sets cs's threads for the next batch; 1 if that batch is to be timed. */
 static int thread_probe_before(thread_probe *p, chunk_sums *cs) {
   if (!p->active) return 0;
   if (p->k < 2 * SF_TRAIN_PROBE_BATCHES) {
-    cs->small_threads = p->k % 2 ? 1 : cs->n_threads;
+    cs->small_threads = p->k % 2 ? cs->n_threads : 1;
     return 1;
   }
-  cs->small_threads = p->seconds[0] < p->seconds[1] ? cs->n_threads : 1;
+  cs->small_threads = median_seconds(p->seconds[1]) < median_seconds(p->seconds[0]) ? cs->n_threads : 1;
   p->active = 0;
   return 0;
 }
 
-static void thread_probe_after(thread_probe *p, double seconds) {
-  p->seconds[p->k % 2] += seconds;
+static void thread_probe_after(thread_probe *p, chunk_sums *cs, double seconds) {
+  p->seconds[p->k % 2][p->k / 2] = seconds;
+  if (p->k % 2 && seconds > 3.0 * p->seconds[0][p->k / 2]) {
+    cs->small_threads = 1;
+    p->active = 0;
+  }
   p->k += 1;
 }
 
@@ -355,12 +372,10 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   }
 
   /* Batches below parallel_work: split or one thread, as measured. */
-  thread_probe probe = {0, 0, {0.0, 0.0}};
-  int probe_each_epoch = 0;
-  if (cs.n_threads > 1 && (double)batch * np < cs.parallel_work) {
-    probe_each_epoch = (train->n + batch - 1) / batch > 4 * SF_TRAIN_PROBE_BATCHES;
-    thread_probe_start(&probe);
-  }
+  thread_probe probe;
+  memset(&probe, 0, sizeof probe);
+  int measure_threads = cs.n_threads > 1 && (double)batch * np < cs.parallel_work;
+  long batches_per_epoch = (train->n + batch - 1) / batch;
 
   double t_start = sf_wall_seconds();
   clock_t cpu_start = clock();
@@ -379,17 +394,18 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
       if (order)
         sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
       double epoch_loss = 0.0;
-      /* An epoch of many batches measures again (the machine's load
-       * changes); one of a few batches keeps what the first batches of the
-       * call measured. */
-      if (probe_each_epoch) thread_probe_start(&probe);
+      /* The machine's load changes: measure again every epoch of many
+       * batches, every SF_TRAIN_PROBE_EPOCHS epochs of a few. */
+      if (measure_threads &&
+          (batches_per_epoch > 4 * SF_TRAIN_PROBE_BATCHES || epochs_this_call % SF_TRAIN_PROBE_EPOCHS == 0))
+        thread_probe_start(&probe);
       for (long b = 0; b < train->n; b += batch) {
         long e = b + batch < train->n ? b + batch : train->n;
         double inv = 1.0 / (double)(e - b);
         int probing = thread_probe_before(&probe, &cs);
         double t0 = probing ? sf_wall_seconds() : 0.0;
         epoch_loss += chunked_loss(s, st.params, &loss, train, &train_columns, &train_rows, order, b, e, grad, &cs);
-        if (probing) thread_probe_after(&probe, sf_wall_seconds() - t0);
+        if (probing) thread_probe_after(&probe, &cs, sf_wall_seconds() - t0);
         for (int k = 0; k < np; ++k) grad[k] *= inv;
         sf_adam_step(&st.adam, &o->adam, lr, st.params, grad);
       }
