@@ -9,6 +9,7 @@
 #include "models/rng.h"
 #include "util/constants.h"
 #include "util/clock.h"
+#include "util/sort_doubles.h"
 
 int sf_domain_samples_make(const sf_scene_domain *d, sf_candidate_quantity q, size_t n, uint64_t seed,
                            sf_domain_samples *out, sf_error *err) {
@@ -104,11 +105,6 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
   if (n_non_finite) *n_non_finite = bad;
 }
 
-static int compare_doubles(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s, int repetitions,
                               sf_cost *out, sf_error *err) {
   memset(out, 0, sizeof *out);
@@ -146,11 +142,9 @@ int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s,
     times[r] = (sf_wall_seconds() - t0) * 1e9 / (double)n;
   }
   (void)sink;
-  qsort(times, (size_t)repetitions, sizeof(double), compare_doubles);
+  out->ns_median = sf_median_doubles(times, (size_t)repetitions);   /* sorts times */
   out->ns_min = times[0];
   out->ns_max = times[repetitions - 1];
-  out->ns_median = repetitions % 2 ? times[repetitions / 2]
-                                   : 0.5 * (times[repetitions / 2 - 1] + times[repetitions / 2]);
   out->repetitions = repetitions;
   out->n_points = n;
   out->precision_bits = c->eval_f32 ? 32 : 64;

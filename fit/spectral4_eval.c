@@ -5,6 +5,7 @@
 
 #include "models/color_space.h"
 #include "models/spectral_reference.h"
+#include "util/sort_doubles.h"
 
 void sf_color_method_apply(const sf_color_method *m, const sf_cmf *cmf, int n, const double *lambda_nm,
                            const double *L, double rgb[3]) {
@@ -21,18 +22,13 @@ void sf_color_method_apply(const sf_color_method *m, const sf_cmf *cmf, int n, c
   sf_xyz_to_linear_srgb(xyz, rgb);
 }
 
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 void sf_delta_e_summarise(double *values, size_t n, sf_delta_e_stats *out) {
   out->n = n;
   out->mean = out->p99 = out->max = 0.0;
   if (n == 0) return;
   double sum = 0.0;
   for (size_t i = 0; i < n; ++i) sum += values[i];
-  qsort(values, n, sizeof *values, compare_double);
+  sf_sort_doubles(values, n);
   size_t rank = (size_t)ceil(0.99 * (double)n);   /* nearest rank, 1-based */
   if (rank < 1) rank = 1;
   out->mean = sum / (double)n;

@@ -12,6 +12,7 @@
 #include "models/rng.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
+#include "util/sort_doubles.h"
 
 /* rng stream keys of this file */
 #define INIT_KEY 0x696e6974ull      /* "init" */
@@ -164,16 +165,6 @@ static void thread_probe_start(thread_probe *p) {
   p->k = 0;
 }
 
-static int compare_doubles(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median_seconds(double *v) {
-  qsort(v, SF_TRAIN_PROBE_BATCHES, sizeof *v, compare_doubles);
-  return 0.5 * (v[(SF_TRAIN_PROBE_BATCHES - 1) / 2] + v[SF_TRAIN_PROBE_BATCHES / 2]);
-}
-
 /* Sets cs's threads for the next batch; 1 if that batch is to be timed. */
 static int thread_probe_before(thread_probe *p, chunk_sums *cs) {
   if (!p->active) return 0;
@@ -181,7 +172,10 @@ static int thread_probe_before(thread_probe *p, chunk_sums *cs) {
     cs->small_threads = p->k % 2 ? cs->n_threads : 1;
     return 1;
   }
-  cs->small_threads = median_seconds(p->seconds[1]) < median_seconds(p->seconds[0]) ? cs->n_threads : 1;
+  cs->small_threads = sf_median_doubles(p->seconds[1], SF_TRAIN_PROBE_BATCHES) <
+                              sf_median_doubles(p->seconds[0], SF_TRAIN_PROBE_BATCHES)
+                          ? cs->n_threads
+                          : 1;
   p->active = 0;
   return 0;
 }

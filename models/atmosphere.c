@@ -3,6 +3,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "util/sort_doubles.h"
+
 static int layer_index(const sf_constituent *c, double h_km) {
   double top_of_layer = 0.0;
   for (int i = 0; i < c->n_layers - 1; ++i) {
@@ -99,13 +101,6 @@ static void add_clamp_kinks(const sf_density_layer *l, double lo, double hi,
   }
 }
 
-static int compare_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-#include <stdlib.h>
-
 void sf_atmosphere_finalize(sf_atmosphere *atm) {
   double thickness = sf_atmosphere_thickness_km(atm);
   double k[SF_MAX_KINKS];
@@ -123,7 +118,7 @@ void sf_atmosphere_finalize(sf_atmosphere *atm) {
       if (lo >= thickness) break;
     }
   }
-  qsort(k, (size_t)n, sizeof k[0], compare_double);
+  sf_sort_doubles(k, (size_t)n);
   /* Corners closer than SF_KINK_MERGE_KM are one corner for quadrature: the
    * default ozone tent, written with 7 digits, is clamped at 1 over the
    * 2.5 mm around 25 km. Smoothing over a plateau of width w with a slope
