@@ -2,7 +2,9 @@
  * on each way training reads its data: the full batch (unit-major columns,
  * forward only and with the gradient), rows in order, and shuffled rows as
  * a mini-batch epoch reads them, from separate x and y and from the packed
- * rows training uses. Random inputs in [-1, 1] and targets in [0.05, 1.05],
+ * rows training uses, then that last path on each build of the kernel the
+ * CPU can run (fit/mlp_kernel.h: the one the CPU picks and those other
+ * CPUs would get, with the same sums). Random inputs in [-1, 1] and targets in [0.05, 1.05],
  * Xavier weights, MSE; each figure the fastest of several passes (a shared
  * machine is noisy). The loss printed beside is the pass's sum: the same on
  * every path up to the last bits (shuffled samples are added in another
@@ -23,7 +25,15 @@
 #define PASSES 5
 #define MIN_SECONDS 0.2
 
-enum path { FORWARD_COLUMNS, GRADIENT_COLUMNS, GRADIENT_ROWS, GRADIENT_SHUFFLED_XY, GRADIENT_SHUFFLED_PACKED, N_PATHS };
+enum path {
+  FORWARD_COLUMNS,
+  GRADIENT_COLUMNS,
+  GRADIENT_ROWS,
+  GRADIENT_SHUFFLED_XY,
+  GRADIENT_SHUFFLED_PACKED,
+  N_PATHS,
+  GRADIENT_SHUFFLED_PACKED_ISA   /* the training path on the kernel for b->isa */
+};
 
 static const char *const path_names[N_PATHS] = {
     "full batch, forward only (columns)", "full batch, with gradient (columns)", "rows in order, with gradient",
@@ -33,6 +43,7 @@ typedef struct bench_data {
   const sf_mlp_shape *shape;
   const double *params, *x, *y;
   const int *order;
+  sf_mlp_isa isa;
   sf_mlp_columns columns;
   sf_mlp_rows rows;
   sf_mlp_workspace ws;
@@ -50,7 +61,9 @@ static double one_pass(bench_data *b, enum path p) {
       return sf_mlp_loss_range_ws(b->shape, b->params, &loss, b->x, b->y, NULL, 0, b->n, b->grad, &b->ws);
     case GRADIENT_SHUFFLED_XY:
       return sf_mlp_loss_range_ws(b->shape, b->params, &loss, b->x, b->y, b->order, 0, b->n, b->grad, &b->ws);
-    default: return sf_mlp_loss_rows_ws(b->shape, b->params, &loss, &b->rows, b->order, 0, b->n, b->grad, &b->ws);
+    case GRADIENT_SHUFFLED_PACKED:
+      return sf_mlp_loss_rows_ws(b->shape, b->params, &loss, &b->rows, b->order, 0, b->n, b->grad, &b->ws);
+    default: return sf_mlp_loss_rows_isa(b->isa, b->shape, b->params, &loss, &b->rows, b->order, 0, b->n, b->grad);
   }
 }
 
@@ -119,6 +132,18 @@ int main(int argc, char **argv) {
   for (int p = 0; p < N_PATHS; ++p) {
     double check = 0.0, ns = ns_per_sample(&b, (enum path)p, &check);
     printf("%-40s %12.1f %22.17g\n", path_names[p], ns, check);
+  }
+  /* The training path on each build of the kernel this CPU can run (the
+   * CPU picks the widest; the others are what other CPUs would get). */
+  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512};
+  static const char *const isa_names[] = {"baseline x86-64", "AVX2+FMA", "AVX-512F"};
+  for (int q = 0; q < 3; ++q) {
+    if (!sf_mlp_isa_available(isas[q])) continue;
+    b.isa = isas[q];
+    char name[64];
+    snprintf(name, sizeof name, "  the same, kernel for %s", isa_names[q]);
+    double check = 0.0, ns = ns_per_sample(&b, GRADIENT_SHUFFLED_PACKED_ISA, &check);
+    printf("%-40s %12.1f %22.17g\n", name, ns, check);
   }
   sf_mlp_columns_free(&b.columns);
   sf_mlp_rows_free(&b.rows);

@@ -19,14 +19,15 @@
  * above, and a gradient entry's 8 lanes, loaded and stored once per group
  * (gradient lanes are accumulated directly, G[p][lane] += d * a, with no
  * per-block fold). The 4 vectors are independent dependency chains through
- * the exponentials (Estrin-evaluated, fit/mlp_lanes.h) and divisions.
+ * the exponentials (table-driven, fit/mlp_lanes.h) and divisions.
  * Summation order, fixed by the samples alone: sample begin + 8 m + k of a
  * call is added to lane k in the order of m (its loss and its gradient
  * products), and the 8 lanes are added in a fixed tree at the end. So the
- * result does not depend on the vector width the CPU offers (the hot
- * function is compiled for AVX-512, AVX2 with FMA and baseline x86-64 and
- * picked at run time; every multiply-add of the layers and the exponential
- * is fused, on each of them, and nothing else is) nor on who calls. */
+ * result does not depend on the vector width the CPU offers (the kernel
+ * is compiled for AVX-512, AVX2 with FMA and baseline x86-64 and picked at
+ * run time, fit/mlp_kernel.h; every multiply-add of the layers and the
+ * exponential is fused, on each of them, and nothing else is) nor on who
+ * calls. */
 #ifndef SKYFIT_FIT_MLP_BACKWARD_H
 #define SKYFIT_FIT_MLP_BACKWARD_H
 
@@ -116,8 +117,8 @@ double sf_mlp_loss_range(const sf_mlp_shape *shape, const double *params, const 
                          const double *x, const double *y, const int *index, long begin, long end,
                          double *grad);
 
-/* The instruction sets the kernel is compiled for (x86-64 with GCC; the
- * baseline elsewhere). AUTO: the widest the CPU offers, what every function
+/* The instruction sets the kernel is compiled for (x86-64 with GCC or
+ * Clang: fit/mlp_kernel.h; the baseline elsewhere). AUTO: the widest the CPU offers, what every function
  * above runs. */
 typedef enum sf_mlp_isa { SF_MLP_ISA_AUTO = 0, SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512 } sf_mlp_isa;
 /* Whether this build and this CPU can run isa. */
@@ -127,5 +128,8 @@ int sf_mlp_isa_available(sf_mlp_isa isa);
 double sf_mlp_loss_range_isa(sf_mlp_isa isa, const sf_mlp_shape *shape, const double *params,
                              const sf_mlp_loss *loss, const double *x, const double *y, const int *index,
                              long begin, long end, double *grad);
+/* sf_mlp_loss_rows_ws likewise (the packed rows' gather and transposes). */
+double sf_mlp_loss_rows_isa(sf_mlp_isa isa, const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                            const sf_mlp_rows *rows, const int *index, long begin, long end, double *grad);
 
 #endif

@@ -1,19 +1,21 @@
 /* Eight doubles operated on together: the lanes of the training kernel
- * (fit/mlp_backward.c), which takes 8 samples through the network at once.
+ * (fit/mlp_kernel_body.h), which takes 8 samples through the network at
+ * once.
  *
- * With GCC or Clang the type is a generic vector (vector_size 64): one
- * AVX-512 register, two AVX2 or four SSE2 registers, whatever the function
- * is compiled for, so an accumulator stays in registers across a loop with
- * a run-time trip count (what plain 8-element arrays did not reliably get).
- * Elsewhere it is a struct of 8 doubles with the same per-lane operations.
- * Every operation is lane-wise IEEE arithmetic, and a multiply-add is
- * fused exactly where written (sf_lanes_fma; the including file turns
- * implicit contraction off), so results are bit for bit the same on every
- * instruction set and in both forms.
+ * The representation follows the flags the including file is compiled
+ * with (fit/mlp_kernel.h compiles the kernel once per instruction set):
+ * with AVX2 and FMA (and not AVX-512), two 4-lane registers through
+ * intrinsics; otherwise, with GCC or Clang, a generic vector (vector_size
+ * 64: one AVX-512 register, or SSE2 registers on the baseline), so an
+ * accumulator stays in registers across a loop with a run-time trip count
+ * (what plain 8-element arrays did not reliably get); elsewhere a struct of
+ * 8 doubles with the same per-lane operations. Every operation is lane-wise
+ * IEEE arithmetic, and a multiply-add is fused exactly where written
+ * (sf_lanes_fma; the including file turns implicit contraction off), so
+ * results are bit for bit the same in every representation.
  *
- * sf_lanes_exp is fit/exp_lanes.h's exponential with its polynomial
- * evaluated by Estrin's scheme (below): within 2 ulp of libm, not always
- * the same last bit as sf_exp_lanes. */
+ * sf_lanes_exp (below) is the kernel's exponential: table-driven, within 1
+ * ulp of libm, the same bits in every representation. */
 #ifndef SKYFIT_FIT_MLP_LANES_H
 #define SKYFIT_FIT_MLP_LANES_H
 
@@ -23,11 +25,160 @@
 
 #define SF_LANES 8
 
-#if defined(__GNUC__) && !defined(SF_LANES_PORTABLE)
+#if defined(__GNUC__) && !defined(SF_LANES_PORTABLE) && defined(__AVX2__) && defined(__FMA__) && \
+    !defined(__AVX512F__)
+/* Compiled with AVX2 and FMA (fit/mlp_kernel_avx2.c): two 4-lane registers,
+ * lanes 0-3 and 4-7, through intrinsics. GCC's generic 8-lane vectors,
+ * wider than any AVX2 register, compiled to scalar compares, inserts and
+ * stack spills there (7x slower than AVX-512 per sample). */
+#include <immintrin.h>
+
+#define SF_LANES_INLINE __attribute__((always_inline)) static inline
+typedef struct sf_lanes {
+  __m256d lo, hi;
+} sf_lanes;
+typedef sf_lanes sf_lanes_mask;   /* all ones or all zeros per lane */
+
+#define SF_LANES_HALVES(name, expr_lo, expr_hi) \
+  do {                                           \
+    (name).lo = (expr_lo);                       \
+    (name).hi = (expr_hi);                       \
+  } while (0)
+
+SF_LANES_INLINE sf_lanes sf_lanes_load(const double *p) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_loadu_pd(p), _mm256_loadu_pd(p + 4));
+  return r;
+}
+SF_LANES_INLINE void sf_lanes_store(double *p, sf_lanes v) {
+  _mm256_storeu_pd(p, v.lo);
+  _mm256_storeu_pd(p + 4, v.hi);
+}
+SF_LANES_INLINE sf_lanes sf_lanes_set1(double x) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_set1_pd(x), _mm256_set1_pd(x));
+  return r;
+}
+#define SF_LANES_BINARY(name, intrinsic)                              \
+  SF_LANES_INLINE sf_lanes name(sf_lanes a, sf_lanes b) {            \
+    sf_lanes r;                                                       \
+    SF_LANES_HALVES(r, intrinsic(a.lo, b.lo), intrinsic(a.hi, b.hi)); \
+    return r;                                                         \
+  }
+SF_LANES_BINARY(sf_lanes_add, _mm256_add_pd)
+SF_LANES_BINARY(sf_lanes_sub, _mm256_sub_pd)
+SF_LANES_BINARY(sf_lanes_mul, _mm256_mul_pd)
+SF_LANES_BINARY(sf_lanes_div, _mm256_div_pd)
+#undef SF_LANES_BINARY
+SF_LANES_INLINE sf_lanes sf_lanes_scale(sf_lanes a, double w) { return sf_lanes_mul(a, sf_lanes_set1(w)); }
+SF_LANES_INLINE sf_lanes sf_lanes_add_scalar(sf_lanes a, double w) { return sf_lanes_add(a, sf_lanes_set1(w)); }
+/* the sign bit flipped, as the generic vectors' -a */
+SF_LANES_INLINE sf_lanes sf_lanes_neg(sf_lanes a) {
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_xor_pd(a.lo, sign), _mm256_xor_pd(a.hi, sign));
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_fmadd_pd(a.lo, b.lo, c.lo), _mm256_fmadd_pd(a.hi, b.hi, c.hi));
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
+  return sf_lanes_fma(a, sf_lanes_set1(w), c);
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
+  return sf_lanes_fma(a, sf_lanes_set1(w), sf_lanes_set1(u));
+}
+/* ordered, non-signalling: false where either side is NaN, as a < b */
+#define SF_LANES_COMPARE(name, predicate)                                                     \
+  SF_LANES_INLINE sf_lanes_mask name(sf_lanes a, sf_lanes b) {                               \
+    sf_lanes_mask r;                                                                          \
+    SF_LANES_HALVES(r, _mm256_cmp_pd(a.lo, b.lo, predicate), _mm256_cmp_pd(a.hi, b.hi, predicate)); \
+    return r;                                                                                 \
+  }
+SF_LANES_COMPARE(sf_lanes_lt, _CMP_LT_OQ)
+SF_LANES_COMPARE(sf_lanes_gt, _CMP_GT_OQ)
+SF_LANES_COMPARE(sf_lanes_eq, _CMP_EQ_OQ)
+#undef SF_LANES_COMPARE
+/* m ? a : b, lane by lane */
+SF_LANES_INLINE sf_lanes sf_lanes_select(sf_lanes_mask m, sf_lanes a, sf_lanes b) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_blendv_pd(b.lo, a.lo, m.lo), _mm256_blendv_pd(b.hi, a.hi, m.hi));
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_abs(sf_lanes a) {
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(INT64_MAX));
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_and_pd(a.lo, magnitude), _mm256_and_pd(a.hi, magnitude));
+  return r;
+}
+/* a > b ? a : b and a < b ? a : b, lane by lane (b where either is NaN) */
+SF_LANES_INLINE sf_lanes sf_lanes_max(sf_lanes a, sf_lanes b) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_max_pd(a.lo, b.lo), _mm256_max_pd(a.hi, b.hi));
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_min_pd(a.lo, b.lo), _mm256_min_pd(a.hi, b.hi));
+  return r;
+}
+/* table[i & 15], i the bits of idx, lane by lane (four-lane gathers) */
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+  const __m256i low4 = _mm256_set1_epi64x(15);
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_i64gather_pd(table, _mm256_and_si256(_mm256_castpd_si256(idx.lo), low4), 8),
+                  _mm256_i64gather_pd(table, _mm256_and_si256(_mm256_castpd_si256(idx.hi), low4), 8));
+  return r;
+}
+/* The bits of a plus (i >> 4) << 52, i the bits of nb: a times 2^n for n
+ * in bits 4..15 of nb (two's complement). */
+SF_LANES_INLINE __m256d sf_lanes_add_exponent4(__m256d a, __m256d nb) {
+  __m256i n = _mm256_slli_epi64(_mm256_srli_epi64(_mm256_castpd_si256(nb), 4), 52);
+  return _mm256_castsi256_pd(_mm256_add_epi64(_mm256_castpd_si256(a), n));
+}
+SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
+  sf_lanes r;
+  SF_LANES_HALVES(r, sf_lanes_add_exponent4(a.lo, nb.lo), sf_lanes_add_exponent4(a.hi, nb.hi));
+  return r;
+}
+SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) {
+  double v[SF_LANES];
+  sf_lanes_store(v, a);
+  return v[k];
+}
+/* A 4 x 4 block transposed in place (pairs of lanes, then halves). */
+SF_LANES_INLINE void sf_lanes_transpose4(__m256d *r0, __m256d *r1, __m256d *r2, __m256d *r3) {
+  __m256d t0 = _mm256_unpacklo_pd(*r0, *r1), t1 = _mm256_unpackhi_pd(*r0, *r1);
+  __m256d t2 = _mm256_unpacklo_pd(*r2, *r3), t3 = _mm256_unpackhi_pd(*r2, *r3);
+  *r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+  *r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+  *r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+  *r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+/* v[r][c] becomes v[c][r]: the four 4 x 4 blocks transposed, the two off
+ * the diagonal swapped. */
+SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
+  sf_lanes_transpose4(&v[0].lo, &v[1].lo, &v[2].lo, &v[3].lo);
+  sf_lanes_transpose4(&v[0].hi, &v[1].hi, &v[2].hi, &v[3].hi);
+  sf_lanes_transpose4(&v[4].lo, &v[5].lo, &v[6].lo, &v[7].lo);
+  sf_lanes_transpose4(&v[4].hi, &v[5].hi, &v[6].hi, &v[7].hi);
+  for (int k = 0; k < 4; ++k) {
+    __m256d t = v[k].hi;
+    v[k].hi = v[k + 4].lo;
+    v[k + 4].lo = t;
+  }
+}
+#undef SF_LANES_HALVES
+#elif defined(__GNUC__) && !defined(SF_LANES_PORTABLE)
 /* Every function taking or returning lanes is inlined (never called), so
  * the vector-argument ABI GCC warns about (-Wpsabi) never applies. */
 #pragma GCC diagnostic ignored "-Wpsabi"
 #define SF_LANES_INLINE __attribute__((always_inline)) static inline
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 typedef double sf_lanes __attribute__((vector_size(64)));
 typedef int64_t sf_lanes_mask __attribute__((vector_size(64)));   /* -1 or 0 per lane */
 typedef uint64_t sf_lanes_bits __attribute__((vector_size(64)));
@@ -80,9 +231,42 @@ SF_LANES_INLINE sf_lanes sf_lanes_select(sf_lanes_mask m, sf_lanes a, sf_lanes b
 SF_LANES_INLINE sf_lanes sf_lanes_abs(sf_lanes a) {
   return (sf_lanes)((sf_lanes_bits)a & (UINT64_MAX >> 1));
 }
-/* The bits of a plus n << 52 (n in the low bits of nb, two's complement). */
+/* a > b ? a : b and a < b ? a : b, lane by lane (b where either is NaN:
+ * the x86 instructions' rule, which AVX-512 uses directly) */
+SF_LANES_INLINE sf_lanes sf_lanes_max(sf_lanes a, sf_lanes b) {
+#if defined(__AVX512F__)
+  return (sf_lanes)_mm512_max_pd((__m512d)a, (__m512d)b);
+#else
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = a[k] > b[k] ? a[k] : b[k];
+  return r;
+#endif
+}
+SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
+#if defined(__AVX512F__)
+  return (sf_lanes)_mm512_min_pd((__m512d)a, (__m512d)b);
+#else
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = a[k] < b[k] ? a[k] : b[k];
+  return r;
+#endif
+}
+/* table[i & 15], i the bits of idx, lane by lane (AVX-512: one two-register
+ * permute, the table in registers) */
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+#if defined(__AVX512F__)
+  return (sf_lanes)_mm512_permutex2var_pd(_mm512_loadu_pd(table), _mm512_castpd_si512((__m512d)idx),
+                                          _mm512_loadu_pd(table + 8));
+#else
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = table[((sf_lanes_bits)idx)[k] & 15];
+  return r;
+#endif
+}
+/* The bits of a plus (i >> 4) << 52, i the bits of nb: a times 2^n for n
+ * in bits 4..15 of nb (two's complement). */
 SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
-  return (sf_lanes)((sf_lanes_bits)a + ((sf_lanes_bits)nb << 52));
+  return (sf_lanes)((sf_lanes_bits)a + (((sf_lanes_bits)nb >> 4) << 52));
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) { return a[k]; }
 /* Lanes i0..i7 of the 16 lanes of a then b (constants). */
@@ -198,13 +382,32 @@ SF_LANES_INLINE sf_lanes sf_lanes_abs(sf_lanes a) {
   }
   return r;
 }
+SF_LANES_INLINE sf_lanes sf_lanes_max(sf_lanes a, sf_lanes b) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r.v[k] = a.v[k] > b.v[k] ? a.v[k] : b.v[k];
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r.v[k] = a.v[k] < b.v[k] ? a.v[k] : b.v[k];
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) {
+    uint64_t u;
+    memcpy(&u, &idx.v[k], sizeof u);
+    r.v[k] = table[u & 15];
+  }
+  return r;
+}
 SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) {
     uint64_t ua, un;
     memcpy(&ua, &a.v[k], sizeof ua);
     memcpy(&un, &nb.v[k], sizeof un);
-    ua += un << 52;
+    ua += (un >> 4) << 52;
     memcpy(&r.v[k], &ua, sizeof ua);
   }
   return r;
@@ -220,43 +423,47 @@ SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
 }
 #endif
 
-/* e^x on every lane, by fit/exp_lanes.h's method (Cody & Waite reduction
- * to |r| <= ln 2 / 2 with the same constants, the degree-13 Taylor
- * polynomial of e^r, the same clamping to [-708, 709] and NaN passed
- * through) but with the polynomial evaluated as
- *   e^r = 1 + (r + r^2 P(r)),  P(r) = sum_{k=2}^{13} r^(k-2) / k!
- * with P by Estrin's scheme (pairs, then powers r^2, r^4): a dependency
- * chain of 6 multiply-adds instead of Horner's 13, so that a kernel bound
- * by its exponentials runs about twice as fast. Every multiply-add is fused
- * (sf_lanes_fma: half the instructions, one rounding each). The bits may
- * differ from sf_exp_lanes in the last place; the relative error stays
- * within 2 ulp of libm's exp (tests/test_mlp_lanes.c: 1 ulp measured). */
+/* 2^(j/16), j = 0..15, correctly rounded */
+static const double sf_lanes_exp2_sixteenths[16] = {
+    0x1.0000000000000p+0, 0x1.0b5586cf9890fp+0, 0x1.172b83c7d517bp+0, 0x1.2387a6e756238p+0,
+    0x1.306fe0a31b715p+0, 0x1.3dea64c123422p+0, 0x1.4bfdad5362a27p+0, 0x1.5ab07dd485429p+0,
+    0x1.6a09e667f3bcdp+0, 0x1.7a11473eb0187p+0, 0x1.8ace5422aa0dbp+0, 0x1.9c49182a3f090p+0,
+    0x1.ae89f995ad3adp+0, 0x1.c199bdd85529cp+0, 0x1.d5818dcfba487p+0, 0x1.ea4afa2a490dap+0};
+
+/* e^x on every lane by a table of 16 (Tang's method): x clamped to
+ * [-708, 709] (NaN passes through), x = (16 m + j) ln2/16 + r with |r| <=
+ * ln2/32 (Cody & Waite: ln 2 split so that n ln2_hi/16 is exact), then
+ *   e^x = 2^m 2^(j/16) (1 + (r + r^2 P(r))),  P(r) = sum_{k=2}^{7} r^(k-2)/k!
+ * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^(j/16)
+ * from the table (AVX-512: one permute of two registers; the others a
+ * gather or a load per lane) and 2^m added to the exponent bits. The
+ * truncated term r^8/8! is below 1.2e-18; the whole within 1 ulp of libm's
+ * exp (tests/test_mlp_lanes.c). About 20 instructions where the degree-13
+ * polynomial of a table-free reduction (|r| <= ln2/2) took 31: the kernel
+ * is bound by its exponentials. Every multiply-add is fused where written,
+ * so the bits are the same in every representation above. */
 SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
-  const sf_lanes lo = sf_lanes_set1(-708.0), hi = sf_lanes_set1(709.0);
-  const double shift = 6755399441055744.0;   /* 1.5 * 2^52: round to nearest integer */
-  sf_lanes c = sf_lanes_select(sf_lanes_lt(x, lo), lo, x);
-  c = sf_lanes_select(sf_lanes_gt(c, hi), hi, c);
-  sf_lanes shifted = sf_lanes_fma_scalars(c, 1.4426950408889634074, shift);
+  const double shift = 6755399441055744.0; /* 1.5 * 2^52: round to nearest integer */
+  /* max then min: a NaN x is kept by both (the second operand's rule) */
+  sf_lanes c = sf_lanes_min(sf_lanes_set1(709.0), sf_lanes_max(sf_lanes_set1(-708.0), x));
+  /* n = 16 m + j = round(16 c / ln 2), in the low bits of shifted */
+  sf_lanes shifted = sf_lanes_fma_scalars(c, 16.0 * 1.4426950408889634074, shift);
   sf_lanes n = sf_lanes_add_scalar(shifted, -shift);
-  /* ln 2 = 6.93147180369123816490e-01 (32 significant bits: n ln2_hi is
-   * exact) + 1.90821492927058770002e-10 */
-  sf_lanes r_hi = sf_lanes_fma_scalar(n, -6.93147180369123816490e-01, c);
-  sf_lanes r = sf_lanes_fma_scalar(n, -1.90821492927058770002e-10, r_hi);
+  /* ln 2 = 6.93147180369123816490e-01 (32 significant bits: n times it
+   * over 16 is exact) + 1.90821492927058770002e-10 */
+  sf_lanes r_hi = sf_lanes_fma_scalar(n, -6.93147180369123816490e-01 / 16.0, c);
+  sf_lanes r = sf_lanes_fma_scalar(n, -1.90821492927058770002e-10 / 16.0, r_hi);
   sf_lanes r2 = sf_lanes_mul(r, r), r4 = sf_lanes_mul(r2, r2);
   sf_lanes q0 = sf_lanes_fma_scalars(r, 1.0 / 6.0, 1.0 / 2.0);
   sf_lanes q1 = sf_lanes_fma_scalars(r, 1.0 / 120.0, 1.0 / 24.0);
   sf_lanes q2 = sf_lanes_fma_scalars(r, 1.0 / 5040.0, 1.0 / 720.0);
-  sf_lanes q3 = sf_lanes_fma_scalars(r, 1.0 / 362880.0, 1.0 / 40320.0);
-  sf_lanes q4 = sf_lanes_fma_scalars(r, 1.0 / 39916800.0, 1.0 / 3628800.0);
-  sf_lanes q5 = sf_lanes_fma_scalars(r, 1.0 / 6227020800.0, 1.0 / 479001600.0);
-  sf_lanes s0 = sf_lanes_fma(q1, r2, q0);
-  sf_lanes s1 = sf_lanes_fma(q3, r2, q2);
-  sf_lanes s2 = sf_lanes_fma(q5, r2, q4);
-  sf_lanes P = sf_lanes_fma(r4, sf_lanes_fma(s2, r4, s1), s0);
-  sf_lanes p = sf_lanes_add_scalar(sf_lanes_fma(r2, P, r), 1.0);
-  /* times 2^n: n (two's complement, |n| <= 1023) is in the low bits of shifted */
-  sf_lanes e = sf_lanes_add_exponent(p, shifted);
-  return sf_lanes_select(sf_lanes_eq(x, x), e, x);
+  sf_lanes P = sf_lanes_fma(q2, r4, sf_lanes_fma(q1, r2, q0));
+  sf_lanes em1 = sf_lanes_fma(r2, P, r);   /* e^r - 1 */
+  sf_lanes t = sf_lanes_lookup16(sf_lanes_exp2_sixteenths, shifted);
+  /* times 2^m, m in bits 4.. of shifted: t (1 + em1) = 2^(j/16 + r/ln2)
+   * lies in [0.978, 1.96), below 1 only for j = 0, and the clamps keep m
+   * in -1022..1022 with j >= 9 at m = -1022: a normal number always */
+  return sf_lanes_add_exponent(sf_lanes_fma(t, em1, t), shifted);
 }
 
 #endif

@@ -127,6 +127,20 @@ static void many_samples(void) {
   int same = memcmp(&got_rows, &got, sizeof got) == 0 && memcmp(g_rows, g, sizeof(double) * np) == 0;
   printf("packed rows: loss and gradient bit for bit those of x and y rows: %s\n", same ? "yes" : "no");
   CHECK(same);
+  /* and on each instruction set's kernel (each its own gather transposes) */
+  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512};
+  static const char *const isa_names[] = {"baseline", "avx2+fma", "avx512f"};
+  for (int q = 0; q < 3; ++q) {
+    if (!sf_mlp_isa_available(isas[q])) {
+      printf("packed rows: skip %s: not on this CPU or build\n", isa_names[q]);
+      continue;
+    }
+    memset(g_rows, 0, sizeof(double) * np);
+    got_rows = sf_mlp_loss_rows_isa(isas[q], &s, p, &loss, &rows, index, BEGIN, END, g_rows);
+    same = memcmp(&got_rows, &got, sizeof got) == 0 && memcmp(g_rows, g, sizeof(double) * np) == 0;
+    printf("packed rows, %s kernel: bit for bit: %s\n", isa_names[q], same ? "yes" : "no");
+    CHECK(same);
+  }
   sf_mlp_rows_free(&rows);
   sf_mlp_workspace_free(&ws);
   free(g_rows);
@@ -180,6 +194,25 @@ static void same_bits_on_every_isa(void) {
     printf("%s kernel: loss and gradient bit for bit the baseline's in %d of %d networks\n", isa_names[q], same,
            cases);
     CHECK(same == cases);
+    /* Saturated units: weights up to 300 put the exponentials' arguments
+     * in the thousands, past both clamps (sigmoid 0 and 1, exp_neg outputs
+     * at e^-708 and e^709). */
+    int saturated_same = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+      sf_mlp_shape s;
+      sf_error err = {0};
+      sf_mlp_shape_parse_layers("4,8,8,9", &s, &err);
+      s.hidden = SF_ACT_SIGMOID;
+      s.output = trial % 2 ? SF_ACT_EXP_NEG : SF_ACT_EXP_NEG_EXP;
+      double p[193], g_base[193] = {0}, g_isa[193] = {0};
+      for (int k = 0; k < 193; ++k) p[k] = 300.0 * (2.0 * sf_rng_uniform(&rng) - 1.0);
+      sf_mlp_loss loss = {SF_LOSS_REL, delta};
+      double l_base = sf_mlp_loss_range_isa(SF_MLP_ISA_BASELINE, &s, p, &loss, x, y, index, 3, N - 2, g_base);
+      double l_isa = sf_mlp_loss_range_isa(isas[q], &s, p, &loss, x, y, index, 3, N - 2, g_isa);
+      saturated_same += memcmp(&l_base, &l_isa, sizeof l_base) == 0 && memcmp(g_base, g_isa, sizeof g_base) == 0;
+    }
+    printf("%s kernel, saturated units: bit for bit the baseline's in %d of 4 networks\n", isa_names[q], saturated_same);
+    CHECK(saturated_same == 4);
   }
 }
 

@@ -1,8 +1,12 @@
-/* fit/mlp_lanes.h: the Estrin-evaluated exponential of the training kernel
+/* fit/mlp_lanes.h: the table-driven exponential of the training kernel
  * against libm's exp, in units in the last place, over the whole clamped
  * range, near 0 and at tiny arguments, every lane of a vector at once; the
- * clamps and NaN passing through; and the lane operations the kernel uses
- * (select, abs, scale) against their scalar definitions. */
+ * clamps and NaN passing through; its table against 2^(j/16) computed
+ * independently; and the lane operations the kernel uses (select, abs,
+ * scale, max, min, table lookup) against their scalar definitions. This
+ * file is compiled without instruction-set flags (the generic
+ * representation); the AVX2 and AVX-512 builds give the same bits
+ * (tests/test_mlp_gradient.c, kernel against kernel). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -70,5 +74,36 @@ int main(void) {
   }
   printf("select, abs, scale, add_scalar match their scalar definitions on 8 lanes: %s\n", ops_ok ? "yes" : "no");
   CHECK(ops_ok);
+
+  /* max and min: a > b ? a : b, a < b ? a : b, so b where either is NaN
+   * (the x86 rule the clamps of sf_lanes_exp rely on to keep a NaN). */
+  double p[SF_LANES] = {1.0, NAN, -0.0, 0.0, 3.0, -INFINITY, 2.0, NAN};
+  double q[SF_LANES] = {2.0, 1.0, 0.0, -0.0, NAN, 5.0, 2.0, NAN};
+  double mx[SF_LANES], mn[SF_LANES];
+  sf_lanes_store(mx, sf_lanes_max(sf_lanes_load(p), sf_lanes_load(q)));
+  sf_lanes_store(mn, sf_lanes_min(sf_lanes_load(p), sf_lanes_load(q)));
+  int minmax_ok = 1;
+  for (int k = 0; k < SF_LANES; ++k) {
+    double want_max = p[k] > q[k] ? p[k] : q[k], want_min = p[k] < q[k] ? p[k] : q[k];
+    minmax_ok &= memcmp(&mx[k], &want_max, sizeof(double)) == 0 && memcmp(&mn[k], &want_min, sizeof(double)) == 0;
+  }
+  printf("max, min: the x86 rule on zeros, NaN and equal lanes: %s\n", minmax_ok ? "yes" : "no");
+  CHECK(minmax_ok);
+
+  /* The table: 2^(j/16) correctly rounded, against libm's long double
+   * exp2 (64-bit significand: 11 bits beyond double's) rounded to double. */
+  int table_ok = 1;
+  for (int j = 0; j < 16; ++j) table_ok &= sf_lanes_exp2_sixteenths[j] == (double)exp2l(j / 16.0L);
+  printf("exponential's table: 2^(j/16) for j = 0..15: %s\n", table_ok ? "yes" : "no");
+  CHECK(table_ok);
+  /* lookup by the low 4 bits of each lane's bits, the rest ignored */
+  uint64_t idx_bits[SF_LANES] = {0, 15, 16 + 3, 0xfff0u + 9, UINT64_MAX, 7, 0x4338000000000000u + 12, 1};
+  double idx[SF_LANES], looked[SF_LANES];
+  memcpy(idx, idx_bits, sizeof idx);
+  sf_lanes_store(looked, sf_lanes_lookup16(sf_lanes_exp2_sixteenths, sf_lanes_load(idx)));
+  int lookup_ok = 1;
+  for (int k = 0; k < SF_LANES; ++k) lookup_ok &= looked[k] == sf_lanes_exp2_sixteenths[idx_bits[k] & 15];
+  printf("lookup16 reads table[bits & 15] on 8 lanes: %s\n", lookup_ok ? "yes" : "no");
+  CHECK(lookup_ok);
   return check_summary();
 }

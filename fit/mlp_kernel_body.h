@@ -1,0 +1,371 @@
+/* The training kernel (fit/mlp_kernel.h): included once by each of
+ * fit/mlp_kernel_{avx512,avx2,baseline}.c, which name it (SF_MLP_KERNEL_NAME)
+ * and are compiled with their instruction set's flags. The operations per
+ * lane are the same in all three: multiply-adds fused where the code says
+ * so (sf_lanes_fma: an instruction with AVX-512F or FMA, libm's correctly
+ * rounded fma on the baseline) and nowhere else, hence the same results. */
+#ifndef SF_MLP_KERNEL_NAME
+#error "define SF_MLP_KERNEL_NAME before including fit/mlp_kernel_body.h"
+#endif
+
+/* No implicit contraction: a multiply-add is fused exactly where written,
+ * the same on every build (GCC contracts in GNU mode, Clang within an
+ * expression by default). */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
+#include <math.h>
+#include <string.h>
+
+#include "fit/mlp_kernel.h"
+#include "fit/mlp_lanes.h"
+
+#if defined(__GNUC__)
+#define FORCE_INLINE __attribute__((always_inline)) inline
+#else
+#define FORCE_INLINE inline
+#endif
+
+/* f(z) on the lanes (sf_mlp_activate's formulas; tanh through libm). */
+static FORCE_INLINE sf_lanes activate(sf_mlp_activation f, sf_lanes z) {
+  const sf_lanes zero = sf_lanes_set1(0.0), one = sf_lanes_set1(1.0);
+  switch (f) {
+    case SF_ACT_SIGMOID: return sf_lanes_div(one, sf_lanes_add(one, sf_lanes_exp(sf_lanes_neg(z))));
+    case SF_ACT_TANH: {
+      double v[LANES];
+      sf_lanes_store(v, z);
+      for (int k = 0; k < LANES; ++k) v[k] = tanh(v[k]);
+      return sf_lanes_load(v);
+    }
+    case SF_ACT_RELU: return sf_lanes_select(sf_lanes_gt(z, zero), z, zero);
+    case SF_ACT_LINEAR: return z;
+    case SF_ACT_EXP_NEG: return sf_lanes_exp(sf_lanes_neg(z));
+    case SF_ACT_EXP_NEG_EXP: return sf_lanes_exp(sf_lanes_neg(sf_lanes_exp(sf_lanes_neg(z))));
+  }
+  return z;
+}
+
+/* f'(z) from a = f(z), on the lanes. */
+static FORCE_INLINE sf_lanes slope(sf_mlp_activation f, sf_lanes a) {
+  const sf_lanes zero = sf_lanes_set1(0.0), one = sf_lanes_set1(1.0);
+  switch (f) {
+    case SF_ACT_SIGMOID: return sf_lanes_mul(a, sf_lanes_sub(one, a));
+    case SF_ACT_TANH: return sf_lanes_sub(one, sf_lanes_mul(a, a));
+    case SF_ACT_RELU: return sf_lanes_select(sf_lanes_gt(a, zero), one, zero);
+    case SF_ACT_LINEAR: return one;
+    case SF_ACT_EXP_NEG: return sf_lanes_neg(a);
+    /* d/dz exp(-exp(-z)) = a exp(-z) = -a log a */
+    case SF_ACT_EXP_NEG_EXP: {
+      double v[LANES];
+      sf_lanes_store(v, a);
+      for (int k = 0; k < LANES; ++k) v[k] = v[k] > 0.0 ? -v[k] * log(v[k]) : 0.0;
+      return sf_lanes_load(v);
+    }
+  }
+  return one;
+}
+
+/* Fixed-order sum of the lanes. */
+static FORCE_INLINE double lane_sum(const double *acc) {
+  return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+}
+
+/* out_r = f(W_r . a + b_r) for the GROUP samples of a group (a: row j at
+ * a + j as), the VECS accumulators in registers across the inputs j. */
+static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
+                                         const double *a, long as, double *restrict out) {
+  for (int r = 0; r < no; ++r) {
+    const double *w = W + (long)r * ni;
+    sf_lanes z[VECS];
+    /* b + w_0 a_0 + w_1 a_1 + ..., added in this order, each term fused */
+    for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalars(sf_lanes_load(a + v * LANES), w[0], b[r]);
+    for (int j = 1; j < ni; ++j)
+      for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalar(sf_lanes_load(a + j * as + v * LANES), w[j], z[v]);
+    for (int v = 0; v < VECS; ++v) sf_lanes_store(out + r * GROUP + v * LANES, activate(f, z[v]));
+  }
+}
+
+static FORCE_INLINE void forward_layer(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
+                                       const double *a, long as, double *out) {
+  switch (f) {
+    case SF_ACT_SIGMOID: forward_layer_f(SF_ACT_SIGMOID, W, b, ni, no, a, as, out); break;
+    case SF_ACT_TANH: forward_layer_f(SF_ACT_TANH, W, b, ni, no, a, as, out); break;
+    case SF_ACT_RELU: forward_layer_f(SF_ACT_RELU, W, b, ni, no, a, as, out); break;
+    case SF_ACT_LINEAR: forward_layer_f(SF_ACT_LINEAR, W, b, ni, no, a, as, out); break;
+    case SF_ACT_EXP_NEG: forward_layer_f(SF_ACT_EXP_NEG, W, b, ni, no, a, as, out); break;
+    case SF_ACT_EXP_NEG_EXP: forward_layer_f(SF_ACT_EXP_NEG_EXP, W, b, ni, no, a, as, out); break;
+  }
+}
+
+/* Residual e and de/dpred of one output on the lanes (residual above). */
+static FORCE_INLINE sf_lanes residual_lanes(sf_mlp_loss_kind kind, double delta, sf_lanes pred, sf_lanes target,
+                                            sf_lanes *de) {
+  switch (kind) {
+    case SF_LOSS_REL: {
+      sf_lanes w = sf_lanes_div(sf_lanes_set1(1.0), sf_lanes_add_scalar(sf_lanes_abs(target), delta));
+      *de = w;
+      return sf_lanes_mul(sf_lanes_sub(pred, target), w);
+    }
+    case SF_LOSS_LOG: {
+      double p[LANES], t[LANES], e[LANES], d[LANES];
+      sf_lanes_store(p, pred);
+      sf_lanes_store(t, target);
+      for (int k = 0; k < LANES; ++k) e[k] = residual(SF_LOSS_LOG, delta, p[k], t[k], &d[k]);
+      *de = sf_lanes_load(d);
+      return sf_lanes_load(e);
+    }
+    default:
+      *de = sf_lanes_set1(1.0);
+      return sf_lanes_sub(pred, target);
+  }
+}
+
+/* Per-sample squared residuals summed over the outputs (sq[v]), and d =
+ * dLoss/dz of the output layer, for the GROUP samples of a group. */
+static FORCE_INLINE void output_delta_f(sf_mlp_activation f, sf_mlp_loss_kind kind, const sf_mlp_loss *loss,
+                                        int n_out, const double *pred, const double *target, long ts, sf_lanes *sq,
+                                        double *restrict d) {
+  const double two_inv_n = 2.0 * (1.0 / n_out);
+  for (int r = 0; r < n_out; ++r) {
+    const double delta = kind == SF_LOSS_MSE ? 0.0 : loss->delta[r];
+    for (int v = 0; v < VECS; ++v) {
+      sf_lanes p = sf_lanes_load(pred + r * GROUP + v * LANES), de;
+      sf_lanes e = residual_lanes(kind, delta, p, sf_lanes_load(target + r * ts + v * LANES), &de);
+      sq[v] = r == 0 ? sf_lanes_mul(e, e) : sf_lanes_add(sq[v], sf_lanes_mul(e, e));
+      sf_lanes_store(d + r * GROUP + v * LANES, sf_lanes_mul(sf_lanes_mul(sf_lanes_scale(e, two_inv_n), de), slope(f, p)));
+    }
+  }
+}
+
+static FORCE_INLINE void output_delta_loss(sf_mlp_activation f, const sf_mlp_loss *loss, int n_out,
+                                           const double *pred, const double *target, long ts, sf_lanes *sq,
+                                           double *d) {
+  switch (loss->kind) {
+    case SF_LOSS_REL: output_delta_f(f, SF_LOSS_REL, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_LOSS_LOG: output_delta_f(f, SF_LOSS_LOG, loss, n_out, pred, target, ts, sq, d); break;
+    default: output_delta_f(f, SF_LOSS_MSE, loss, n_out, pred, target, ts, sq, d); break;
+  }
+}
+
+static FORCE_INLINE void output_delta(sf_mlp_activation f, const sf_mlp_loss *loss, int n_out, const double *pred,
+                                      const double *target, long ts, sf_lanes *sq, double *d) {
+  switch (f) {
+    case SF_ACT_SIGMOID: output_delta_loss(SF_ACT_SIGMOID, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_TANH: output_delta_loss(SF_ACT_TANH, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_RELU: output_delta_loss(SF_ACT_RELU, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_LINEAR: output_delta_loss(SF_ACT_LINEAR, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_EXP_NEG: output_delta_loss(SF_ACT_EXP_NEG, loss, n_out, pred, target, ts, sq, d); break;
+    case SF_ACT_EXP_NEG_EXP: output_delta_loss(SF_ACT_EXP_NEG_EXP, loss, n_out, pred, target, ts, sq, d); break;
+  }
+}
+
+/* Gradient lanes of a layer: G_W[r][j] += d_r a_j (fused) and G_b[r] +=
+ * d_r, lane by lane: each lane adds its own samples' products, in sample order,
+ * straight into its accumulator (no per-group fold), loaded and stored once
+ * per group. */
+static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no,
+                                         double *restrict GW, double *restrict Gb) {
+  for (int r = 0; r < no; ++r) {
+    sf_lanes dr[VECS];
+    for (int v = 0; v < VECS; ++v) dr[v] = sf_lanes_load(d + r * GROUP + v * LANES);
+    double *g = GW + (long)r * ni * LANES;
+    for (int j = 0; j < ni; ++j) {
+      sf_lanes acc = sf_lanes_load(g + j * LANES);
+      for (int v = 0; v < VECS; ++v) acc = sf_lanes_fma(dr[v], sf_lanes_load(a + j * as + v * LANES), acc);
+      sf_lanes_store(g + j * LANES, acc);
+    }
+    sf_lanes acc = sf_lanes_load(Gb + r * LANES);
+    for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, dr[v]);
+    sf_lanes_store(Gb + r * LANES, acc);
+  }
+}
+
+/* dn_j = f'(z_j) sum_r W[r][j] d_r: dLoss/dz of the layer below, the sums
+ * in registers across r. */
+static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
+                                     int no, double *restrict dn) {
+  for (int j = 0; j < ni; ++j) {
+    sf_lanes acc[VECS];
+    for (int v = 0; v < VECS; ++v) acc[v] = sf_lanes_scale(sf_lanes_load(d + v * LANES), W[j]);
+    for (int r = 1; r < no; ++r)
+      for (int v = 0; v < VECS; ++v)
+        acc[v] = sf_lanes_fma_scalar(sf_lanes_load(d + r * GROUP + v * LANES), W[(long)r * ni + j], acc[v]);
+    for (int v = 0; v < VECS; ++v)
+      sf_lanes_store(dn + j * GROUP + v * LANES,
+                     sf_lanes_mul(acc[v], slope(f, sf_lanes_load(a + j * GROUP + v * LANES))));
+  }
+}
+
+static FORCE_INLINE void propagate(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
+                                   int no, double *dn) {
+  switch (f) {
+    case SF_ACT_SIGMOID: propagate_f(SF_ACT_SIGMOID, W, d, a, ni, no, dn); break;
+    case SF_ACT_TANH: propagate_f(SF_ACT_TANH, W, d, a, ni, no, dn); break;
+    case SF_ACT_RELU: propagate_f(SF_ACT_RELU, W, d, a, ni, no, dn); break;
+    case SF_ACT_LINEAR: propagate_f(SF_ACT_LINEAR, W, d, a, ni, no, dn); break;
+    case SF_ACT_EXP_NEG: propagate_f(SF_ACT_EXP_NEG, W, d, a, ni, no, dn); break;
+    case SF_ACT_EXP_NEG_EXP: propagate_f(SF_ACT_EXP_NEG_EXP, W, d, a, ni, no, dn); break;
+  }
+}
+
+/* Row of sample i's inputs and targets, asked for early (shuffled rows of a
+ * large set are cache misses). */
+static FORCE_INLINE void prefetch_row(const double *x, long xs, const double *y, long ys, long i, int n_in,
+                                      int n_out) {
+#if defined(__GNUC__)
+  const double *xa = x + i * xs, *ya = y + i * ys;
+  __builtin_prefetch(xa);
+  __builtin_prefetch(xa + n_in - 1);
+  __builtin_prefetch(ya);
+  __builtin_prefetch(ya + n_out - 1);
+#else
+  (void)x, (void)xs, (void)y, (void)ys, (void)i, (void)n_in, (void)n_out;
+#endif
+}
+
+/* Shuffled rows of the next group, asked for a few at a time while this
+ * group computes: asked all at once (64 lines for 32 rows), they exceed the
+ * misses a core keeps in flight, and the prefetch instructions themselves
+ * stalled (perf: a third of the kernel's time in a shuffled epoch). */
+typedef struct prefetch_cursor {
+  long next, stop;   /* samples next..stop-1 are still to be asked for */
+} prefetch_cursor;
+
+static FORCE_INLINE void prefetch_some(prefetch_cursor *pc, const double *x, long xs, const double *y, long ys,
+                                       const int *index, long count, int n_in, int n_out) {
+  long stop = pc->next + count < pc->stop ? pc->next + count : pc->stop;
+  for (; pc->next < stop; ++pc->next) prefetch_row(x, xs, y, ys, index[pc->next], n_in, n_out);
+}
+
+/* Rows of samples first..first+nv-1 (through index when given; sample i's
+ * inputs at x + i xs, its targets at y + i ys) into the group arrays;
+ * samples nv..GROUP-1 get zero inputs and targets (and zero weight in the
+ * caller). */
+static FORCE_INLINE void gather(const double *x, long xs, const double *y, long ys, const int *index, long first,
+                                int nv, int n_in, int n_out, double *restrict a0, double *restrict t) {
+  for (int s = 0; s < nv; ++s) {
+    long i = index ? index[first + s] : first + s;
+    const double *xr = x + i * xs, *yr = y + i * ys;
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = xr[j];
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = yr[k];
+  }
+  for (int s = nv; s < GROUP; ++s) {
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = 0.0;
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = 0.0;
+  }
+}
+
+/* gather for packed rows (sf_mlp_rows: inputs then targets, stride a
+ * multiple of LANES): 8 samples at a time, each LANES-wide piece of their
+ * rows loaded as a vector and transposed into the group's columns. The same
+ * values as gather. */
+static FORCE_INLINE void gather_packed(const double *rows, long stride, const int *index, long first, int nv,
+                                       int n_in, int n_out, double *restrict a0, double *restrict t) {
+  const int fields = n_in + n_out;
+  int s0 = 0;
+  for (; s0 + LANES <= nv; s0 += LANES) {
+    const double *row[LANES];
+    for (int k = 0; k < LANES; ++k) row[k] = rows + (long)index[first + s0 + k] * stride;
+    for (int piece = 0; piece * LANES < fields; ++piece) {
+      sf_lanes v[LANES];
+      for (int k = 0; k < LANES; ++k) v[k] = sf_lanes_load(row[k] + piece * LANES);
+      sf_lanes_transpose8(v);
+      for (int f = piece * LANES; f < fields && f < piece * LANES + LANES; ++f)
+        sf_lanes_store(f < n_in ? a0 + f * GROUP + s0 : t + (f - n_in) * GROUP + s0, v[f - piece * LANES]);
+    }
+  }
+  for (int s = s0; s < GROUP; ++s) {
+    const double *r = s < nv ? rows + (long)index[first + s] * stride : NULL;
+    for (int j = 0; j < n_in; ++j) a0[j * GROUP + s] = r ? r[j] : 0.0;
+    for (int k = 0; k < n_out; ++k) t[k * GROUP + s] = r ? r[n_in + k] : 0.0;
+  }
+}
+
+double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
+  const sf_mlp_shape *s = args->shape;
+  const double *params = args->params, *x = args->x, *y = args->y;
+  const sf_mlp_loss *loss = args->loss;
+  const long xs = args->xs, ys = args->ys, begin = args->begin, end = args->end;
+  const int *index = args->index;
+  const sf_mlp_columns *columns = args->columns;
+  double *grad = args->grad;
+  const int L = s->n_layers, n_in = s->sizes[0], n_out = s->sizes[L];
+  group_arrays g;
+  group_layout(s, args->ws->mem, &g);
+  const int np = sf_mlp_param_count(s);
+  if (grad) memset(g.grad, 0, (size_t)np * LANES * sizeof(double));
+  int w_off[SF_MLP_MAX_LAYERS], b_off[SF_MLP_MAX_LAYERS];
+  for (int l = 0; l < L; ++l) {
+    w_off[l] = sf_mlp_weight_offset(s, l);
+    b_off[l] = sf_mlp_bias_offset(s, l);
+  }
+  /* the first group's rows now, the next group's spread over 2 L steps */
+  prefetch_cursor pc = {begin, begin + GROUP < end ? begin + GROUP : end};
+  const long per_step = (GROUP + 2 * L - 1) / (2 * L);
+  if (index) prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);
+#define PREFETCH_STEP() \
+  if (index) prefetch_some(&pc, x, xs, y, ys, index, per_step, n_in, n_out)
+  const double inv_n = 1.0 / n_out;
+  sf_lanes loss_lanes = sf_lanes_set1(0.0);
+  for (long first = begin; first < end; first += GROUP) {
+    const int nv = end - first < GROUP ? (int)(end - first) : GROUP;
+    if (index) {
+      prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);   /* what the last group left */
+      pc.stop = first + 2 * GROUP < end ? first + 2 * GROUP : end;
+    }
+    /* The group's inputs and targets: read in place from columns (padded
+     * past the last sample), else gathered. */
+    const double *a0 = g.act[0], *t = g.target;
+    long a0_stride = GROUP, t_stride = GROUP;
+    if (columns) {
+      a0 = columns->x + first;
+      t = columns->y + first;
+      a0_stride = t_stride = columns->stride;
+    } else if (index && xs == ys && y == x + n_in && xs % LANES == 0) {
+      gather_packed(x, xs, index, first, nv, n_in, n_out, g.act[0], g.target);
+    } else {
+      gather(x, xs, y, ys, index, first, nv, n_in, n_out, g.act[0], g.target);
+    }
+    for (int l = 0; l < L; ++l) {
+      PREFETCH_STEP();
+      forward_layer(l + 1 == L ? s->output : s->hidden, params + w_off[l], params + b_off[l], s->sizes[l],
+                    s->sizes[l + 1], l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, g.act[l + 1]);
+    }
+    double *d = g.delta[0];
+    sf_lanes sq[VECS];
+    output_delta(s->output, loss, n_out, g.act[L], t, t_stride, sq, d);
+    /* Padding samples weigh nothing: zero loss and zero delta (which stays
+     * zero through the layers below). */
+    if (nv < GROUP) {
+      double v[GROUP];
+      for (int u = 0; u < VECS; ++u) sf_lanes_store(v + u * LANES, sq[u]);
+      for (int k = nv; k < GROUP; ++k) {
+        v[k] = 0.0;
+        for (int r = 0; r < n_out; ++r) d[r * GROUP + k] = 0.0;
+      }
+      for (int u = 0; u < VECS; ++u) sq[u] = sf_lanes_load(v + u * LANES);
+    }
+    for (int u = 0; u < VECS; ++u) loss_lanes = sf_lanes_add(loss_lanes, sf_lanes_scale(sq[u], inv_n));
+    if (!grad) continue;
+    for (int l = L - 1; l >= 0; --l) {
+      int ni = s->sizes[l], no = s->sizes[l + 1];
+      PREFETCH_STEP();
+      weight_gradient(d, l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, ni, no, g.grad + (long)w_off[l] * LANES,
+                      g.grad + (long)b_off[l] * LANES);
+      if (l == 0) break;
+      double *dn = d == g.delta[0] ? g.delta[1] : g.delta[0];
+      propagate(s->hidden, params + w_off[l], d, g.act[l], ni, no, dn);
+      d = dn;
+    }
+  }
+#undef PREFETCH_STEP
+  if (grad)
+    for (int k = 0; k < np; ++k) grad[k] += lane_sum(g.grad + (long)k * LANES);
+  double total[LANES];
+  sf_lanes_store(total, loss_lanes);
+  return lane_sum(total);
+}
+
