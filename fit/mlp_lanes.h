@@ -132,15 +132,14 @@ SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx)
                   _mm256_i64gather_pd(table, _mm256_and_si256(_mm256_castpd_si256(idx.hi), low4), 8));
   return r;
 }
-/* The bits of a plus (i >> 4) << 52, i the bits of nb: a times 2^n for n
- * in bits 4..15 of nb (two's complement). */
-SF_LANES_INLINE __m256d sf_lanes_add_exponent4(__m256d a, __m256d nb) {
-  __m256i n = _mm256_slli_epi64(_mm256_srli_epi64(_mm256_castpd_si256(nb), 4), 52);
-  return _mm256_castsi256_pd(_mm256_add_epi64(_mm256_castpd_si256(a), n));
+/* The double whose bits are (i >> 4) << 52, i the bits of nb: 2^(e - 1023)
+ * for a biased exponent e = 1..2046 in bits 4..15 of nb. */
+SF_LANES_INLINE __m256d sf_lanes_exponent_bits4(__m256d nb) {
+  return _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_srli_epi64(_mm256_castpd_si256(nb), 4), 52));
 }
-SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
+SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
   sf_lanes r;
-  SF_LANES_HALVES(r, sf_lanes_add_exponent4(a.lo, nb.lo), sf_lanes_add_exponent4(a.hi, nb.hi));
+  SF_LANES_HALVES(r, sf_lanes_exponent_bits4(nb.lo), sf_lanes_exponent_bits4(nb.hi));
   return r;
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) {
@@ -263,10 +262,10 @@ SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx)
   return r;
 #endif
 }
-/* The bits of a plus (i >> 4) << 52, i the bits of nb: a times 2^n for n
- * in bits 4..15 of nb (two's complement). */
-SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
-  return (sf_lanes)((sf_lanes_bits)a + (((sf_lanes_bits)nb >> 4) << 52));
+/* The double whose bits are (i >> 4) << 52, i the bits of nb: 2^(e - 1023)
+ * for a biased exponent e = 1..2046 in bits 4..15 of nb. */
+SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
+  return (sf_lanes)(((sf_lanes_bits)nb >> 4) << 52);
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) { return a[k]; }
 /* Lanes i0..i7 of the 16 lanes of a then b (constants). */
@@ -401,14 +400,13 @@ SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx)
   }
   return r;
 }
-SF_LANES_INLINE sf_lanes sf_lanes_add_exponent(sf_lanes a, sf_lanes nb) {
+SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) {
-    uint64_t ua, un;
-    memcpy(&ua, &a.v[k], sizeof ua);
-    memcpy(&un, &nb.v[k], sizeof un);
-    ua += (un >> 4) << 52;
-    memcpy(&r.v[k], &ua, sizeof ua);
+    uint64_t u;
+    memcpy(&u, &nb.v[k], sizeof u);
+    u = (u >> 4) << 52;
+    memcpy(&r.v[k], &u, sizeof u);
   }
   return r;
 }
@@ -436,17 +434,19 @@ static const double sf_lanes_exp2_sixteenths[16] = {
  *   e^x = 2^m 2^(j/16) (1 + (r + r^2 P(r))),  P(r) = sum_{k=2}^{7} r^(k-2)/k!
  * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^(j/16)
  * from the table (AVX-512: one permute of two registers; the others a
- * gather or a load per lane) and 2^m added to the exponent bits. The
+ * gather or a load per lane) and 2^m made from its exponent bits. The
  * truncated term r^8/8! is below 1.2e-18; the whole within 1 ulp of libm's
  * exp (tests/test_mlp_lanes.c). About 20 instructions where the degree-13
  * polynomial of a table-free reduction (|r| <= ln2/2) took 31: the kernel
  * is bound by its exponentials. Every multiply-add is fused where written,
  * so the bits are the same in every representation above. */
 SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
-  const double shift = 6755399441055744.0; /* 1.5 * 2^52: round to nearest integer */
+  /* 1.5 * 2^52 rounds to the nearest integer; 1023 * 16 biases m. */
+  const double shift = 6755399441055744.0 + 1023.0 * 16.0;
   /* max then min: a NaN x is kept by both (the second operand's rule) */
   sf_lanes c = sf_lanes_min(sf_lanes_set1(709.0), sf_lanes_max(sf_lanes_set1(-708.0), x));
-  /* n = 16 m + j = round(16 c / ln 2), in the low bits of shifted */
+  /* n = 16 m + j = round(16 c / ln 2); n + 1023 * 16 (>= 25 after the
+   * clamps) in the low bits of shifted: j in bits 0..3, m + 1023 above */
   sf_lanes shifted = sf_lanes_fma_scalars(c, 16.0 * 1.4426950408889634074, shift);
   sf_lanes n = sf_lanes_add_scalar(shifted, -shift);
   /* ln 2 = 6.93147180369123816490e-01 (32 significant bits: n times it
@@ -460,10 +460,12 @@ SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
   sf_lanes P = sf_lanes_fma(q2, r4, sf_lanes_fma(q1, r2, q0));
   sf_lanes em1 = sf_lanes_fma(r2, P, r);   /* e^r - 1 */
   sf_lanes t = sf_lanes_lookup16(sf_lanes_exp2_sixteenths, shifted);
-  /* times 2^m, m in bits 4.. of shifted: t (1 + em1) = 2^(j/16 + r/ln2)
-   * lies in [0.978, 1.96), below 1 only for j = 0, and the clamps keep m
-   * in -1022..1022 with j >= 9 at m = -1022: a normal number always */
-  return sf_lanes_add_exponent(sf_lanes_fma(t, em1, t), shifted);
+  /* times 2^m, exact: t (1 + em1) = 2^(j/16 + r/ln2) lies in [0.978,
+   * 1.96), below 1 only for j = 0, and the clamps keep m in -1022..1022
+   * with j >= 9 at m = -1022, so the product is a normal number. A product,
+   * not an integer addition to the exponent bits: a NaN x stays NaN
+   * whatever its payload (which reaches shifted, hence the scale). */
+  return sf_lanes_mul(sf_lanes_fma(t, em1, t), sf_lanes_exponent_bits(shifted));
 }
 
 #endif

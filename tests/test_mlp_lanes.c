@@ -8,6 +8,7 @@
  * representation); the AVX2 and AVX-512 builds give the same bits
  * (tests/test_mlp_gradient.c, kernel against kernel). */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -55,6 +56,17 @@ int main(void) {
   CHECK(y[4] == 1.0 && y[5] == 1.0);
   CHECK(isnan(y[6]));
   CHECK_REL(y[7], exp(1.0), 4.5e-16);
+  /* NaNs with payloads (x86 arithmetic carries a NaN operand's payload
+   * through, which a scaling by integer addition to the exponent bits
+   * would turn into a number), of either sign. */
+  const uint64_t payloads[SF_LANES] = {0x7ff800000000abc0u, 0xfff8000000000ff0u, 0x7ff8fedcba987650u, 0x7ff0000000000010u,
+                                       0xfff0000000001230u, 0x7ff800000000fff0u, 0xfffffffffffffff0u, 0x7ff8000000000100u};
+  for (int k = 0; k < SF_LANES; ++k) memcpy(&x[k], &payloads[k], sizeof x[k]);
+  sf_lanes_store(y, sf_lanes_exp(sf_lanes_load(x)));
+  int nan_ok = 1;
+  for (int k = 0; k < SF_LANES; ++k) nan_ok &= isnan(y[k]);
+  printf("NaNs with payloads stay NaN: %s\n", nan_ok ? "yes" : "no");
+  CHECK(nan_ok);
 
   /* Lane operations against their scalar definitions. */
   double a[SF_LANES] = {-3.5, 2.0, -0.0, 7.25, -1e-300, 1e300, 0.5, -2.0};
