@@ -118,8 +118,8 @@ double sf_mlp_loss_range(const sf_mlp_shape *shape, const double *params, const 
                          double *grad);
 
 /* The instruction sets the kernel is compiled for (x86-64 with GCC or
- * Clang: fit/mlp_kernel.h; the baseline elsewhere). AUTO: the widest the CPU offers, what every function
- * above runs. */
+ * Clang: fit/mlp_kernel.h; the baseline elsewhere). AUTO: the widest the
+ * CPU offers, what every function above runs. */
 typedef enum sf_mlp_isa { SF_MLP_ISA_AUTO = 0, SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512 } sf_mlp_isa;
 /* Whether this build and this CPU can run isa. */
 int sf_mlp_isa_available(sf_mlp_isa isa);
