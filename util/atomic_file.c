@@ -4,18 +4,42 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/stat.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
-int sf_atomic_temp_name(const char *path, char *temp, size_t n) {
-  /* The pid keeps concurrent writers of the same file apart; XXXXXX is
-   * filled by mkstemp. The temporary sits beside the target so rename()
-   * never crosses a file system. */
-  int len = snprintf(temp, n, "%s.tmp.%ld.XXXXXX", path, (long)getpid());
-  return (len < 0 || (size_t)len >= n) ? -1 : 0;
+/* Creates "PATH.tmp.PID.XXXXXX" (6 characters tried until the name is new)
+ * beside path, so that rename() never crosses a file system; the pid keeps
+ * concurrent writers apart and tells stale temporaries. Mode 0666, which
+ * the system reduces by the process's umask as for any file: mkstemp's
+ * 0600 would need the umask to be read, and reading it means setting it,
+ * for the whole process at once (a race with every other thread creating
+ * a file). Returns the descriptor, or -1 with errno set. */
+static int create_temp(const char *path, char *temp, size_t n) {
+  static const char alphabet[] = "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ";
+  /* A name taken can only be a leftover of an earlier process with this
+   * pid (or a writer of the same path in this one): the next is tried. */
+  struct timespec now;
+  clock_gettime(CLOCK_REALTIME, &now);
+  uint64_t start = (uint64_t)now.tv_nsec ^ ((uint64_t)now.tv_sec << 30);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    uint64_t bits = start + (uint64_t)attempt;
+    char suffix[7];
+    for (int k = 0; k < 6; ++k, bits /= 62) suffix[k] = alphabet[bits % 62];
+    suffix[6] = '\0';
+    int len = snprintf(temp, n, "%s.tmp.%ld.%s", path, (long)getpid(), suffix);
+    if (len < 0 || (size_t)len >= n) {
+      errno = ENAMETOOLONG;
+      return -1;
+    }
+    int fd = open(temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0 || errno != EEXIST) return fd;
+  }
+  errno = EEXIST;
+  return -1;
 }
 
 /* "PID.XXXXXX" after the "PATH.tmp." prefix: the writer's pid, or 0. */
@@ -56,11 +80,13 @@ int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
   if (strlen(path) + 1 > sizeof f->final_path)
     return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
   strcpy(f->final_path, path);
-  if (sf_atomic_temp_name(path, f->temp_path, sizeof f->temp_path) != 0)
-    return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
-  int fd = mkstemp(f->temp_path);
-  if (fd < 0)
-    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here: %s", path, strerror(errno));
+  int fd = create_temp(path, f->temp_path, sizeof f->temp_path);
+  if (fd < 0) {
+    int saved = errno;
+    f->temp_path[0] = '\0';
+    if (saved == ENAMETOOLONG) return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
+    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here: %s", path, strerror(saved));
+  }
   f->stream = fdopen(fd, "wb");
   if (!f->stream) {
     close(fd);
@@ -76,10 +102,6 @@ int sf_atomic_commit(sf_atomic_file *f, sf_error *err) {
   if (fclose(f->stream) != 0) failed = 1;
   f->stream = NULL;
   if (!failed) {
-    /* mkstemp creates 0600 files; outputs should look like any other file. */
-    mode_t mask = umask(0);
-    umask(mask);
-    chmod(f->temp_path, 0666 & ~mask);
     if (rename(f->temp_path, f->final_path) == 0) return 0;
     saved = errno;
   }

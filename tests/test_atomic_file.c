@@ -1,0 +1,114 @@
+/* util/atomic_file.h: an output appears whole or not at all, with the mode
+ * of any new file (0666 less the umask, read by the system, never by a
+ * umask() call that would change it for every thread); the temporary sits
+ * beside the target and is gone after a commit or an abort; a stale
+ * temporary with this process's pid in its name does not stop a write; an
+ * unwritable folder is an input error. */
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "tests/check.h"
+#include "util/atomic_file.h"
+
+/* Files in dir whose name starts with prefix. */
+static int count_prefixed(const char *dir, const char *prefix) {
+  DIR *d = opendir(dir);
+  if (!d) return -1;
+  int n = 0;
+  for (struct dirent *e; (e = readdir(d)) != NULL;) n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+  closedir(d);
+  return n;
+}
+
+/* Writes text to path through an atomic file; 0 on success. */
+static int write_text(const char *path, const char *text) {
+  sf_atomic_file f;
+  sf_error err;
+  sf_error_clear(&err);
+  if (sf_atomic_open(&f, path, &err)) return -1;
+  fputs(text, f.stream);
+  return sf_atomic_commit(&f, &err);
+}
+
+static int file_is(const char *path, const char *text) {
+  char buf[256] = {0};
+  FILE *fp = fopen(path, "rb");
+  if (!fp) return 0;
+  size_t n = fread(buf, 1, sizeof buf - 1, fp);
+  fclose(fp);
+  return n == strlen(text) && memcmp(buf, text, n) == 0;
+}
+
+int main(void) {
+  char dir[] = "/tmp/skyfit-atomic-XXXXXX";
+  if (!mkdtemp(dir)) {
+    perror("mkdtemp");
+    return 1;
+  }
+  char path[512];
+  snprintf(path, sizeof path, "%s/out.h", dir);
+
+  /* The mode follows the umask, whatever it is; the umask is left as set. */
+  const mode_t masks[] = {022, 027, 002, 077};
+  for (int k = 0; k < 4; ++k) {
+    umask(masks[k]);
+    CHECK(write_text(path, "first") == 0);
+    struct stat st;
+    CHECK(stat(path, &st) == 0);
+    printf("umask %03o: mode %03o (want %03o)\n", (unsigned)masks[k], (unsigned)(st.st_mode & 0777),
+           (unsigned)(0666 & ~masks[k]));
+    CHECK((st.st_mode & 0777) == (0666 & ~masks[k]));
+    mode_t now = umask(0);
+    CHECK(now == masks[k]);
+    umask(now);
+    CHECK(unlink(path) == 0);
+  }
+  umask(022);
+
+  /* Commit replaces; the temporary was beside the target and is gone. */
+  CHECK(write_text(path, "first") == 0);
+  CHECK(write_text(path, "second") == 0);
+  CHECK(file_is(path, "second"));
+  CHECK(count_prefixed(dir, "out.h.tmp.") == 0);
+
+  /* Abort leaves the previous file and no temporary. */
+  sf_atomic_file f;
+  sf_error err;
+  sf_error_clear(&err);
+  CHECK(sf_atomic_open(&f, path, &err) == 0);
+  fputs("half", f.stream);
+  CHECK(count_prefixed(dir, "out.h.tmp.") == 1);
+  sf_atomic_abort(&f);
+  CHECK(file_is(path, "second"));
+  CHECK(count_prefixed(dir, "out.h.tmp.") == 0);
+
+  /* Two writers of one path in one process get two temporaries. */
+  sf_atomic_file a, b;
+  CHECK(sf_atomic_open(&a, path, &err) == 0);
+  CHECK(sf_atomic_open(&b, path, &err) == 0);
+  CHECK(strcmp(a.temp_path, b.temp_path) != 0);
+  CHECK(count_prefixed(dir, "out.h.tmp.") == 2);
+  fputs("from a", a.stream);
+  fputs("from b", b.stream);
+  CHECK(sf_atomic_commit(&a, &err) == 0);
+  CHECK(sf_atomic_commit(&b, &err) == 0);
+  CHECK(file_is(path, "from b"));
+  CHECK(count_prefixed(dir, "out.h.tmp.") == 0);
+
+  /* A missing folder: an input error naming the path, nothing written. */
+  char missing[600];
+  snprintf(missing, sizeof missing, "%s/no-such-folder/out.h", dir);
+  sf_error_clear(&err);
+  CHECK(sf_atomic_open(&f, missing, &err) != 0);
+  CHECK(err.status == SF_ERR_INPUT);
+  printf("missing folder: %s\n", err.message);
+  CHECK(strstr(err.message, missing) != NULL);
+
+  unlink(path);
+  rmdir(dir);
+  return check_summary();
+}
