@@ -196,16 +196,34 @@ done:
   return status;
 }
 
+/* Swap partners drawn (and prefetched) ahead of their swaps: perm of a
+ * training set is larger than the L2 cache, and each swap's random read
+ * would otherwise wait on its own miss. */
+#define PERMUTATION_AHEAD 32
+
 void sf_dataset_permutation(int *perm, long n, uint64_t seed, uint64_t key_a, uint64_t key_b) {
   sf_rng rng;
   sf_rng_seed(&rng, seed, key_a, key_b);
   for (long i = 0; i < n; ++i) perm[i] = (int)i;
-  for (long i = n - 1; i > 0; --i) {
-    long j = (long)(sf_rng_uniform(&rng) * (double)(i + 1));
-    if (j > i) j = i;
-    int t = perm[i];
-    perm[i] = perm[j];
-    perm[j] = t;
+  /* Fisher-Yates, i from n - 1 down to 1 swapped with j uniform in 0..i;
+   * the j are drawn in the same order as the swaps, so the permutation
+   * does not depend on how far ahead they are drawn. */
+  long partner[PERMUTATION_AHEAD];
+  for (long top = n - 1; top > 0; top -= PERMUTATION_AHEAD) {
+    long count = top < PERMUTATION_AHEAD ? top : PERMUTATION_AHEAD;
+    for (long k = 0; k < count; ++k) {
+      long i = top - k, j = (long)(sf_rng_uniform(&rng) * (double)(i + 1));
+      partner[k] = j > i ? i : j;
+#if defined(__GNUC__)
+      __builtin_prefetch(perm + partner[k], 1);
+#endif
+    }
+    for (long k = 0; k < count; ++k) {
+      long i = top - k, j = partner[k];
+      int t = perm[i];
+      perm[i] = perm[j];
+      perm[j] = t;
+    }
   }
 }
 
