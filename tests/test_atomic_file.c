@@ -1,9 +1,9 @@
 /* util/atomic_file.h: an output appears whole or not at all, with the mode
  * of any new file (0666 less the umask, read by the system, never by a
  * umask() call that would change it for every thread); the temporary sits
- * beside the target and is gone after a commit or an abort; a stale
- * temporary with this process's pid in its name does not stop a write; an
- * unwritable folder is an input error. */
+ * beside the target and is gone after a commit or an abort; two writers
+ * of one path do not collide; a missing folder is an input error. (Stale
+ * temporaries: tests/test_memory_limit.c.) */
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
