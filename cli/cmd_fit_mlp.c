@@ -13,6 +13,7 @@
 #include "fit/candidate_cache.h"
 #include "fit/dataset_sky.h"
 #include "fit/mlp_sky_metrics.h"
+#include "fit/output_norm.h"
 #include "models/atmosphere_file.h"
 #include "models/mlp_sky.h"
 #include "models/scene_file.h"
@@ -45,6 +46,10 @@ static void sky_usage(FILE *out, int scattering) {
                        "  --split S               horizon (default: one network for rays to the sky, one for\n"
                        "                          rays to the ground, trained one after the other; the\n"
                        "                          second checkpoints to FILE.ground) or none (one network)\n"
+                       "  --normalise N           none (default) or brightness: the sky network learns its\n"
+                       "                          targets divided by a fitted brightness of (altitude, sun\n"
+                       "                          elevation) (fit/output_norm.h): dawn 3-5x better, noon and\n"
+                       "                          sunrise 1.2-2x worse (README)\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
                        "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
@@ -57,6 +62,7 @@ typedef struct sky_job {
   sf_mlp_target target;
   sf_mlp_input_map input_map;   /* transmittance network */
   int split;                    /* scattering: the horizon split (models/mlp_sky.h) */
+  int normalise;                /* scattering: the sky network's brightness normalisation */
   sf_mlp_cli mlp;
   sf_table_cli tables;
 } sky_job;
@@ -154,7 +160,8 @@ static int run_sky(int argc, char **argv, int scattering) {
     if (r > 0) continue;
     int has_value = i + 1 < argc;
     if ((strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
-         (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0)) ||
+         (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0 ||
+                         strcmp(a, "--normalise") == 0)) ||
          (!scattering && strcmp(a, "--input-map") == 0)) &&
         !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
@@ -175,6 +182,13 @@ static int run_sky(int argc, char **argv, int scattering) {
         return 2;
       }
       job.split = strcmp(v, "horizon") == 0;
+    } else if (scattering && strcmp(a, "--normalise") == 0) {
+      const char *v = argv[++i];
+      if (strcmp(v, "brightness") != 0 && strcmp(v, "none") != 0) {
+        fprintf(stderr, "%s: --normalise: expected none or brightness, got '%s'\n", command, v);
+        return 2;
+      }
+      job.normalise = strcmp(v, "brightness") == 0;
     } else if (scattering && strcmp(a, "--target") == 0) {
       const char *v = argv[++i];
       if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
@@ -289,6 +303,15 @@ static int run_sky(int argc, char **argv, int scattering) {
     }
   }
   int split = scattering && job.split;
+  /* The sky network's targets divided by their brightness (fit/output_norm.h);
+   * the ground network measured worse with it (orbit and space views), so
+   * it keeps its raw targets. */
+  sf_mlp_output_norm norm;
+  memset(&norm, 0, sizeof norm);
+  if (scattering && job.normalise) {
+    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &err)) goto fail;
+    sf_output_norm_apply(&norm, &data);
+  }
 
   int np = sf_mlp_param_count(&t->shape);
   if (job.mlp.init_weights) {
@@ -317,6 +340,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     goto done;
   }
   if (ts) goto fail;
+  if (norm.active) sf_output_norm_restore(&norm, &val);   /* the model's metrics are in radiance */
   if (split) {
     if (!job.mlp.quiet) fprintf(stderr, "%s: network 2 of 2: rays to the ground\n", command);
     /* the test hook counts the command's epochs: the rest go to this
@@ -346,6 +370,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   }
   model.input_map = scattering ? SF_MLP_INPUTS_SQRT_H_MU : job.input_map;
   if (split && sf_mlp_sky_set_ground_net(&model, &result_g.net, &err)) goto fail;
+  if (norm.active && sf_mlp_sky_set_output_norm(&model, 0, &norm, &err)) goto fail;
   /* the model's figures over both halves: losses weighted by their sizes,
    * errors on both validation sets */
   const sf_dataset *val_model = &val;
@@ -374,7 +399,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   }
   if (sf_mlp_add_to_weights(doc, &model.net)) goto fail;
   if (split && sf_mlp_add_params_to_weights(doc, &model.net_ground, "ground_")) goto fail;
+  if (sf_mlp_sky_add_norms_to_weights(doc, &model)) goto fail;
   if (scattering) cJSON_AddStringToObject(training, "split", split ? "horizon" : "none");
+  if (scattering) cJSON_AddStringToObject(training, "normalise", norm.active ? "brightness" : "none");
   cJSON_AddNumberToObject(training, "seed", (double)t->seed);
   cJSON_AddNumberToObject(training, "epochs", t->epochs);
   cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);

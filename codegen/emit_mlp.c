@@ -379,6 +379,20 @@ static void emit_phase(sf_code_writer *w, int k, const sf_phase *p) {
   sf_cw_emit(w, "  float p%d = 0.0f;\n", k);
 }
 
+/* float brightness = exp(b(x0, x2)) of a brightness-normalised network
+ * (models/mlp_sky.h), Horner's rule in the model's float order. */
+static void emit_brightness(sf_code_writer *w, const sf_mlp_output_norm *n) {
+  int C = n->degree_mu_s;
+  sf_cw_emit(w, "  float lb = 0.0f, q;  /* log brightness of (sqrt h, mu_s), fit/output_norm.h */\n");
+  for (int a = n->degree_h; a >= 0; --a) {
+    const float *row = n->coef_f + a * (C + 1);
+    sf_cw_emit(w, "  q = %F;\n", (double)row[C]);
+    for (int c = C - 1; c >= 0; --c) sf_cw_emit(w, "  q = q * x2 + %F;\n", (double)row[c]);
+    sf_cw_emit(w, "  lb = lb * x0 + q;\n");
+  }
+  sf_cw_emit(w, "  float brightness = @exp(lb);\n");
+}
+
 void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp_sky *t) {
   int n = s->n_channels;
   radii g = radii_of(s);
@@ -418,15 +432,19 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
     else if (split) sf_cw_emit(w, "  {  /* rays to the sky */\n");
     net_outputs o;
     emit_network(w, half ? &s->net_ground_f : &s->net_f, s->net.shape.output, separate ? n : 0, &o);
+    const sf_mlp_output_norm *norm = half ? &s->norm_ground : &s->norm;
+    if (norm->active) emit_brightness(w, norm);
     sf_cw_emit(w, "  %sreturn %C", indent, n);
     for (int c = 0; c < n; ++c) {
-      char name[32];
+      char name[32], scaled[64];
       if (c) sf_cw_emit(w, ",\n              %s", indent);
       out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
-      sf_cw_emit(w, "%s", name);
+      snprintf(scaled, sizeof scaled, norm->active ? "%s * brightness" : "%s", name);
+      sf_cw_emit(w, "%s", scaled);
       for (int k = 0; separate && k < s->n_single; ++k) {
         out_name(w, &o, k * n + c, name, sizeof name);
-        sf_cw_emit(w, " + p%d * %s", k, name);
+        if (norm->active) sf_cw_emit(w, " + p%d * (%s * brightness)", k, name);
+        else sf_cw_emit(w, " + p%d * %s", k, name);
       }
     }
     sf_cw_emit(w, ");\n");

@@ -5,7 +5,7 @@
 #include <string.h>
 
 int sf_linear_lsq(int m, int n, const double *A, const double *b, const double *w, double *x) {
-  if (m < n || n <= 0 || n > 16) return -1;
+  if (m < n || n <= 0 || n > 64) return -1;
   double *R = malloc(sizeof *R * (size_t)m * (size_t)(n + 1));
   if (!R) return -1;
   /* Augmented [wA | wb], Householder on the first n columns. */

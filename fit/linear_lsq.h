@@ -5,7 +5,7 @@
 #ifndef SKYFIT_FIT_LINEAR_LSQ_H
 #define SKYFIT_FIT_LINEAR_LSQ_H
 
-/* A is m x n row-major (m >= n, n <= 16), b has m entries, w m weights
+/* A is m x n row-major (m >= n, n <= 64), b has m entries, w m weights
  * (NULL: all 1). A and b are not modified. Returns 0, or -1 if A (after
  * weighting) is rank deficient or m < n. */
 int sf_linear_lsq(int m, int n, const double *A, const double *b, const double *w, double *x);

@@ -54,6 +54,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_INTERSECT sf_ray_sphere_intersections
 #define OFFSET offset
 #define SCALE scale
+#define NORM_COEF coef
 #include "models/mlp_sky_impl.inc"
 #undef REAL
 #undef SKY_FN
@@ -67,6 +68,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef RAY_INTERSECT
 #undef OFFSET
 #undef SCALE
+#undef NORM_COEF
 
 #define REAL float
 #define SKY_FN(name) name##_f
@@ -80,6 +82,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_INTERSECT sf_ray_sphere_intersections_f
 #define OFFSET offset_f
 #define SCALE scale_f
+#define NORM_COEF coef_f
 #include "models/mlp_sky_impl.inc"
 
 static const char *const input_map_names[] = {"sqrt_h_mu", "bruneton"};
@@ -184,6 +187,65 @@ int sf_mlp_sky_set_ground_net(sf_mlp_sky *m, sf_mlp *net, sf_error *err) {
   return SF_OK;
 }
 
+double sf_mlp_output_norm_log_brightness(const sf_mlp_output_norm *n, double u, double v) {
+  return log_brightness(n, u, v);
+}
+
+int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_norm *norm, sf_error *err) {
+  const sf_mlp *net = ground ? &m->net_ground : &m->net;
+  if (m->target == SF_MLP_TARGET_TRANSMITTANCE_TOP || !net->params)
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: only for a scattering model's %s network",
+                   ground ? "ground-ray" : "sky");
+  if (norm->degree_h < 0 || norm->degree_h > SF_MLP_NORM_MAX_DEGREE || norm->degree_mu_s < 0 ||
+      norm->degree_mu_s > SF_MLP_NORM_MAX_DEGREE)
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: degrees %d, %d: expected 0..%d", norm->degree_h,
+                   norm->degree_mu_s, SF_MLP_NORM_MAX_DEGREE);
+  sf_mlp_output_norm *dst = ground ? &m->norm_ground : &m->norm;
+  *dst = *norm;
+  dst->active = 1;
+  int n_coef = (norm->degree_h + 1) * (norm->degree_mu_s + 1);
+  for (int k = 0; k < SF_MLP_NORM_MAX_COEFS; ++k) dst->coef_f[k] = k < n_coef ? (float)dst->coef[k] : 0.0f;
+  return SF_OK;
+}
+
+/* params <prefix>norm_coef ((A+1) x (C+1)) of the weights file (SPEC §8). */
+static int add_norm_params(cJSON *doc, const sf_mlp_output_norm *n, const char *prefix) {
+  char name[64];
+  int shape[2] = {n->degree_h + 1, n->degree_mu_s + 1};
+  snprintf(name, sizeof name, "%snorm_coef", prefix);
+  return sf_weights_add_param(doc, name, 2, shape, n->coef) ? SF_ERR_INTERNAL : SF_OK;
+}
+
+int sf_mlp_sky_add_norms_to_weights(cJSON *doc, const sf_mlp_sky *m) {
+  if (m->norm.active && add_norm_params(doc, &m->norm, "")) return SF_ERR_INTERNAL;
+  if (m->horizon_split && m->norm_ground.active && add_norm_params(doc, &m->norm_ground, "ground_"))
+    return SF_ERR_INTERNAL;
+  return SF_OK;
+}
+
+/* Reads a network's normalisation if the file has one (optional: a file
+ * without it holds a network of raw targets). */
+static int load_norm(const sf_weights *w, sf_mlp_sky *m, int ground, sf_error *err) {
+  const char *prefix = ground ? "ground_" : "";
+  char name[64];
+  snprintf(name, sizeof name, "%snorm_coef", prefix);
+  const cJSON *params = cJSON_GetObjectItemCaseSensitive(w->root, "params");
+  if (!cJSON_GetObjectItemCaseSensitive(params, name)) return SF_OK;
+  sf_mlp_output_norm n;
+  memset(&n, 0, sizeof n);
+  int shape[2] = {-1, -1};
+  if (sf_weights_param(w, name, 2, shape, n.coef, SF_MLP_NORM_MAX_COEFS, err)) return err->status;
+  n.degree_h = shape[0] - 1;
+  n.degree_mu_s = shape[1] - 1;
+  if (sf_mlp_sky_set_output_norm(m, ground, &n, err)) {
+    char message[1024];
+    snprintf(message, sizeof message, "%.400s: params.%s: %.500s", w->source, name, err->message);
+    snprintf(err->message, sizeof err->message, "%s", message);
+    return err->status;
+  }
+  return SF_OK;
+}
+
 int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
   memset(m, 0, sizeof *m);
   const cJSON *training = cJSON_GetObjectItemCaseSensitive(w->root, "training");
@@ -247,6 +309,11 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
       sf_mlp_sky_free(m);
       return err->status;
     }
+  }
+  if (target != SF_MLP_TARGET_TRANSMITTANCE_TOP &&
+      (load_norm(w, m, 0, err) || (m->horizon_split && load_norm(w, m, 1, err)))) {
+    sf_mlp_sky_free(m);
+    return err->status;
   }
   return SF_OK;
 }

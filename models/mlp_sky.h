@@ -119,6 +119,29 @@ void sf_mlp_bruneton_coords(double bottom_radius_km, double top_radius_km, doubl
 void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, double x_r, double x_mu, double *h_km,
                              double *mu);
 
+/* Brightness normalisation of a scattering network (optional, per
+ * network; `skyfit fit mlp-scattering --normalise brightness`): the network
+ * was trained on targets y / exp(b(u, v)), so its outputs are multiplied
+ * back by
+ *   exp(b(u, v)),   b(u, v) = sum_{a<=A, c<=C} coef[a (C+1) + c] u^a v^c,
+ * u, v the network's normalised inputs 0 (sqrt h) and 2 (mu_s), A = degree_h,
+ * C = degree_mu_s, evaluated by Horner's rule in v, then in u. exp(b) is the
+ * sky's brightness at that altitude and sun elevation (fit/output_norm.h
+ * fits it), so the loss weighs every situation by its own brightness: the
+ * dawn sky is hundreds of times dimmer than noon's and plain MSE does not
+ * see it. */
+#define SF_MLP_NORM_MAX_DEGREE 7
+#define SF_MLP_NORM_MAX_COEFS ((SF_MLP_NORM_MAX_DEGREE + 1) * (SF_MLP_NORM_MAX_DEGREE + 1))
+typedef struct sf_mlp_output_norm {
+  int active;                   /* 0: outputs as the network gives them */
+  int degree_h, degree_mu_s;
+  double coef[SF_MLP_NORM_MAX_COEFS];
+  float coef_f[SF_MLP_NORM_MAX_COEFS];
+} sf_mlp_output_norm;
+
+/* b(u, v) above, in double. */
+double sf_mlp_output_norm_log_brightness(const sf_mlp_output_norm *n, double u, double v);
+
 /* A network with what its inputs and outputs mean. */
 typedef struct sf_mlp_sky {
   sf_mlp net;
@@ -135,6 +158,7 @@ typedef struct sf_mlp_sky {
   int horizon_split;            /* scattering: net_ground for rays ending on the ground (above) */
   sf_mlp net_ground;
   sf_mlp_f net_ground_f;
+  sf_mlp_output_norm norm, norm_ground;   /* scattering: per network (above) */
 } sf_mlp_sky;
 
 /* Builds the model from a trained network (owned by the model afterwards:
@@ -147,6 +171,14 @@ int sf_mlp_sky_make(sf_mlp_sky *m, sf_mlp *net, sf_mlp_target target, const sf_a
  * moved in like sf_mlp_sky_make's): same layers and activations as m->net,
  * SF_ERR_INPUT otherwise (net freed). */
 int sf_mlp_sky_set_ground_net(sf_mlp_sky *m, sf_mlp *net, sf_error *err);
+/* Gives network 0 (sky) or 1 (ground) of a scattering model its brightness
+ * normalisation (copied; its float32 values are made here). SF_ERR_INPUT if
+ * the degrees exceed SF_MLP_NORM_MAX_DEGREE or the network is missing. */
+int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_norm *norm, sf_error *err);
+/* Adds the normalisations to a weights document being written: params
+ * norm_coef, an (A+1) x (C+1) array (ground_norm_coef for the ground
+ * network), each only where the network has one. */
+int sf_mlp_sky_add_norms_to_weights(cJSON *doc, const sf_mlp_sky *m);
 /* Whether the model's ray from altitude h_km along mu counts as ending on
  * the ground (the horizon split's test above), double and float32. */
 int sf_mlp_ray_ends_on_ground(double bottom_radius_km, double h_km, double mu);

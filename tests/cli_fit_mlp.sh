@@ -19,6 +19,16 @@ if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
 if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
+# --normalise brightness (fit/output_norm.h): the sky network's coefficients
+# in the file, the ground network's targets raw; deterministic too
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/n1.json" --quiet
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --normalise brightness --out "$TMP/n2.json" --quiet
+grep -q '"norm_coef"' "$TMP/n1.json" && ! grep -q '"ground_norm_coef"' "$TMP/n1.json" &&
+  grep -q '"normalise":[[:space:]]*"brightness"' "$TMP/n1.json" && ! grep -q '"norm_coef"' "$TMP/s1.json" &&
+  pass "--normalise brightness: the sky network's norm_coef in the file, none without it" ||
+  fail "--normalise brightness: norm_coef missing or misplaced"
+cmp -s "$TMP/n1.json" "$TMP/n2.json" && pass "normalised weights identical for 1 and 2 threads" ||
+  fail "thread count changed the normalised weights"
 
 # the scattering model split at the horizon (models/mlp_sky.h): two networks
 # in one file; the hook interrupting the second (3 epochs each, the hook at
@@ -169,6 +179,7 @@ expect_error "bad polish" "--polish" "$BIN" fit mlp-transmittance --polish -3 --
 expect_error "bad input map" "--input-map" "$BIN" fit mlp-transmittance --input-map polar --out "$TMP/bad.json"
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
 expect_error "bad split" "--split" "$BIN" fit mlp-scattering --split vertical --out "$TMP/bad.json"
+expect_error "bad normalisation" "--normalise" "$BIN" fit mlp-scattering --normalise log --out "$TMP/bad.json"
 expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
 expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"

@@ -669,6 +669,12 @@ static int write_mlp_weights(const char *path, const sf_atmosphere *atm, int sca
     sf_mlp_init_xavier(&s, 11, 0, net.params);
     for (int i = 0; i < s.sizes[s.n_layers]; ++i) net.params[sf_mlp_bias_offset(&s, last) + i] = 4.0;
     sf_mlp_add_params_to_weights(doc, &net, "ground_");
+    /* the sky network brightness-normalised, as fit mlp-scattering
+     * --normalise brightness writes it (b = log brightness in e^-5.1 ..
+     * e^-1.5 over x0 in [0, 1], x2 in [-1, 1]; fitted ones are below 1 too:
+     * the targets are) */
+    static const double norm_coef[2 * 3] = {-2.5, 1.0, -0.5, -1.0, 0.3, 0.2};
+    sf_weights_add_param(doc, "norm_coef", 2, (const int[]){2, 3}, norm_coef);
   }
   cJSON *training = sf_weights_training(doc);
   cJSON_AddStringToObject(training, "target", scattering ? "separate" : "transmittance_top");
@@ -813,7 +819,10 @@ static void check_case(test_case *tc) {
     add_fn(fs, &n_fs, "skyfit_preetham_sky_radiance", "fff", 3, 2, emitted_sky, &pre->sky, 1e-6, 2e-4);
     add_fn(fs, &n_fs, "skyfit_mlp_transmittance", "ff", 3, 0, emitted_mlp_t, &mt->mlp, 1.0, 2e-4);
     add_fn(fs, &n_fs, "skyfit_mlp_transmittance_segment", "fff", 3, 0, emitted_mlp_t_segment, &mt->mlp, 1.0, 1e-3);
-    add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance", "ffff", 3, 1, emitted_mlp_s, ms, 1e-6, 2e-5);
+    /* 5e-5: measured 3.2e-5 for a viewer in space (h = 31900 km) with the
+     * sky network's brightness normalisation, whose slope in mu_s multiplies
+     * the float32 rounding of mu_s where the ray enters (2e-5 before it). */
+    add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance", "ffff", 3, 1, emitted_mlp_s, ms, 1e-6, 5e-5);
     tested_function *seg = add_fn(fs, &n_fs, "skyfit_mlp_sky_radiance_segment", "fffff", 3, 1, emitted_mlp_s_segment,
                                   ms, 1e-6, 1e-3);
     seg->scale_eval = emitted_mlp_s;

@@ -1,0 +1,46 @@
+/* The brightness normalisation of a scattering network (models/mlp_sky.h,
+ * sf_mlp_output_norm): fitted to its training set, applied to the targets
+ * before training, undone for metrics.
+ *
+ * Why. The sky at dawn (sun 6° below the horizon) is hundreds of times
+ * dimmer than at noon, and plain MSE on the raw targets spends the network
+ * on the bright part: the build's network has an error the size of the image
+ * in the dawn views (bench/views_scale.sh). Dividing every target by the
+ * brightness of its altitude and sun elevation weighs each of them alike,
+ * without the log loss's weight on values near 0 (rays of length 0, the
+ * shadowed sky). A network has a fixed capacity, so this trades: the dawn
+ * views' error falls 3-5x, noon's and sunrise's rises 1.2-2x (measured in the
+ * README's figures); `skyfit fit mlp-scattering --normalise brightness`.
+ *
+ * How. The samples are grid points of the tables, so they come in slices of
+ * equal (sqrt h, mu_s): one per altitude and sun elevation, spanning every
+ * view direction and azimuth. A slice's brightness is the RMS of its
+ * targets; b(u, v) is the least-squares polynomial (degrees A in u =
+ * normalised sqrt h, C in v = normalised mu_s) through the logs of the lit
+ * slices' brightnesses (those above SF_OUTPUT_NORM_FLOOR of the largest:
+ * slices of rays of length 0, from the ground towards it, hold no light and
+ * say nothing of it). The training targets become y / exp(b); the model
+ * multiplies by exp(b). */
+#ifndef SKYFIT_FIT_OUTPUT_NORM_H
+#define SKYFIT_FIT_OUTPUT_NORM_H
+
+#include "fit/dataset.h"
+#include "models/mlp_sky.h"
+
+#define SF_OUTPUT_NORM_FLOOR 1e-6
+/* The degrees fit mlp-scattering uses: the logs of the default scene's
+ * slice brightnesses (7 orders of magnitude) are fitted to 0.1-0.3. */
+#define SF_OUTPUT_NORM_DEGREE_H 3
+#define SF_OUTPUT_NORM_DEGREE_MU_S 6
+
+/* d: a scattering set (inputs sqrt h, mu, mu_s, nu normalised, any
+ * targets). SF_ERR_INPUT if it has fewer lit slices than coefficients, no
+ * light at all, or degrees out of 0..SF_MLP_NORM_MAX_DEGREE. */
+int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_mlp_output_norm *out, sf_error *err);
+
+/* Divides d's targets by exp(b) (sf_output_norm_apply) or multiplies them
+ * back (sf_output_norm_restore). */
+void sf_output_norm_apply(const sf_mlp_output_norm *n, sf_dataset *d);
+void sf_output_norm_restore(const sf_mlp_output_norm *n, sf_dataset *d);
+
+#endif

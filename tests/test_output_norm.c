@@ -1,0 +1,217 @@
+/* The brightness normalisation of scattering networks (fit/output_norm.h,
+ * models/mlp_sky.h):
+ *  - the fit recovers a known log-brightness polynomial from a set whose
+ *    slices have exactly that RMS (unlit slices present and ignored), and
+ *    apply/restore give each slice RMS 1 and the original targets back;
+ *  - a normalised model's radiance is the raw network's times exp(b), b
+ *    summed here monomial by monomial (not by the model's Horner), in
+ *    double and float32, for the sky network and with the horizon split;
+ *  - the weights file round-trips it bit for bit, and a file with a degree
+ *    above SF_MLP_NORM_MAX_DEGREE is refused naming the key. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit/output_norm.h"
+#include "fit/train.h"
+#include "models/atmosphere_file.h"
+#include "models/mlp_sky.h"
+#include "models/rng.h"
+#include "models/single_scattering.h"
+#include "models/weights_file.h"
+#include "tests/check.h"
+
+#define NU 9    /* slices in u */
+#define NV 11   /* slices in v */
+#define PER 6   /* samples per slice (even: the pattern's RMS is exactly 1) */
+
+/* b(u, v) with degrees 2, 3, coef[a * 4 + c] of u^a v^c */
+static const double true_coef[3 * 4] = {-3.0, 2.5, -1.2, 0.4, 0.7, -0.3, 0.25, 0.1, -0.6, 0.2, 0.05, -0.15};
+
+static double true_b(double u, double v) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c < 4; ++c) sum += true_coef[a * 4 + c] * pow(u, a) * pow(v, c);
+  return sum;
+}
+
+static void test_fit(void) {
+  sf_error err = {0};
+  sf_dataset d;
+  CHECK(sf_dataset_init(&d, (long)(NU * NV + 3) * PER, 4, 3, &err) == SF_OK);
+  sf_rng rng;
+  sf_rng_seed(&rng, 5, 0, 0);
+  long i = 0;
+  /* samples of a slice interleaved with others': the fit must group them */
+  for (int k = 0; k < PER; ++k)
+    for (int s = 0; s < NU * NV + 3; ++s, ++i) {
+      int unlit = s >= NU * NV;   /* three slices of zeros at u = -1 */
+      double u = unlit ? -1.0 : -1.0 + 2.0 * (s / NV) / (NU - 1.0);
+      double v = unlit ? -0.95 + 0.1 * (s - NU * NV) : -1.0 + 2.0 * (s % NV) / (NV - 1.0);
+      double *x = d.x + i * 4, *y = d.y + i * 3;
+      x[0] = u;
+      x[1] = 2.0 * sf_rng_uniform(&rng) - 1.0;
+      x[2] = v;
+      x[3] = 2.0 * sf_rng_uniform(&rng) - 1.0;
+      /* per-sample pattern 0.5 or sqrt(1.75) in every output: mean square 1 */
+      double pattern = k % 2 ? 0.5 : sqrt(1.75);
+      for (int o = 0; o < 3; ++o) y[o] = unlit ? 0.0 : exp(true_b(u, v)) * pattern;
+    }
+  sf_mlp_output_norm n;
+  CHECK(sf_output_norm_fit(&d, 2, 3, &n, &err) == SF_OK);
+  CHECK(n.active && n.degree_h == 2 && n.degree_mu_s == 3);
+  double worst = 0.0;
+  for (int k = 0; k < 12; ++k) worst = fmax(worst, fabs(n.coef[k] - true_coef[k]));
+  printf("largest coefficient error %.3g\n", worst);
+  CHECK(worst < 1e-12);
+  double *y0 = malloc(sizeof *y0 * (size_t)d.n * 3);
+  memcpy(y0, d.y, sizeof *y0 * (size_t)d.n * 3);
+  sf_output_norm_apply(&n, &d);
+  /* every lit slice now has RMS 1: sample k of slice s is k * (NU NV + 3) + s */
+  double worst_rms = 0.0;
+  for (int s = 0; s < NU * NV; ++s) {
+    double sq = 0.0;
+    for (int k = 0; k < PER; ++k)
+      for (int o = 0; o < 3; ++o) sq += pow(d.y[((long)k * (NU * NV + 3) + s) * 3 + o], 2);
+    worst_rms = fmax(worst_rms, fabs(sqrt(sq / (PER * 3)) - 1.0));
+  }
+  printf("largest |slice RMS - 1| after apply %.3g\n", worst_rms);
+  CHECK(worst_rms < 1e-12);
+  sf_output_norm_restore(&n, &d);
+  double worst_back = 0.0;
+  for (long j = 0; j < d.n * 3; ++j)
+    worst_back = fmax(worst_back, fabs(d.y[j] - y0[j]) / (fabs(y0[j]) > 0.0 ? fabs(y0[j]) : 1.0));
+  printf("restore: largest relative change %.3g\n", worst_back);
+  CHECK(worst_back < 1e-14);
+  /* a degree out of range; more coefficients than slices (the first 40
+   * samples are 40 slices); a set of zeros */
+  CHECK(sf_output_norm_fit(&d, 8, 1, &n, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  long all = d.n;
+  d.n = 40;
+  sf_error_clear(&err);
+  CHECK(sf_output_norm_fit(&d, 7, 7, &n, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  d.n = all;
+  for (long j = 0; j < d.n * 3; ++j) d.y[j] = 0.0;
+  sf_error_clear(&err);
+  CHECK(sf_output_norm_fit(&d, 1, 1, &n, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  free(y0);
+  sf_dataset_free(&d);
+}
+
+static sf_mlp random_network(uint64_t seed) {
+  sf_mlp_shape ss = {3, {4, 8, 8, 9}, SF_ACT_SIGMOID, SF_ACT_EXP_NEG};
+  sf_mlp net;
+  sf_mlp_init(&net, &ss);
+  sf_mlp_init_xavier(&ss, seed, 1, net.params);
+  return net;
+}
+
+static void make_model(const sf_atmosphere *atm, int split, sf_mlp_sky *s) {
+  sf_error err = {0};
+  double top = atm->top_radius_km - atm->bottom_radius_km;
+  double off[4] = {0.5 * sqrt(top), 0.0, 0.4, 0.0}, sc[4] = {2.0 / sqrt(top), 1.0, 1.0 / 0.6, 1.0};
+  int constituents[2] = {0, 1};
+  sf_mlp net = random_network(3);
+  CHECK(sf_mlp_sky_make(s, &net, SF_MLP_TARGET_SEPARATE, atm, off, sc, 2, constituents, &err) == SF_OK);
+  if (split) {
+    sf_mlp ground = random_network(4);
+    CHECK(sf_mlp_sky_set_ground_net(s, &ground, &err) == SF_OK);
+  }
+}
+
+static void test_model(const sf_atmosphere *atm, int split) {
+  sf_error err = {0};
+  sf_mlp_sky raw, normed;
+  make_model(atm, split, &raw);
+  make_model(atm, split, &normed);
+  sf_mlp_output_norm n;
+  memset(&n, 0, sizeof n);
+  n.degree_h = 2;
+  n.degree_mu_s = 3;
+  memcpy(n.coef, true_coef, sizeof true_coef);
+  CHECK(sf_mlp_sky_set_output_norm(&normed, 0, &n, &err) == SF_OK);
+  sf_rng rng;
+  sf_rng_seed(&rng, 9, split, 0);
+  double worst_d = 0.0, worst_f = 0.0;
+  int ground_rays = 0;
+  for (int i = 0; i < 4000; ++i) {
+    double h = 100.0 * pow(sf_rng_uniform(&rng), 2.0), mu = 2.0 * sf_rng_uniform(&rng) - 1.0;
+    double mu_s = 2.0 * sf_rng_uniform(&rng) - 1.0, nu = 2.0 * sf_rng_uniform(&rng) - 1.0;
+    nu = sf_clamp_nu(mu, mu_s, nu);
+    int ground = split && sf_mlp_ray_ends_on_ground(atm->bottom_radius_km, h, mu);
+    ground_rays += ground;
+    double L0[3], L1[3];
+    float F0[3], F1[3];
+    sf_mlp_scattering(&raw, h, mu, mu_s, nu, L0);
+    sf_mlp_scattering(&normed, h, mu, mu_s, nu, L1);
+    sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s, (float)nu, F0);
+    sf_mlp_scattering_f(&normed, (float)h, (float)mu, (float)mu_s, (float)nu, F1);
+    /* the ground network has no normalisation: factor 1 there */
+    double f = ground ? 1.0 : exp(true_b((sqrt(h) - raw.offset[0]) * raw.scale[0], (mu_s - raw.offset[2]) * raw.scale[2]));
+    for (int c = 0; c < 3; ++c) {
+      if (L0[c] > 0.0) worst_d = fmax(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
+      if (F0[c] > 0.0f) worst_f = fmax(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
+    }
+  }
+  printf("split %d (%d ground rays): normalised / raw vs exp(b): double %.3g, float32 %.3g\n", split, ground_rays,
+         worst_d, worst_f);
+  CHECK(worst_d < 1e-13);
+  CHECK(worst_f < 1e-5);
+  CHECK(!split || ground_rays > 100);
+  /* weights round trip */
+  sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -1.0, 1.0};
+  cJSON *doc = sf_weights_new("mlp-scattering", "sky_radiance", atm, &domain);
+  static const char *const names[4] = {"sqrt_h_km", "mu", "mu_s", "nu"};
+  for (int k = 0; k < 4; ++k) sf_weights_add_input(doc, names[k], normed.offset[k], normed.scale[k]);
+  cJSON *training = sf_weights_training(doc);
+  cJSON_AddStringToObject(training, "target", "separate");
+  cJSON *comps = cJSON_AddArrayToObject(training, "components");
+  cJSON_AddItemToArray(comps, cJSON_CreateString("rayleigh"));
+  cJSON_AddItemToArray(comps, cJSON_CreateString("mie"));
+  cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
+  CHECK(sf_mlp_add_to_weights(doc, &normed.net) == SF_OK);
+  if (split) CHECK(sf_mlp_add_params_to_weights(doc, &normed.net_ground, "ground_") == SF_OK);
+  CHECK(sf_mlp_sky_add_norms_to_weights(doc, &normed) == SF_OK);
+  char *text = sf_weights_print(doc);
+  sf_weights w;
+  sf_mlp_sky back;
+  CHECK(text && sf_weights_load_string(text, "normed.json", NULL, &w, &err) == SF_OK);
+  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_OK);
+  CHECK(back.norm.active && !back.norm_ground.active && back.norm.degree_h == 2 && back.norm.degree_mu_s == 3);
+  CHECK(memcmp(back.norm.coef, normed.norm.coef, sizeof true_coef) == 0);
+  double a[3], b[3];
+  sf_mlp_scattering(&normed, 1.5, 0.2, 0.1, 0.3, a);
+  sf_mlp_scattering(&back, 1.5, 0.2, 0.1, 0.3, b);
+  CHECK(memcmp(a, b, sizeof a) == 0);
+  sf_mlp_sky_free(&back);
+  sf_weights_free(&w);
+  free(text);
+  /* degree 8 in u: refused, naming the file and key */
+  sf_error_clear(&err);
+  double big[9 * 2] = {0};
+  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_coef");
+  sf_weights_add_param(doc, "norm_coef", 2, (const int[]){9, 2}, big);
+  text = sf_weights_print(doc);
+  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
+  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  CHECK(strstr(err.message, "bad.json") && strstr(err.message, "params.norm_coef"));
+  sf_weights_free(&w);
+  free(text);
+  cJSON_Delete(doc);
+  sf_mlp_sky_free(&raw);
+  sf_mlp_sky_free(&normed);
+}
+
+int main(void) {
+  test_fit();
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  test_model(&atm, 0);
+  test_model(&atm, 1);
+  return check_summary();
+}
