@@ -309,8 +309,15 @@ static int run_sky(int argc, char **argv, int scattering) {
   sf_mlp_output_norm norm;
   memset(&norm, 0, sizeof norm);
   if (scattering && job.normalise) {
-    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &err)) goto fail;
-    sf_output_norm_apply(&norm, &data);
+    sf_error nerr = {0};
+    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK)
+      sf_output_norm_apply(&norm, &data);
+    else if (nerr.status == SF_ERR_INPUT)   /* too coarse a table for the polynomial: raw targets */
+      fprintf(stderr, "%s: training without the brightness normalisation: %s\n", command, nerr.message);
+    else {
+      err = nerr;
+      goto fail;
+    }
   }
 
   int np = sf_mlp_param_count(&t->shape);

@@ -185,7 +185,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
                             .orders = topt.orders, .seed = o->report.seed, .quick = o->quick,
                             .mlp_transmittance_epochs = o->mlp_transmittance_epochs,
                             .mlp_scattering_epochs = o->mlp_scattering_epochs,
-                            .mlp_scattering_samples = o->mlp_scattering_samples, .run = o->report.run,
+                            .mlp_scattering_samples = o->mlp_scattering_samples,
+                            .mlp_scattering_normalise = o->mlp_scattering_normalise, .run = o->report.run,
                             .note = log_note, .note_ctx = notes};
   sf_candidate_list list;
   sf_candidate_list_init(&list);

@@ -59,7 +59,7 @@ typedef void (*sf_candidate_eval_f32_fn)(const void *ctx, size_t n, const float 
 typedef struct sf_candidate {
   char name[48];           /* short id, [a-z0-9_-]: file names, JSON keys ("naive16") */
   char label[96];          /* for people ("Naive raymarch, 16 steps") */
-  char description[320];   /* one or two sentences: what it is, where it comes from */
+  char description[400];   /* one or two sentences: what it is, where it comes from */
   sf_candidate_quantity quantity;
   sf_candidate_role role;
   int n_channels;

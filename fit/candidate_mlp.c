@@ -24,6 +24,7 @@
 #include "fit/candidate_fitted.h"
 #include "fit/dataset_sky.h"
 #include "fit/mlp_lm.h"
+#include "fit/output_norm.h"
 #include "fit/train.h"
 #include "models/mlp_sky.h"
 
@@ -83,6 +84,7 @@ typedef struct mlp_job {
   long max_samples;          /* training samples kept, <= 0: all */
   int polish_iterations;     /* Levenberg-Marquardt steps after Adam (fit/mlp_lm.h) */
   long polish_samples;       /* samples forming J^T J, <= 0: all */
+  int normalise;             /* scattering: the sky network's brightness normalisation */
 } mlp_job;
 
 static void train_progress(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
@@ -153,6 +155,20 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
                                                                  SF_MLP_INPUTS_BRUNETON, &data, err);
   int split = ground.n > 0;   /* empty: a half too small, one network */
   double n_all = (double)data.n + (double)ground.n;
+  /* The sky network's targets divided by their brightness (fit/output_norm.h);
+   * the ground network's stay raw (it measured worse normalised). */
+  sf_mlp_output_norm norm;
+  memset(&norm, 0, sizeof norm);
+  if (status == SF_OK && job->normalise) {
+    sf_error nerr = {0};
+    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK)
+      sf_output_norm_apply(&norm, &data);
+    else if (in->note) {   /* too coarse a table for the polynomial: raw targets */
+      char text[1200];
+      snprintf(text, sizeof text, "%s: trained without the brightness normalisation: %s", job->name, nerr.message);
+      in->note(in->note_ctx, text);
+    }
+  }
   if (status == SF_OK) {
     char layers[64];
     int nch = in->atm->n_channels;
@@ -192,6 +208,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     status = sf_mlp_sky_make(model, &result.net, target, in->atm, offset, scale, n_single, constituent, err);
     if (status == SF_OK && !job->scattering) model->input_map = SF_MLP_INPUTS_BRUNETON;
     if (status == SF_OK && split) status = sf_mlp_sky_set_ground_net(model, &result_ground.net, err);
+    if (status == SF_OK && norm.active) status = sf_mlp_sky_set_output_norm(model, 0, &norm, err);
   }
   sf_mlp_free(&result.net);
   sf_mlp_free(&result_ground.net);
@@ -212,9 +229,11 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
       cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
     }
     if (sf_mlp_add_to_weights(doc, &model->net) != SF_OK ||
-        (model->horizon_split && sf_mlp_add_params_to_weights(doc, &model->net_ground, "ground_") != SF_OK))
+        (model->horizon_split && sf_mlp_add_params_to_weights(doc, &model->net_ground, "ground_") != SF_OK) ||
+        sf_mlp_sky_add_norms_to_weights(doc, model) != SF_OK)
       status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     if (job->scattering) cJSON_AddStringToObject(training, "split", model->horizon_split ? "horizon" : "none");
+    if (job->scattering) cJSON_AddStringToObject(training, "normalise", norm.active ? "brightness" : "none");
     cJSON_AddNumberToObject(training, "seed", (double)job->train.seed);
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
     cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
@@ -249,7 +268,13 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   sf_cache_key_add_number(&key, "polish", job->polish_iterations);
   sf_cache_key_add_number(&key, "polish_samples", (double)job->polish_samples);
   if (!job->scattering) sf_cache_key_add_number(&key, "input_map", SF_MLP_INPUTS_BRUNETON);
-  else sf_cache_key_add_number(&key, "split_min_samples", SF_MLP_SPLIT_MIN_SAMPLES);   /* horizon split */
+  else {
+    sf_cache_key_add_number(&key, "split_min_samples", SF_MLP_SPLIT_MIN_SAMPLES);   /* horizon split */
+    if (job->normalise) {   /* brightness */
+      sf_cache_key_add_number(&key, "norm_degree_h", SF_OUTPUT_NORM_DEGREE_H);
+      sf_cache_key_add_number(&key, "norm_degree_mu_s", SF_OUTPUT_NORM_DEGREE_MU_S);
+    }
+  }
   char path[4400];
   if (sf_cache_path(in->cache_dir, "fits", job->name, &key, path, sizeof path, err) != SF_OK) return err->status;
   sf_mlp_sky *m = calloc(1, sizeof *m);
@@ -302,10 +327,11 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     snprintf(out->description, sizeof out->description,
              "%s %s, sigmoid hidden units, exp(-x) outputs (seed 000 §9.6.2): single scattering per "
              "constituent (phase applied exactly) and multiple; %d epochs of Adam on %s of the tables' grid "
-             "points in the domain.",
+             "points in the domain%s.",
              m->horizon_split ? "Two networks split at the horizon (rays to the sky, rays to the ground; one "
                                 "per pixel)," : "Network",
-             shape, job->train.epochs, job->max_samples > 0 ? "a seeded subset" : "all");
+             shape, job->train.epochs, job->max_samples > 0 ? "a seeded subset" : "all",
+             m->norm.active ? "; sky network brightness-normalised" : "");
   else
     snprintf(out->description, sizeof out->description,
              "Network %s on Bruneton's inputs (x_r, x_mu), sigmoid hidden units, exp(-exp(-z)) output (seed 000 eq. 41) = transmittance to the top (seed 000 §9.6.1); rays to the "
@@ -382,6 +408,7 @@ int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate
   job.max_samples = in->mlp_scattering_samples < 0   ? 0
                     : in->mlp_scattering_samples > 0 ? in->mlp_scattering_samples
                                                      : SF_BUILD_MLP_SCATTERING_SAMPLES;
+  job.normalise = in->mlp_scattering_normalise;
   job.train.seed = in->seed;
   return make(in, &job, out, err);
 }

@@ -106,7 +106,8 @@ else
 fi
 
 # The example scenes (examples/scenes/): ground-only picks Preetham or Hosek;
-# the dusty Mars-like atmosphere is retrained end to end; spectral4 fits the
+# the dusty Mars-like atmosphere is retrained end to end (its sky network
+# brightness-normalised, fit/output_norm.h); spectral4 fits the
 # 4 wavelengths and beats plain RGB at 680/550/440 nm in ΔE2000.
 tiny=(--resolution 32x16,8x16x8x4 --no-views --samples 2000 --timing-points 2000 --repetitions 1 --mlp-epochs 10,1 --quick --quiet)
 src=${SKYFIT_SOURCE_DIR:?}
@@ -115,7 +116,7 @@ rc=$?
 grep "chose" "$tmp/ground.out"
 [ $rc -eq 0 ] && grep -Eq "sky_radiance: chose (preetham|hosek) \(meets the budget\)" "$tmp/ground.out" \
   || { echo "FAIL ground scene: Preetham/Hosek should win"; cat "$tmp/ground.out"; fail=1; }
-"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --out "$tmp/mars" > "$tmp/mars.out" 2>&1
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise brightness --out "$tmp/mars" > "$tmp/mars.out" 2>&1
 rc=$?
 grep "chose" "$tmp/mars.out"
 python3 - "$tmp/mars/metrics.json" <<'PY' || fail=1
@@ -127,6 +128,8 @@ names = sorted(m["name"] for m in fitted)
 assert names == ["hosek", "mlp-scattering", "mlp-transmittance", "preetham", "sigmoid"], names
 for m in fitted:
     assert all(math.isfinite(m["errors"][k]) for k in ("rmse", "max_abs", "rel_rmse")), m
+w = json.load(open(sys.argv[1].replace("metrics.json", "weights/mlp-scattering.json")))
+assert "norm_coef" in w["params"] and w["training"]["normalise"] == "brightness", w["training"]
 print("mars: fitted " + ", ".join(f"{m['name']} (rel RMSE {m['errors']['rel_rmse']:.3g})" for m in fitted))
 PY
 [ $rc -eq 0 ] || { echo "FAIL mars build exited $rc"; cat "$tmp/mars.out"; fail=1; }
