@@ -124,8 +124,10 @@ void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, doub
  * was trained on targets y / exp(b(u, v)), so its outputs are multiplied
  * back by
  *   exp(b(u, v)),   b(u, v) = sum_{a<=A, c<=C} coef[a (C+1) + c] u^a v^c,
- * u, v the network's normalised inputs 0 (sqrt h) and 2 (mu_s), A = degree_h,
- * C = degree_mu_s, evaluated by Horner's rule in v, then in u. exp(b) is the
+ * u, v the network's normalised inputs 0 (sqrt h) and 2 (mu_s), clamped to
+ * [-1, 1] (the fitted range: a polynomial of degree 6 outside it is
+ * anything; a sun far below the domain's keeps the brightness of its edge),
+ * A = degree_h, C = degree_mu_s, evaluated by Horner's rule in v, then in u. exp(b) is the
  * sky's brightness at that altitude and sun elevation (fit/output_norm.h
  * fits it), so the loss weighs every situation by its own brightness: the
  * dawn sky is hundreds of times dimmer than noon's and plain MSE does not

@@ -4,8 +4,9 @@
  *    slices have exactly that RMS (unlit slices present and ignored), and
  *    apply/restore give each slice RMS 1 and the original targets back;
  *  - a normalised model's radiance is the raw network's times exp(b), b
- *    summed here monomial by monomial (not by the model's Horner), in
- *    double and float32, for the sky network and with the horizon split;
+ *    summed here monomial by monomial (not by the model's Horner) at its
+ *    arguments clamped to [-1, 1], in double and float32, for the sky
+ *    network and with the horizon split;
  *  - the weights file round-trips it bit for bit, and a file with a degree
  *    above SF_MLP_NORM_MAX_DEGREE is refused naming the key. */
 #include <math.h>
@@ -150,8 +151,10 @@ static void test_model(const sf_atmosphere *atm, int split) {
     sf_mlp_scattering(&normed, h, mu, mu_s, nu, L1);
     sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s, (float)nu, F0);
     sf_mlp_scattering_f(&normed, (float)h, (float)mu, (float)mu_s, (float)nu, F1);
-    /* the ground network has no normalisation: factor 1 there */
-    double f = ground ? 1.0 : exp(true_b((sqrt(h) - raw.offset[0]) * raw.scale[0], (mu_s - raw.offset[2]) * raw.scale[2]));
+    /* the ground network has no normalisation: factor 1 there; b's
+     * arguments clamped to [-1, 1] (x2 reaches -2.3 here) */
+    double u = (sqrt(h) - raw.offset[0]) * raw.scale[0], v = (mu_s - raw.offset[2]) * raw.scale[2];
+    double f = ground ? 1.0 : exp(true_b(fmin(fmax(u, -1.0), 1.0), fmin(fmax(v, -1.0), 1.0)));
     for (int c = 0; c < 3; ++c) {
       if (L0[c] > 0.0) worst_d = fmax(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
       if (F0[c] > 0.0f) worst_f = fmax(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
