@@ -379,19 +379,21 @@ static void emit_phase(sf_code_writer *w, int k, const sf_phase *p) {
   sf_cw_emit(w, "  float p%d = 0.0f;\n", k);
 }
 
-/* float brightness = exp(b(x0, x2)) of a brightness-normalised network
- * (models/mlp_sky.h), Horner's rule in the model's float order. */
+/* float brightness = exp(b) of a brightness-normalised network
+ * (models/mlp_sky.h: the polynomial at the inputs clamped to the fitted
+ * square, dimming on below its lowest sun), in the model's float order. */
 static void emit_brightness(sf_code_writer *w, const sf_mlp_output_norm *n) {
   int C = n->degree_mu_s;
-  sf_cw_emit(w, "  float lb = 0.0f, q;  /* log brightness of (sqrt h, mu_s), fit/output_norm.h */\n"
-                "  float bu = @min(@max(x0, -1.0f), 1.0f), bv = @min(@max(x2, -1.0f), 1.0f);\n");
+  sf_cw_emit(w, "  /* log brightness of (sqrt h, mu_s), fit/output_norm.h */\n"
+                "  float bu = @min(@max(x0, -1.0f), 1.0f), bv = @min(@max(x2, -1.0f), 1.0f);\n"
+                "  float lb = 0.0f, slope = 0.0f, q;\n");
   for (int a = n->degree_h; a >= 0; --a) {
     const float *row = n->coef_f + a * (C + 1);
     sf_cw_emit(w, "  q = %F;\n", (double)row[C]);
     for (int c = C - 1; c >= 0; --c) sf_cw_emit(w, "  q = q * bv + %F;\n", (double)row[c]);
-    sf_cw_emit(w, "  lb = lb * bu + q;\n");
+    sf_cw_emit(w, "  lb = lb * bu + q;\n  slope = slope * bu + %F;\n", (double)n->edge_slope_f[a]);
   }
-  sf_cw_emit(w, "  float brightness = @exp(lb);\n");
+  sf_cw_emit(w, "  float brightness = @exp(lb + @max(slope, 0.0f) * @min(x2 + 1.0f, 0.0f));\n");
 }
 
 void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp_sky *t) {

@@ -83,7 +83,7 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_ml
   if (status != SF_OK) return status;
   out->degree_h = degree_h;
   out->degree_mu_s = degree_mu_s;
-  out->active = 1;
+  sf_mlp_output_norm_finish(out);
   return SF_OK;
 }
 

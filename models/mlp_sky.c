@@ -55,6 +55,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define OFFSET offset
 #define SCALE scale
 #define NORM_COEF coef
+#define NORM_SLOPE edge_slope
 #include "models/mlp_sky_impl.inc"
 #undef REAL
 #undef SKY_FN
@@ -69,6 +70,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef OFFSET
 #undef SCALE
 #undef NORM_COEF
+#undef NORM_SLOPE
 
 #define REAL float
 #define SKY_FN(name) name##_f
@@ -83,6 +85,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define OFFSET offset_f
 #define SCALE scale_f
 #define NORM_COEF coef_f
+#define NORM_SLOPE edge_slope_f
 #include "models/mlp_sky_impl.inc"
 
 static const char *const input_map_names[] = {"sqrt_h_mu", "bruneton"};
@@ -187,6 +190,22 @@ int sf_mlp_sky_set_ground_net(sf_mlp_sky *m, sf_mlp *net, sf_error *err) {
   return SF_OK;
 }
 
+void sf_mlp_output_norm_finish(sf_mlp_output_norm *n) {
+  int A = n->degree_h, C = n->degree_mu_s, n_coef = (A + 1) * (C + 1);
+  for (int k = 0; k < SF_MLP_NORM_MAX_COEFS; ++k) {
+    if (k >= n_coef) n->coef[k] = 0.0;
+    n->coef_f[k] = (float)n->coef[k];
+  }
+  /* dP/dv at v = -1: sum_c c coef[a][c] (-1)^(c-1) */
+  for (int a = 0; a <= SF_MLP_NORM_MAX_DEGREE; ++a) {
+    double s = 0.0;
+    for (int c = 1; a <= A && c <= C; ++c) s += (c % 2 ? 1.0 : -1.0) * c * n->coef[a * (C + 1) + c];
+    n->edge_slope[a] = s;
+    n->edge_slope_f[a] = (float)s;
+  }
+  n->active = 1;
+}
+
 double sf_mlp_output_norm_log_brightness(const sf_mlp_output_norm *n, double u, double v) {
   return log_brightness(n, u, v);
 }
@@ -202,9 +221,7 @@ int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_no
                    norm->degree_mu_s, SF_MLP_NORM_MAX_DEGREE);
   sf_mlp_output_norm *dst = ground ? &m->norm_ground : &m->norm;
   *dst = *norm;
-  dst->active = 1;
-  int n_coef = (norm->degree_h + 1) * (norm->degree_mu_s + 1);
-  for (int k = 0; k < SF_MLP_NORM_MAX_COEFS; ++k) dst->coef_f[k] = k < n_coef ? (float)dst->coef[k] : 0.0f;
+  sf_mlp_output_norm_finish(dst);
   return SF_OK;
 }
 

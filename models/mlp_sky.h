@@ -121,26 +121,35 @@ void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, doub
 
 /* Brightness normalisation of a scattering network (optional, per
  * network; `skyfit fit mlp-scattering --normalise brightness`): the network
- * was trained on targets y / exp(b(u, v)), so its outputs are multiplied
- * back by
- *   exp(b(u, v)),   b(u, v) = sum_{a<=A, c<=C} coef[a (C+1) + c] u^a v^c,
- * u, v the network's normalised inputs 0 (sqrt h) and 2 (mu_s), clamped to
- * [-1, 1] (the fitted range: a polynomial of degree 6 outside it is
- * anything; a sun far below the domain's keeps the brightness of its edge),
- * A = degree_h, C = degree_mu_s, evaluated by Horner's rule in v, then in u. exp(b) is the
- * sky's brightness at that altitude and sun elevation (fit/output_norm.h
- * fits it), so the loss weighs every situation by its own brightness: the
- * dawn sky is hundreds of times dimmer than noon's and plain MSE does not
- * see it. */
+ * was trained on targets y / exp(b), so its outputs are multiplied back by
+ * exp(b). exp(b) is the sky's brightness at that altitude and sun elevation
+ * (fit/output_norm.h fits it), so the loss weighs every situation by its
+ * own brightness: the dawn sky is hundreds of times dimmer than noon's and
+ * plain MSE does not see it. With u, v the network's normalised inputs 0
+ * (sqrt h) and 2 (mu_s), A = degree_h, C = degree_mu_s,
+ *   P(u, v) = sum_{a<=A, c<=C} coef[a (C+1) + c] u^a v^c   (Horner in v, then u)
+ * is fitted on [-1, 1]^2, and outside it a polynomial of degree 6 is
+ * anything, so
+ *   b = P(u', v') + max(S(u'), 0) * min(v + 1, 0),   u', v' = u, v clamped to [-1, 1],
+ *   S(u) = dP/dv (u, -1) = sum_a edge_slope[a] u^a    (Horner in u):
+ * a sun below the domain's lowest (v < -1; the night side seen from space)
+ * dims on at the rate it dims at that edge, never brighter; a sun above
+ * the highest keeps its brightness. The model evaluates this operation for
+ * operation in double and float32, and so does the emitted code. */
 #define SF_MLP_NORM_MAX_DEGREE 7
 #define SF_MLP_NORM_MAX_COEFS ((SF_MLP_NORM_MAX_DEGREE + 1) * (SF_MLP_NORM_MAX_DEGREE + 1))
 typedef struct sf_mlp_output_norm {
   int active;                   /* 0: outputs as the network gives them */
   int degree_h, degree_mu_s;
   double coef[SF_MLP_NORM_MAX_COEFS];
-  float coef_f[SF_MLP_NORM_MAX_COEFS];
+  /* derived by sf_mlp_output_norm_finish: */
+  double edge_slope[SF_MLP_NORM_MAX_DEGREE + 1];
+  float coef_f[SF_MLP_NORM_MAX_COEFS], edge_slope_f[SF_MLP_NORM_MAX_DEGREE + 1];
 } sf_mlp_output_norm;
 
+/* Fills the derived members (float32 copies, edge_slope) from degree_h,
+ * degree_mu_s and coef, and sets active. */
+void sf_mlp_output_norm_finish(sf_mlp_output_norm *n);
 /* b(u, v) above, in double. */
 double sf_mlp_output_norm_log_brightness(const sf_mlp_output_norm *n, double u, double v);
 

@@ -4,9 +4,10 @@
  *    slices have exactly that RMS (unlit slices present and ignored), and
  *    apply/restore give each slice RMS 1 and the original targets back;
  *  - a normalised model's radiance is the raw network's times exp(b), b
- *    summed here monomial by monomial (not by the model's Horner) at its
- *    arguments clamped to [-1, 1], in double and float32, for the sky
- *    network and with the horizon split;
+ *    from its definition (models/mlp_sky.h: the polynomial summed here
+ *    monomial by monomial at the clamped inputs, its slope term by term
+ *    below the lowest sun), not by the model's Horner, in double and
+ *    float32, for the sky network and with the horizon split;
  *  - the weights file round-trips it bit for bit, and a file with a degree
  *    above SF_MLP_NORM_MAX_DEGREE is refused naming the key. */
 #include <math.h>
@@ -35,6 +36,16 @@ static double true_b(double u, double v) {
   for (int a = 0; a < 3; ++a)
     for (int c = 0; c < 4; ++c) sum += true_coef[a * 4 + c] * pow(u, a) * pow(v, c);
   return sum;
+}
+
+/* The model's b (models/mlp_sky.h) from the definition: the polynomial at
+ * the clamped inputs, and below v = -1 its slope there (d/dv summed term
+ * by term), never rising. */
+static double model_b(double u, double v) {
+  double uc = fmin(fmax(u, -1.0), 1.0), vc = fmin(fmax(v, -1.0), 1.0), slope = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int c = 1; c < 4; ++c) slope += true_coef[a * 4 + c] * pow(uc, a) * c * pow(-1.0, c - 1);
+  return true_b(uc, vc) + fmax(slope, 0.0) * fmin(v + 1.0, 0.0);
 }
 
 static void test_fit(void) {
@@ -138,7 +149,7 @@ static void test_model(const sf_atmosphere *atm, int split) {
   sf_rng rng;
   sf_rng_seed(&rng, 9, split, 0);
   double worst_d = 0.0, worst_f = 0.0;
-  int ground_rays = 0;
+  int ground_rays = 0, below = 0;
   for (int i = 0; i < 4000; ++i) {
     double h = 100.0 * pow(sf_rng_uniform(&rng), 2.0), mu = 2.0 * sf_rng_uniform(&rng) - 1.0;
     double mu_s = 2.0 * sf_rng_uniform(&rng) - 1.0, nu = 2.0 * sf_rng_uniform(&rng) - 1.0;
@@ -151,20 +162,25 @@ static void test_model(const sf_atmosphere *atm, int split) {
     sf_mlp_scattering(&normed, h, mu, mu_s, nu, L1);
     sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s, (float)nu, F0);
     sf_mlp_scattering_f(&normed, (float)h, (float)mu, (float)mu_s, (float)nu, F1);
-    /* the ground network has no normalisation: factor 1 there; b's
-     * arguments clamped to [-1, 1] (x2 reaches -2.3 here) */
+    /* the ground network has no normalisation: factor 1 there (x2 reaches
+     * -2.3 here: b extrapolated below the fitted square) */
     double u = (sqrt(h) - raw.offset[0]) * raw.scale[0], v = (mu_s - raw.offset[2]) * raw.scale[2];
-    double f = ground ? 1.0 : exp(true_b(fmin(fmax(u, -1.0), 1.0), fmin(fmax(v, -1.0), 1.0)));
+    double f = ground ? 1.0 : exp(model_b(u, v));
+    below += !ground && v < -1.0;
     for (int c = 0; c < 3; ++c) {
       if (L0[c] > 0.0) worst_d = fmax(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
       if (F0[c] > 0.0f) worst_f = fmax(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
     }
   }
-  printf("split %d (%d ground rays): normalised / raw vs exp(b): double %.3g, float32 %.3g\n", split, ground_rays,
-         worst_d, worst_f);
+  printf("split %d (%d ground rays, %d sky rays with the sun below the square): normalised / raw vs exp(b): "
+         "double %.3g, float32 %.3g\n", split, ground_rays, below, worst_d, worst_f);
   CHECK(worst_d < 1e-13);
   CHECK(worst_f < 1e-5);
   CHECK(!split || ground_rays > 100);
+  CHECK(below > 500);
+  /* the slope at v = -1 of this polynomial is positive over u in [0, 1]:
+   * b keeps falling below the square */
+  CHECK(model_b(0.5, -2.0) < model_b(0.5, -1.0) - 1.0);
   /* weights round trip */
   sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -1.0, 1.0};
   cJSON *doc = sf_weights_new("mlp-scattering", "sky_radiance", atm, &domain);
