@@ -87,6 +87,17 @@ static cJSON *error_json(const sf_mlp_error *e, const sf_atmosphere *atm) {
   return o;
 }
 
+/* An option of two values, on and "none": *out = 1 for on, 0 for none;
+ * -1 (said) for anything else. */
+static int parse_switch(const char *command, const char *option, const char *value, const char *on, int *out) {
+  if (strcmp(value, on) != 0 && strcmp(value, "none") != 0) {
+    fprintf(stderr, "%s: %s: expected %s or none, got '%s'\n", command, option, on, value);
+    return -1;
+  }
+  *out = strcmp(value, on) == 0;
+  return 0;
+}
+
 /* One network of the command: held-out split, Adam (checkpointing to
  * checkpoint, resuming from it if resume), then the polish. Returns SF_OK,
  * -1 when interrupted (checkpoint written, said), or an error status. */
@@ -176,19 +187,9 @@ static int run_sky(int argc, char **argv, int scattering) {
         return 2;
       }
     } else if (scattering && strcmp(a, "--split") == 0) {
-      const char *v = argv[++i];
-      if (strcmp(v, "horizon") != 0 && strcmp(v, "none") != 0) {
-        fprintf(stderr, "%s: --split: expected horizon or none, got '%s'\n", command, v);
-        return 2;
-      }
-      job.split = strcmp(v, "horizon") == 0;
+      if (parse_switch(command, a, argv[++i], "horizon", &job.split)) return 2;
     } else if (scattering && strcmp(a, "--normalise") == 0) {
-      const char *v = argv[++i];
-      if (strcmp(v, "brightness") != 0 && strcmp(v, "none") != 0) {
-        fprintf(stderr, "%s: --normalise: expected none or brightness, got '%s'\n", command, v);
-        return 2;
-      }
-      job.normalise = strcmp(v, "brightness") == 0;
+      if (parse_switch(command, a, argv[++i], "brightness", &job.normalise)) return 2;
     } else if (scattering && strcmp(a, "--target") == 0) {
       const char *v = argv[++i];
       if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {

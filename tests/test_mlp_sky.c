@@ -23,6 +23,7 @@
 #include "models/rng.h"
 #include "models/single_scattering.h"
 #include "tests/check.h"
+#include "tests/mlp_scattering_test_weights.h"
 
 /* split: the scattering model also gets a ground-ray network (the horizon
  * split of models/mlp_sky.h), another random one. */
@@ -148,15 +149,7 @@ static void test_horizon_split(const sf_atmosphere *atm) {
   if (fd >= 0) close(fd);
   sf_scene_domain dom = {0.0, 100.0, -1.0, 1.0, -0.2, 1.0};
   for (int bad = 0; bad < 2; ++bad) {
-    cJSON *doc = sf_weights_new("mlp-scattering", "sky_radiance", atm, &dom);
-    static const char *const names[4] = {"sqrt_h_km", "mu", "mu_s", "nu"};
-    for (int k = 0; k < 4; ++k) sf_weights_add_input(doc, names[k], off[k], sc[k]);
-    cJSON *training = sf_weights_training(doc);
-    cJSON_AddStringToObject(training, "target", "separate");
-    cJSON *comps = cJSON_AddArrayToObject(training, "components");
-    cJSON_AddItemToArray(comps, cJSON_CreateString("rayleigh"));
-    cJSON_AddItemToArray(comps, cJSON_CreateString("mie"));
-    cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
+    cJSON *doc = mlp_scattering_weights_doc(atm, &dom, off, sc);
     sf_mlp_add_to_weights(doc, &split.net);
     sf_mlp other;
     sf_mlp_shape wide = {3, {4, 8, 6, 9}, SF_ACT_SIGMOID, SF_ACT_EXP_NEG};

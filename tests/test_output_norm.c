@@ -23,6 +23,7 @@
 #include "models/single_scattering.h"
 #include "models/weights_file.h"
 #include "tests/check.h"
+#include "tests/mlp_scattering_test_weights.h"
 
 #define NU 9    /* slices in u */
 #define NV 11   /* slices in v */
@@ -183,15 +184,7 @@ static void test_model(const sf_atmosphere *atm, int split) {
   CHECK(model_b(0.5, -2.0) < model_b(0.5, -1.0) - 1.0);
   /* weights round trip */
   sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -1.0, 1.0};
-  cJSON *doc = sf_weights_new("mlp-scattering", "sky_radiance", atm, &domain);
-  static const char *const names[4] = {"sqrt_h_km", "mu", "mu_s", "nu"};
-  for (int k = 0; k < 4; ++k) sf_weights_add_input(doc, names[k], normed.offset[k], normed.scale[k]);
-  cJSON *training = sf_weights_training(doc);
-  cJSON_AddStringToObject(training, "target", "separate");
-  cJSON *comps = cJSON_AddArrayToObject(training, "components");
-  cJSON_AddItemToArray(comps, cJSON_CreateString("rayleigh"));
-  cJSON_AddItemToArray(comps, cJSON_CreateString("mie"));
-  cJSON_AddItemToArray(comps, cJSON_CreateString("multiple"));
+  cJSON *doc = mlp_scattering_weights_doc(atm, &domain, normed.offset, normed.scale);
   CHECK(sf_mlp_add_to_weights(doc, &normed.net) == SF_OK);
   if (split) CHECK(sf_mlp_add_params_to_weights(doc, &normed.net_ground, "ground_") == SF_OK);
   CHECK(sf_mlp_sky_add_norms_to_weights(doc, &normed) == SF_OK);
