@@ -29,6 +29,18 @@ grep -q '"norm_coef"' "$TMP/n1.json" && ! grep -q '"ground_norm_coef"' "$TMP/n1.
   fail "--normalise brightness: norm_coef missing or misplaced"
 cmp -s "$TMP/n1.json" "$TMP/n2.json" && pass "normalised weights identical for 1 and 2 threads" ||
   fail "thread count changed the normalised weights"
+# interrupted in the normalised sky network, resumed: the normalisation is
+# fitted again from the same data, to the straight run's bytes
+set +e
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/nr.json" \
+  --stop-after-epochs 2 --quiet
+rc=$?
+set -e
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/nr.json" \
+  --resume --quiet
+[ "$rc" = 130 ] && cmp -s "$TMP/nr.json" "$TMP/n1.json" &&
+  pass "normalised, interrupted after 2 epochs and resumed: identical to the straight run" ||
+  fail "normalised resume: rc $rc, or the weights differ"
 
 # the scattering model split at the horizon (models/mlp_sky.h): two networks
 # in one file; the hook interrupting the second (3 epochs each, the hook at
