@@ -36,7 +36,7 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       point in the domain)\n"
           "  --mlp-normalise N    none (default) or brightness: the sky network learns its targets\n"
           "                       divided by a fitted brightness of (altitude, sun elevation): the\n"
-          "                       dawn views 3-5x better, the domain's relative RMSE ~1.8x worse\n"
+          "                       dawn views 2-6x better, the domain's relative RMSE 1.8x worse\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --quiet              no progress or notes\n"

@@ -48,8 +48,8 @@ static void sky_usage(FILE *out, int scattering) {
                        "                          second checkpoints to FILE.ground) or none (one network)\n"
                        "  --normalise N           none (default) or brightness: the sky network learns its\n"
                        "                          targets divided by a fitted brightness of (altitude, sun\n"
-                       "                          elevation) (fit/output_norm.h): dawn 3-5x better, noon and\n"
-                       "                          sunrise 1.2-2x worse (README)\n"
+                       "                          elevation) (fit/output_norm.h): the dawn views 2-6x better,\n"
+                       "                          noon up to 2.4x worse (README)\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
                        "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");

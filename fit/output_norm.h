@@ -9,8 +9,8 @@
  * brightness of its altitude and sun elevation weighs each of them alike,
  * without the log loss's weight on values near 0 (rays of length 0, the
  * shadowed sky). A network has a fixed capacity, so this trades: the dawn
- * views' error falls 3-5x, noon's and sunrise's rises 1.2-2x (measured in the
- * README's figures); `skyfit fit mlp-scattering --normalise brightness`.
+ * views' error falls 2-6x, noon's rises up to 2.4x (bench/mlp_normalise.sh,
+ * the README's table); `skyfit fit mlp-scattering --normalise brightness`.
  *
  * How. The samples are grid points of the tables, so they come in slices of
  * equal (sqrt h, mu_s): one per altitude and sun elevation, spanning every
