@@ -30,8 +30,8 @@ static void sky_usage(FILE *out, int scattering) {
           "  --scene S.json          scene (SPEC §5; default: the built-in scene)\n"
           "  --tables DIR            table cache folder (skyfit sample); default: computed in memory\n"
           "%s"
-          "  --dump-dataset F.csv    write the normalised data set (inputs, then targets) and stop\n"
-          "                          unless --out is given too\n",
+          "  --dump-dataset F.csv    write the data set (normalised inputs, then the targets, as\n"
+          "                          the tables give them) and stop unless --out is given too\n",
           scattering ? "mlp-scattering" : "mlp-transmittance",
           scattering ? "Trains the scattering network: (sqrt h, mu, mu_s, nu) normalised -> scattered light\n"
                        "along the ray, exp(-x) outputs (models/mlp_sky.h). Defaults: --layers 4,8,8,9\n"
