@@ -161,9 +161,11 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   memset(&norm, 0, sizeof norm);
   if (status == SF_OK && job->normalise) {
     sf_error nerr = {0};
-    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK)
+    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK) {
       sf_output_norm_apply(&norm, &data);
-    else if (in->note) {   /* too coarse a table for the polynomial: raw targets */
+    } else if (nerr.status != SF_ERR_INPUT) {
+      status = sf_fail(err, nerr.status, "%s", nerr.message);
+    } else if (in->note) {   /* too coarse a table for the polynomial: raw targets */
       char text[1200];
       snprintf(text, sizeof text, "%s: trained without the brightness normalisation: %s", job->name, nerr.message);
       in->note(in->note_ctx, text);
