@@ -46,10 +46,10 @@ static void sky_usage(FILE *out, int scattering) {
                        "  --split S               horizon (default: one network for rays to the sky, one for\n"
                        "                          rays to the ground, trained one after the other; the\n"
                        "                          second checkpoints to FILE.ground) or none (one network)\n"
-                       "  --normalise N           none (default) or brightness: the sky network learns its\n"
-                       "                          targets divided by a fitted brightness of (altitude, sun\n"
-                       "                          elevation) (fit/output_norm.h): the dawn views 2-6x better,\n"
-                       "                          noon up to 2.4x worse (README)\n"
+                       "  --normalise N           none (default) or brightness: the sky network (the only one\n"
+                       "                          with --split none) learns its targets divided by a fitted\n"
+                       "                          brightness of (altitude, sun elevation) (fit/output_norm.h):\n"
+                       "                          the dawn views 2-6x better, noon up to 2.4x worse (README)\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
                        "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
