@@ -670,9 +670,9 @@ static int write_mlp_weights(const char *path, const sf_atmosphere *atm, int sca
     for (int i = 0; i < s.sizes[s.n_layers]; ++i) net.params[sf_mlp_bias_offset(&s, last) + i] = 4.0;
     sf_mlp_add_params_to_weights(doc, &net, "ground_");
     /* the sky network brightness-normalised, as fit mlp-scattering
-     * --normalise brightness writes it (b = log brightness in e^-5.1 ..
-     * e^-1.5 over x0 in [0, 1], x2 in [-1, 1]; fitted ones are below 1 too:
-     * the targets are) */
+     * --normalise brightness writes it: exp(b) from e^-5.1 to e^-1.5 over
+     * x0 in [0, 1], x2 in [-1, 1] (fitted ones are below 1 too, as the
+     * targets are), falling on below x2 = -1 (mu_s < 0 here) */
     static const double norm_coef[2 * 3] = {-2.5, 1.0, -0.5, -1.0, 0.3, 0.2};
     sf_weights_add_param(doc, "norm_coef", 2, (const int[]){2, 3}, norm_coef);
   }
