@@ -310,15 +310,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   sf_mlp_output_norm norm;
   memset(&norm, 0, sizeof norm);
   if (scattering && job.normalise) {
-    sf_error nerr = {0};
-    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK)
-      sf_output_norm_apply(&norm, &data);
-    else if (nerr.status == SF_ERR_INPUT)   /* too coarse a table for the polynomial: raw targets */
-      fprintf(stderr, "%s: training without the brightness normalisation: %s\n", command, nerr.message);
-    else {
-      err = nerr;
-      goto fail;
-    }
+    char why[512];
+    if (sf_output_norm_prepare(&data, &norm, why, sizeof why, &err)) goto fail;
+    if (why[0]) fprintf(stderr, "%s: training the sky network on raw targets: %s\n", command, why);
   }
 
   int np = sf_mlp_param_count(&t->shape);

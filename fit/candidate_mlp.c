@@ -160,14 +160,11 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   sf_mlp_output_norm norm;
   memset(&norm, 0, sizeof norm);
   if (status == SF_OK && job->normalise) {
-    sf_error nerr = {0};
-    if (sf_output_norm_fit(&data, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, &norm, &nerr) == SF_OK) {
-      sf_output_norm_apply(&norm, &data);
-    } else if (nerr.status != SF_ERR_INPUT) {
-      status = sf_fail(err, nerr.status, "%s", nerr.message);
-    } else if (in->note) {   /* too coarse a table for the polynomial: raw targets */
-      char text[1200];
-      snprintf(text, sizeof text, "%s: trained without the brightness normalisation: %s", job->name, nerr.message);
+    char why[512];
+    status = sf_output_norm_prepare(&data, &norm, why, sizeof why, err);
+    if (status == SF_OK && why[0] && in->note) {
+      char text[700];
+      snprintf(text, sizeof text, "%s: sky network trained on raw targets: %s", job->name, why);
       in->note(in->note_ctx, text);
     }
   }

@@ -1,6 +1,7 @@
 #include "fit/output_norm.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -84,6 +85,20 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_ml
   out->degree_h = degree_h;
   out->degree_mu_s = degree_mu_s;
   sf_mlp_output_norm_finish(out);
+  return SF_OK;
+}
+
+int sf_output_norm_prepare(sf_dataset *d, sf_mlp_output_norm *out, char *why, size_t why_size, sf_error *err) {
+  if (why_size > 0) why[0] = '\0';
+  sf_error fit_err = {0};
+  int status = sf_output_norm_fit(d, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, out, &fit_err);
+  if (status == SF_OK) {
+    sf_output_norm_apply(out, d);
+    return SF_OK;
+  }
+  memset(out, 0, sizeof *out);
+  if (status != SF_ERR_INPUT) return sf_fail(err, status, "%s", fit_err.message);
+  if (why_size > 0) snprintf(why, why_size, "%s", fit_err.message);
   return SF_OK;
 }
 

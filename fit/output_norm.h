@@ -38,6 +38,12 @@
  * light at all, or degrees out of 0..SF_MLP_NORM_MAX_DEGREE. */
 int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_mlp_output_norm *out, sf_error *err);
 
+/* What skyfit build and fit mlp-scattering do with a sky network's set: fit
+ * with the degrees above and apply. A set too coarse for them (the fit's
+ * SF_ERR_INPUT) is left raw with out inactive, and why (if why_size > 0)
+ * says so, for the caller to tell the user; any other error is returned. */
+int sf_output_norm_prepare(sf_dataset *d, sf_mlp_output_norm *out, char *why, size_t why_size, sf_error *err);
+
 /* Divides d's targets by exp(b) (sf_output_norm_apply) or multiplies them
  * back (sf_output_norm_restore). */
 void sf_output_norm_apply(const sf_mlp_output_norm *n, sf_dataset *d);
