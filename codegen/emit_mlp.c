@@ -439,15 +439,13 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
     if (norm->active) emit_brightness(w, norm);
     sf_cw_emit(w, "  %sreturn %C", indent, n);
     for (int c = 0; c < n; ++c) {
-      char name[32], scaled[64];
+      char name[32];
       if (c) sf_cw_emit(w, ",\n              %s", indent);
       out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
-      snprintf(scaled, sizeof scaled, norm->active ? "%s * brightness" : "%s", name);
-      sf_cw_emit(w, "%s", scaled);
+      sf_cw_emit(w, "%s%s", name, norm->active ? " * brightness" : "");
       for (int k = 0; separate && k < s->n_single; ++k) {
         out_name(w, &o, k * n + c, name, sizeof name);
-        if (norm->active) sf_cw_emit(w, " + p%d * (%s * brightness)", k, name);
-        else sf_cw_emit(w, " + p%d * %s", k, name);
+        sf_cw_emit(w, norm->active ? " + p%d * (%s * brightness)" : " + p%d * %s", k, name);
       }
     }
     sf_cw_emit(w, ");\n");
