@@ -1,8 +1,10 @@
 #!/bin/bash
 # Scale of the per-view sky-radiance RMSE against seed 000 App. B
-# (bench/bench_views_scale.c): our reference's RMS per standard view beside
-# App. B's "Empty" column, and the scattering network's error split into
-# sky and ground pixels.
+# (bench/bench_views_scale.c): our reference's RMS per standard view, a
+# white image's and single scattering's mean squared errors beside App. B's
+# "Empty" and "Naive" columns (its figures are mean squares), and the
+# scattering network's error split into sky and ground pixels, over the
+# seed's Neural Net as an RMSE.
 #   bench/views_scale.sh [OUT [W.json]]
 # OUT: a `skyfit build` of the built-in scene (made there if missing, about
 # a minute; default /tmp/skyfit-views-scale). W.json: another scattering

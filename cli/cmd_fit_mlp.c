@@ -36,7 +36,7 @@ static void sky_usage(FILE *out, int scattering) {
           scattering ? "Trains the scattering network: (sqrt h, mu, mu_s, nu) normalised -> scattered light\n"
                        "along the ray, exp(-x) outputs (models/mlp_sky.h). Defaults: --layers 4,8,8,9\n"
                        "--target separate --loss mse --epochs 60 --batch 1024 --lr 0.01 --lr-decay 0.95\n"
-                       "--polish 30 --polish-samples 20000."
+                       "--polish 30 --polish-samples 20000 --normalise brightness --normalise-cap 1.5."
                      : "Trains the transmittance network: Bruneton's (x_r, x_mu) normalised -> transmittance per channel\n"
                        "of the ray to the top boundary, exp(-exp(-x)) output (--output exp_neg_exp); rays hitting the ground are evaluated\n"
                        "reversed (eq. 43). Defaults: --layers 2,8,8,3 --loss mse --epochs 500 --batch 256\n"
@@ -46,10 +46,13 @@ static void sky_usage(FILE *out, int scattering) {
                        "  --split S               horizon (default: one network for rays to the sky, one for\n"
                        "                          rays to the ground, trained one after the other; the\n"
                        "                          second checkpoints to FILE.ground) or none (one network)\n"
-                       "  --normalise N           none (default) or brightness: the sky network (the only one\n"
+                       "  --normalise N           brightness (default) or none: the sky network (the only one\n"
                        "                          with --split none) learns its targets divided by a fitted\n"
                        "                          brightness of (altitude, sun elevation) (fit/output_norm.h):\n"
-                       "                          the dawn views 2-6x better, noon up to 2.4x worse (README)\n"
+                       "                          the dawn views several times better (README)\n"
+                       "  --normalise-cap C       the brightness capped C (natural log) below the brightest\n"
+                       "                          situation's, so the brighter ones keep their raw weights\n"
+                       "                          (default 1.5), or none\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
                        "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
@@ -63,6 +66,7 @@ typedef struct sky_job {
   sf_mlp_input_map input_map;   /* transmittance network */
   int split;                    /* scattering: the horizon split (models/mlp_sky.h) */
   int normalise;                /* scattering: the sky network's brightness normalisation */
+  double normalise_cap;         /* its cap below the brightest (fit/output_norm.h); INFINITY: none */
   sf_mlp_cli mlp;
   sf_table_cli tables;
 } sky_job;
@@ -140,6 +144,8 @@ static int run_sky(int argc, char **argv, int scattering) {
    * (sqrt h, mu) at equal budget (bench/mlp_accuracy.sh, issue 6) */
   job.input_map = SF_MLP_INPUTS_BRUNETON;
   job.split = scattering;
+  job.normalise = scattering;   /* brightness (fit/output_norm.h; README) */
+  job.normalise_cap = SF_OUTPUT_NORM_CAP_BELOW;
   sf_mlp_cli_default(&job.mlp);
   sf_table_cli_default(&job.tables);
   sf_train_options *t = &job.mlp.train;
@@ -172,7 +178,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     int has_value = i + 1 < argc;
     if ((strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
          (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0 ||
-                         strcmp(a, "--normalise") == 0)) ||
+                         strcmp(a, "--normalise") == 0 || strcmp(a, "--normalise-cap") == 0)) ||
          (!scattering && strcmp(a, "--input-map") == 0)) &&
         !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
@@ -190,6 +196,14 @@ static int run_sky(int argc, char **argv, int scattering) {
       if (parse_switch(command, a, argv[++i], "horizon", &job.split)) return 2;
     } else if (scattering && strcmp(a, "--normalise") == 0) {
       if (parse_switch(command, a, argv[++i], "brightness", &job.normalise)) return 2;
+    } else if (scattering && strcmp(a, "--normalise-cap") == 0) {
+      const char *v = argv[++i];
+      char *end;
+      job.normalise_cap = strcmp(v, "none") == 0 ? INFINITY : strtod(v, &end);
+      if (strcmp(v, "none") != 0 && (end == v || *end || !(job.normalise_cap >= 0.0) || !isfinite(job.normalise_cap))) {
+        fprintf(stderr, "%s: --normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
+        return 2;
+      }
     } else if (scattering && strcmp(a, "--target") == 0) {
       const char *v = argv[++i];
       if (sf_mlp_target_parse(v, &job.target) || job.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) {
@@ -311,7 +325,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   memset(&norm, 0, sizeof norm);
   if (scattering && job.normalise) {
     char why[512];
-    if (sf_output_norm_prepare(&data, &norm, why, sizeof why, &err)) goto fail;
+    if (sf_output_norm_prepare(&data, job.normalise_cap, &norm, why, sizeof why, &err)) goto fail;
     if (why[0]) fprintf(stderr, "%s: training the sky network on raw targets: %s\n", command, why);
   }
 

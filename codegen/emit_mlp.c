@@ -381,7 +381,8 @@ static void emit_phase(sf_code_writer *w, int k, const sf_phase *p) {
 
 /* float brightness = exp(b) of a brightness-normalised network
  * (models/mlp_sky.h: the polynomial at the inputs clamped to the fitted
- * square, dimming on below its lowest sun), in the model's float order. */
+ * square, capped, dimming on below its lowest sun), in the model's float
+ * order. */
 static void emit_brightness(sf_code_writer *w, const sf_mlp_output_norm *n) {
   int C = n->degree_mu_s;
   sf_cw_emit(w, "  /* log brightness of (sqrt h, mu_s), fit/output_norm.h */\n"
@@ -393,6 +394,7 @@ static void emit_brightness(sf_code_writer *w, const sf_mlp_output_norm *n) {
     for (int c = C - 1; c >= 0; --c) sf_cw_emit(w, "  q = q * bv + %F;\n", (double)row[c]);
     sf_cw_emit(w, "  lb = lb * bu + q;\n  slope = slope * bu + %F;\n", (double)n->edge_slope_f[a]);
   }
+  if (n->has_cap) sf_cw_emit(w, "  lb = lb > %F ? %F : lb;  /* the cap */\n", (double)n->cap_f, (double)n->cap_f);
   sf_cw_emit(w, "  float brightness = @exp(lb + @max(slope, 0.0f) * @min(x2 + 1.0f, 0.0f));\n");
 }
 
@@ -433,10 +435,13 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
     const char *indent = split ? "  " : "";
     if (half == 1) sf_cw_emit(w, "  if (ground != 0) {  /* rays to the ground */\n");
     else if (split) sf_cw_emit(w, "  {  /* rays to the sky */\n");
+    const sf_mlp_output_norm *norm = half ? &s->norm_ground : &s->norm;
+    if (norm->active) {   /* the network sees a sun below its lowest at the lowest */
+      emit_brightness(w, norm);
+      sf_cw_emit(w, "  x2 = @max(x2, -1.0f);\n");
+    }
     net_outputs o;
     emit_network(w, half ? &s->net_ground_f : &s->net_f, s->net.shape.output, separate ? n : 0, &o);
-    const sf_mlp_output_norm *norm = half ? &s->norm_ground : &s->norm;
-    if (norm->active) emit_brightness(w, norm);
     sf_cw_emit(w, "  %sreturn %C", indent, n);
     for (int c = 0; c < n; ++c) {
       char name[32];

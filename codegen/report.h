@@ -146,18 +146,37 @@ int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *e
 int sf_report_write_html(const sf_report *rep, const char *path, sf_error *err);
 int sf_report_write_all(const sf_report *rep, sf_error *err);
 
-/* seed 000 App. B (RMSE of the sky-radiance views) and App. D (RMSE of the
- * transmittance views), typed from the paper. Returns the number of
- * columns; rows follow sf_standard_radiance_views /
- * sf_standard_transmittance_views; value[row][col]. */
+/* seed 000 App. B (sky-radiance views) and App. D (transmittance views),
+ * typed from the paper. Rows follow sf_standard_radiance_views /
+ * sf_standard_transmittance_views; values[row * n_columns + column] as
+ * printed.
+ *
+ * The printed figures are mean squared errors, though the appendices head
+ * them "RMSE" (eq. 61 has the root). App. B's "Naive" column (a raymarch
+ * of single scattering only) is 1.2-5.3x the mean square of the multiple
+ * scattering in our reference views (10 of 12 views); as roots its figures
+ * would be 9-200x below the multiple scattering's RMS, an error no model
+ * without multiple scattering can have. Its "Empty" column (a white image,
+ * seed 000 §11.2.1) is within 5 % of the mean of (1 - L)^2 over our views
+ * in 9 of 12, of its root in 3 (bench/bench_views_scale.c prints both).
+ * App. D comes from the same procedure (seed 000 §11.5: "This process is
+ * repeated for the transmittance models").
+ * sf_paper_rmse gives their square roots, which compare with our RMSE. */
 typedef struct sf_paper_table {
   int n_columns, n_rows;
   const char *const *columns;
   const char *const *rows;
-  const double *values;            /* n_rows * n_columns */
+  const double *values;            /* n_rows * n_columns, as printed (mean squared errors) */
 } sf_paper_table;
 void sf_paper_appendix_b(sf_paper_table *t);
 void sf_paper_appendix_d(sf_paper_table *t);
+/* The row of the view named view_name, or -1. */
+int sf_paper_row(const sf_paper_table *t, const char *view_name);
+/* The column named column_name, or -1. */
+int sf_paper_column(const sf_paper_table *t, const char *column_name);
+/* The RMSE of the paper's figure at (row, column): its square root; NAN
+ * when row or column is -1. */
+double sf_paper_rmse(const sf_paper_table *t, int row, int column);
 
 /* The Pareto front of (cost, error) points: on_front[i] = 1 when no other
  * point is at most as costly and at most as wrong with one strictly less. */

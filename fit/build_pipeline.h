@@ -20,7 +20,7 @@ typedef struct sf_build_options {
   int mlp_transmittance_epochs;      /* 0: the build's defaults (fit/candidate_fitted.h) */
   int mlp_scattering_epochs;
   long mlp_scattering_samples;       /* 0: default; < 0: every grid point */
-  int mlp_scattering_normalise;      /* 1: the sky network brightness-normalised (fit/output_norm.h) */
+  int mlp_scattering_normalise;      /* 1 (default): the sky network brightness-normalised (fit/output_norm.h) */
   int emit;                          /* write the headers (default 1) */
   sf_candidate_note_fn note;         /* messages for the user; may be NULL */
   void *note_ctx;

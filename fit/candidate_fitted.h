@@ -9,7 +9,7 @@
 /* Training inside `skyfit build` (fit/candidate_mlp.c); `skyfit fit mlp-*`
  * trains longer by default. Overridden by sf_candidate_inputs. */
 #define SF_BUILD_MLP_TRANSMITTANCE_EPOCHS 50
-#define SF_BUILD_MLP_SCATTERING_EPOCHS 40
+#define SF_BUILD_MLP_SCATTERING_EPOCHS 60
 #define SF_BUILD_MLP_SCATTERING_SAMPLES 0L   /* every grid point in the domain */
 
 /* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */

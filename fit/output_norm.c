@@ -28,8 +28,12 @@ static void monomials(int A, int C, double u, double v, double *row) {
   }
 }
 
-int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_mlp_output_norm *out, sf_error *err) {
+int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, double cap_below, sf_mlp_output_norm *out,
+                       sf_error *err) {
   memset(out, 0, sizeof *out);
+  if (!(cap_below >= 0.0))
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: cap %g below the brightest: expected >= 0 (or inf: none)",
+                   cap_below);
   if (d->n_in != 4 || d->n_out < 1)
     return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: a scattering set (4 inputs) expected");
   if (degree_h < 0 || degree_mu_s < 0 || degree_h > SF_MLP_NORM_MAX_DEGREE || degree_mu_s > SF_MLP_NORM_MAX_DEGREE)
@@ -84,14 +88,19 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_ml
   if (status != SF_OK) return status;
   out->degree_h = degree_h;
   out->degree_mu_s = degree_mu_s;
+  if (isfinite(cap_below)) {
+    out->has_cap = 1;
+    out->cap = log(largest) - cap_below;
+  }
   sf_mlp_output_norm_finish(out);
   return SF_OK;
 }
 
-int sf_output_norm_prepare(sf_dataset *d, sf_mlp_output_norm *out, char *why, size_t why_size, sf_error *err) {
+int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *out, char *why, size_t why_size,
+                           sf_error *err) {
   if (why_size > 0) why[0] = '\0';
   sf_error fit_err = {0};
-  int status = sf_output_norm_fit(d, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, out, &fit_err);
+  int status = sf_output_norm_fit(d, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, cap_below, out, &fit_err);
   if (status == SF_OK) {
     sf_output_norm_apply(out, d);
     return SF_OK;

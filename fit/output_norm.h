@@ -19,8 +19,10 @@
  * normalised sqrt h, C in v = normalised mu_s) through the logs of the lit
  * slices' brightnesses (those above SF_OUTPUT_NORM_FLOOR of the largest:
  * slices of rays of length 0, from the ground towards it, hold no light and
- * say nothing of it). The training targets become y / exp(b); the model
- * multiplies by exp(b). */
+ * say nothing of it), capped at cap_below under the log of the brightest
+ * slice's: slices within e^cap_below of the brightest keep their relative
+ * weights as raw targets have them, and only the dimmer ones are lifted.
+ * The training targets become y / exp(b); the model multiplies by exp(b). */
 #ifndef SKYFIT_FIT_OUTPUT_NORM_H
 #define SKYFIT_FIT_OUTPUT_NORM_H
 
@@ -32,17 +34,22 @@
  * slice brightnesses (7 orders of magnitude) are fitted to 0.1-0.3. */
 #define SF_OUTPUT_NORM_DEGREE_H 3
 #define SF_OUTPUT_NORM_DEGREE_MU_S 6
+/* The cap's default distance below the brightest slice's log brightness. */
+#define SF_OUTPUT_NORM_CAP_BELOW 1.5
 
 /* d: a scattering set (inputs sqrt h, mu, mu_s, nu normalised, any
- * targets). SF_ERR_INPUT if it has fewer lit slices than coefficients, no
- * light at all, or degrees out of 0..SF_MLP_NORM_MAX_DEGREE. */
-int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, sf_mlp_output_norm *out, sf_error *err);
+ * targets); cap_below >= 0, or INFINITY for no cap. SF_ERR_INPUT if it has
+ * fewer lit slices than coefficients, no light at all, degrees out of
+ * 0..SF_MLP_NORM_MAX_DEGREE or a negative cap_below. */
+int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, double cap_below, sf_mlp_output_norm *out,
+                       sf_error *err);
 
 /* What skyfit build and fit mlp-scattering do with a sky network's set: fit
- * with the degrees above and apply. A set too coarse for them (the fit's
+ * with the degrees above and cap_below, and apply. A set too coarse for them (the fit's
  * SF_ERR_INPUT) is left raw with out inactive, and why (if why_size > 0)
  * says so, for the caller to tell the user; any other error is returned. */
-int sf_output_norm_prepare(sf_dataset *d, sf_mlp_output_norm *out, char *why, size_t why_size, sf_error *err);
+int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *out, char *why, size_t why_size,
+                           sf_error *err);
 
 /* Divides d's targets by exp(b) (sf_output_norm_apply) or multiplies them
  * back (sf_output_norm_restore). */

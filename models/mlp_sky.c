@@ -56,6 +56,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define SCALE scale
 #define NORM_COEF coef
 #define NORM_SLOPE edge_slope
+#define NORM_CAP cap
 #include "models/mlp_sky_impl.inc"
 #undef REAL
 #undef SKY_FN
@@ -71,6 +72,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef SCALE
 #undef NORM_COEF
 #undef NORM_SLOPE
+#undef NORM_CAP
 
 #define REAL float
 #define SKY_FN(name) name##_f
@@ -86,6 +88,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define SCALE scale_f
 #define NORM_COEF coef_f
 #define NORM_SLOPE edge_slope_f
+#define NORM_CAP cap_f
 #include "models/mlp_sky_impl.inc"
 
 static const char *const input_map_names[] = {"sqrt_h_mu", "bruneton"};
@@ -203,6 +206,7 @@ void sf_mlp_output_norm_finish(sf_mlp_output_norm *n) {
     n->edge_slope[a] = s;
     n->edge_slope_f[a] = (float)s;
   }
+  n->cap_f = n->has_cap ? (float)n->cap : 0.0f;
   n->active = 1;
 }
 
@@ -219,18 +223,24 @@ int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_no
       norm->degree_mu_s > SF_MLP_NORM_MAX_DEGREE)
     return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: degrees %d, %d: expected 0..%d", norm->degree_h,
                    norm->degree_mu_s, SF_MLP_NORM_MAX_DEGREE);
+  if (norm->has_cap && !(fabs(norm->cap) < SF_MLP_NORM_CAP_LIMIT))
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: cap %g: expected a finite log brightness in (-%g, %g)",
+                   norm->cap, SF_MLP_NORM_CAP_LIMIT, SF_MLP_NORM_CAP_LIMIT);
   sf_mlp_output_norm *dst = ground ? &m->norm_ground : &m->norm;
   *dst = *norm;
   sf_mlp_output_norm_finish(dst);
   return SF_OK;
 }
 
-/* params <prefix>norm_coef ((A+1) x (C+1)) of the weights file (SPEC §8). */
+/* params <prefix>norm_coef ((A+1) x (C+1)) and, with a cap, <prefix>norm_cap
+ * (one value) of the weights file (SPEC §8). */
 static int add_norm_params(cJSON *doc, const sf_mlp_output_norm *n, const char *prefix) {
   char name[64];
   int shape[2] = {n->degree_h + 1, n->degree_mu_s + 1};
   snprintf(name, sizeof name, "%snorm_coef", prefix);
-  return sf_weights_add_param(doc, name, 2, shape, n->coef) ? SF_ERR_INTERNAL : SF_OK;
+  if (sf_weights_add_param(doc, name, 2, shape, n->coef)) return SF_ERR_INTERNAL;
+  snprintf(name, sizeof name, "%snorm_cap", prefix);
+  return n->has_cap && sf_weights_add_param(doc, name, 1, (const int[]){1}, &n->cap) ? SF_ERR_INTERNAL : SF_OK;
 }
 
 int sf_mlp_sky_add_norms_to_weights(cJSON *doc, const sf_mlp_sky *m) {
@@ -254,6 +264,16 @@ static int load_norm(const sf_weights *w, sf_mlp_sky *m, int ground, sf_error *e
   if (sf_weights_param(w, name, 2, shape, n.coef, SF_MLP_NORM_MAX_COEFS, err)) return err->status;
   n.degree_h = shape[0] - 1;
   n.degree_mu_s = shape[1] - 1;
+  char cap_name[64];
+  snprintf(cap_name, sizeof cap_name, "%snorm_cap", prefix);
+  if (cJSON_GetObjectItemCaseSensitive(params, cap_name)) {
+    int cap_shape[1] = {1};
+    if (sf_weights_param(w, cap_name, 1, cap_shape, &n.cap, 1, err)) return err->status;
+    n.has_cap = 1;
+    if (!(fabs(n.cap) < SF_MLP_NORM_CAP_LIMIT))
+      return sf_fail(err, SF_ERR_INPUT, "%s: params.%s: %g: expected a finite log brightness in (-%g, %g)", w->source,
+                     cap_name, n.cap, SF_MLP_NORM_CAP_LIMIT, SF_MLP_NORM_CAP_LIMIT);
+  }
   if (sf_mlp_sky_set_output_norm(m, ground, &n, err)) {
     char message[1024];
     snprintf(message, sizeof message, "%.400s: params.%s: %.500s", w->source, name, err->message);

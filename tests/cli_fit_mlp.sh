@@ -19,26 +19,27 @@ if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
 if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
-# --normalise brightness (fit/output_norm.h): the sky network's coefficients
-# in the file, the ground network's targets raw; deterministic too
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/n1.json" --quiet
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --normalise brightness --out "$TMP/n2.json" --quiet
-grep -q '"norm_coef"' "$TMP/n1.json" && ! grep -q '"ground_norm_coef"' "$TMP/n1.json" &&
-  grep -q '"normalise":[[:space:]]*"brightness"' "$TMP/n1.json" && ! grep -q '"norm_coef"' "$TMP/s1.json" &&
-  pass "--normalise brightness: the sky network's norm_coef in the file, none without it" ||
-  fail "--normalise brightness: norm_coef missing or misplaced"
-cmp -s "$TMP/n1.json" "$TMP/n2.json" && pass "normalised weights identical for 1 and 2 threads" ||
-  fail "thread count changed the normalised weights"
+# --normalise brightness (fit/output_norm.h, the default; above): the sky
+# network's coefficients and cap in the file, the ground network's targets
+# raw; without the cap, coefficients only; --normalise none, neither
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise none --out "$TMP/n1.json" --quiet
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise-cap none --out "$TMP/nc.json" --quiet
+grep -q '"norm_coef"' "$TMP/s1.json" && grep -q '"norm_cap"' "$TMP/s1.json" && ! grep -q '"ground_norm_coef"' "$TMP/s1.json" &&
+  grep -q '"normalise":[[:space:]]*"brightness"' "$TMP/s1.json" && ! grep -q '"norm_coef"' "$TMP/n1.json" &&
+  grep -q '"normalise":[[:space:]]*"none"' "$TMP/n1.json" && grep -q '"norm_coef"' "$TMP/nc.json" &&
+  ! grep -q '"norm_cap"' "$TMP/nc.json" &&
+  pass "brightness by default: the sky network's norm_coef and norm_cap in the file; no cap with --normalise-cap none; neither with --normalise none" ||
+  fail "normalisation: norm_coef / norm_cap missing or misplaced"
 # interrupted in the normalised sky network, resumed: the normalisation is
 # fitted again from the same data, to the straight run's bytes
 set +e
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/nr.json" \
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/nr.json" \
   --stop-after-epochs 2 --quiet
 rc=$?
 set -e
-"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --normalise brightness --out "$TMP/nr.json" \
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/nr.json" \
   --resume --quiet
-[ "$rc" = 130 ] && cmp -s "$TMP/nr.json" "$TMP/n1.json" &&
+[ "$rc" = 130 ] && cmp -s "$TMP/nr.json" "$TMP/s1.json" &&
   pass "normalised, interrupted after 2 epochs and resumed: identical to the straight run" ||
   fail "normalised resume: rc $rc, or the weights differ"
 
@@ -53,7 +54,13 @@ grep -q '"ground_W0"' "$TMP/s1.json" && grep -q '"split":[[:space:]]*"horizon"' 
 # enough to split)
 printf '{"name": "on-ground", "viewer_altitude_km": [0, 0], "view": "all", "sun_elevation_deg": [0, 90], "quantities": ["sky_radiance"], "color": "rgb"}\n' >"$TMP/ground.json"
 "$BIN" fit mlp-scattering --tables "$TMP/tables-g" --resolution 64x16,8x64x16x4 --orders 2 --scene "$TMP/ground.json" \
-  --epochs 1 --batch 256 --polish 1 --dump-dataset "$TMP/sg.csv" --out "$TMP/sg.json" --quiet
+  --epochs 1 --batch 256 --polish 1 --dump-dataset "$TMP/sg.csv" --out "$TMP/sg.json" --quiet 2>"$TMP/sg.err"
+# that table is too coarse for the brightness's 28 coefficients: raw
+# targets, and the command says so
+grep -q "training the sky network on raw targets: brightness normalisation: .* for 28 coefficients" "$TMP/sg.err" &&
+  grep -q '"normalise":[[:space:]]*"none"' "$TMP/sg.json" &&
+  pass "a table too coarse for the brightness: raw targets, with a note" ||
+  fail "coarse table: no fallback note ($(cat "$TMP/sg.err")) or the file says normalised"
 h_values=$(tail -n +2 "$TMP/sg.csv" | cut -d, -f1 | sort -u | wc -l)
 mu_range=$(tail -n +2 "$TMP/sg.csv" | cut -d, -f2 | sort -g | sed -n '1p;$p' | tr '\n' ' ')
 [ "$h_values" = 1 ] && [ "$mu_range" = "-1 1 " ] && pass "--scene: the data are the domain's rays, from h = 0 in every direction" ||
@@ -192,6 +199,7 @@ expect_error "bad input map" "--input-map" "$BIN" fit mlp-transmittance --input-
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
 expect_error "bad split" "--split" "$BIN" fit mlp-scattering --split vertical --out "$TMP/bad.json"
 expect_error "bad normalisation" "--normalise" "$BIN" fit mlp-scattering --normalise log --out "$TMP/bad.json"
+expect_error "negative normalisation cap" "--normalise-cap" "$BIN" fit mlp-scattering --normalise-cap -1 --out "$TMP/bad.json"
 expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
 expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"

@@ -107,16 +107,19 @@ fi
 
 # The example scenes (examples/scenes/): ground-only picks Preetham or Hosek;
 # the dusty Mars-like atmosphere is retrained end to end (its sky network
-# brightness-normalised, fit/output_norm.h); spectral4 fits the
+# brightness-normalised by default, fit/output_norm.h); spectral4 fits the
 # 4 wavelengths and beats plain RGB at 680/550/440 nm in ΔE2000.
 tiny=(--resolution 32x16,8x16x8x4 --no-views --samples 2000 --timing-points 2000 --repetitions 1 --mlp-epochs 10,1 --quick --quiet)
 src=${SKYFIT_SOURCE_DIR:?}
-"$bin" build "$src/examples/scenes/ground.json" "${tiny[@]}" --out "$tmp/ground" > "$tmp/ground.out" 2>&1
+"$bin" build "$src/examples/scenes/ground.json" "${tiny[@]}" --mlp-normalise none --out "$tmp/ground" > "$tmp/ground.out" 2>&1
 rc=$?
 grep "chose" "$tmp/ground.out"
 [ $rc -eq 0 ] && grep -Eq "sky_radiance: chose (preetham|hosek) \(meets the budget\)" "$tmp/ground.out" \
   || { echo "FAIL ground scene: Preetham/Hosek should win"; cat "$tmp/ground.out"; fail=1; }
-"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise brightness --out "$tmp/mars" > "$tmp/mars.out" 2>&1
+grep -q '"normalise":[[:space:]]*"none"' "$tmp/ground/weights/mlp-scattering.json" &&
+  ! grep -q '"norm_coef"' "$tmp/ground/weights/mlp-scattering.json" ||
+  { echo "FAIL ground scene: --mlp-normalise none still normalised the sky network"; fail=1; }
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --out "$tmp/mars" > "$tmp/mars.out" 2>&1
 rc=$?
 grep "chose" "$tmp/mars.out"
 python3 - "$tmp/mars/metrics.json" <<'PY' || fail=1
@@ -129,7 +132,7 @@ assert names == ["hosek", "mlp-scattering", "mlp-transmittance", "preetham", "si
 for m in fitted:
     assert all(math.isfinite(m["errors"][k]) for k in ("rmse", "max_abs", "rel_rmse")), m
 w = json.load(open(sys.argv[1].replace("metrics.json", "weights/mlp-scattering.json")))
-assert "norm_coef" in w["params"] and w["training"]["normalise"] == "brightness", w["training"]
+assert "norm_coef" in w["params"] and "norm_cap" in w["params"] and w["training"]["normalise"] == "brightness", w["training"]
 print("mars: fitted " + ", ".join(f"{m['name']} (rel RMSE {m['errors']['rel_rmse']:.3g})" for m in fitted))
 PY
 [ $rc -eq 0 ] || { echo "FAIL mars build exited $rc"; cat "$tmp/mars.out"; fail=1; }

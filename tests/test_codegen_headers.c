@@ -674,9 +674,11 @@ static int write_mlp_weights(const char *path, const sf_atmosphere *atm, int sca
     /* the sky network brightness-normalised, as fit mlp-scattering
      * --normalise brightness writes it: exp(b) from e^-5.1 to e^-1.5 over
      * x0 in [0, 1], x2 in [-1, 1] (fitted ones are below 1 too, as the
-     * targets are), falling on below x2 = -1 (mu_s < -0.2) */
-    static const double norm_coef[2 * 3] = {-2.5, 1.0, -0.5, -1.0, 0.3, 0.2};
+     * targets are), falling on below x2 = -1 (mu_s < -0.2), capped at
+     * e^-2.5 (fit/output_norm.h), so the cap holds over part of it */
+    static const double norm_coef[2 * 3] = {-2.5, 1.0, -0.5, -1.0, 0.3, 0.2}, norm_cap = -2.5;
     sf_weights_add_param(doc, "norm_coef", 2, (const int[]){2, 3}, norm_coef);
+    sf_weights_add_param(doc, "norm_cap", 1, (const int[]){1}, &norm_cap);
   }
   cJSON *training = sf_weights_training(doc);
   cJSON_AddStringToObject(training, "target", scattering ? "separate" : "transmittance_top");

@@ -3,13 +3,18 @@
  *  - the fit recovers a known log-brightness polynomial from a set whose
  *    slices have exactly that RMS (unlit slices present and ignored), and
  *    apply/restore give each slice RMS 1 and the original targets back;
+ *  - with a cap e below the brightest slice, the cap is that slice's log
+ *    RMS less e, and after apply the slices brighter than it keep their
+ *    RMS over the cap's brightness, the others RMS 1;
  *  - a normalised model's radiance is the raw network's times exp(b), b
  *    from its definition (models/mlp_sky.h: the polynomial summed here
- *    monomial by monomial at the clamped inputs, its slope term by term
- *    below the lowest sun), not by the model's Horner, in double and
- *    float32, for the sky network and with the horizon split;
+ *    monomial by monomial at the clamped inputs, capped, its slope term by
+ *    term below the lowest sun, where the raw network is evaluated at the
+ *    lowest sun), not by the model's Horner, in double and float32, for
+ *    the sky network and with the horizon split, without and with a cap;
  *  - the weights file round-trips it bit for bit, and a file with a degree
- *    above SF_MLP_NORM_MAX_DEGREE is refused naming the key. */
+ *    above SF_MLP_NORM_MAX_DEGREE, or a cap that is not finite, is refused
+ *    naming the key. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,13 +45,13 @@ static double true_b(double u, double v) {
 }
 
 /* The model's b (models/mlp_sky.h) from the definition: the polynomial at
- * the clamped inputs, and below v = -1 its slope there (d/dv summed term
- * by term), never rising. */
-static double model_b(double u, double v) {
+ * the clamped inputs, at most cap, and below v = -1 its slope there (d/dv
+ * summed term by term), never rising. */
+static double model_b(double u, double v, double cap) {
   double uc = fmin(fmax(u, -1.0), 1.0), vc = fmin(fmax(v, -1.0), 1.0), slope = 0.0;
   for (int a = 0; a < 3; ++a)
     for (int c = 1; c < 4; ++c) slope += true_coef[a * 4 + c] * pow(uc, a) * c * pow(-1.0, c - 1);
-  return true_b(uc, vc) + fmax(slope, 0.0) * fmin(v + 1.0, 0.0);
+  return fmin(true_b(uc, vc), cap) + fmax(slope, 0.0) * fmin(v + 1.0, 0.0);
 }
 
 static void test_fit(void) {
@@ -72,7 +77,7 @@ static void test_fit(void) {
       for (int o = 0; o < 3; ++o) y[o] = unlit ? 0.0 : exp(true_b(u, v)) * pattern;
     }
   sf_mlp_output_norm n;
-  CHECK(sf_output_norm_fit(&d, 2, 3, &n, &err) == SF_OK);
+  CHECK(sf_output_norm_fit(&d, 2, 3, INFINITY, &n, &err) == SF_OK);
   CHECK(n.active && n.degree_h == 2 && n.degree_mu_s == 3);
   double worst = 0.0;
   for (int k = 0; k < 12; ++k) worst = fmax(worst, fabs(n.coef[k] - true_coef[k]));
@@ -97,19 +102,43 @@ static void test_fit(void) {
     worst_back = fmax(worst_back, fabs(d.y[j] - y0[j]) / (fabs(y0[j]) > 0.0 ? fabs(y0[j]) : 1.0));
   printf("restore: largest relative change %.3g\n", worst_back);
   CHECK(worst_back < 1e-14);
+  /* capped 1.5 below the brightest slice */
+  double brightest = -INFINITY;
+  for (int s = 0; s < NU * NV; ++s) brightest = fmax(brightest, true_b(-1.0 + 2.0 * (s / NV) / (NU - 1.0), -1.0 + 2.0 * (s % NV) / (NV - 1.0)));
+  CHECK(sf_output_norm_fit(&d, 2, 3, 1.5, &n, &err) == SF_OK);
+  printf("cap %.17g, brightest slice's log RMS %.17g\n", n.cap, brightest);
+  CHECK(n.has_cap && fabs(n.cap - (brightest - 1.5)) < 1e-12);
+  sf_output_norm_apply(&n, &d);
+  int above = 0;
+  worst_rms = 0.0;
+  for (int s = 0; s < NU * NV; ++s) {
+    double b = true_b(-1.0 + 2.0 * (s / NV) / (NU - 1.0), -1.0 + 2.0 * (s % NV) / (NV - 1.0));
+    double sq = 0.0;
+    for (int k = 0; k < PER; ++k)
+      for (int o = 0; o < 3; ++o) sq += pow(d.y[((long)k * (NU * NV + 3) + s) * 3 + o], 2);
+    above += b > n.cap;
+    worst_rms = fmax(worst_rms, fabs(sqrt(sq / (PER * 3)) / exp(fmax(b - n.cap, 0.0)) - 1.0));
+  }
+  printf("capped: %d slices above the cap; largest |slice RMS / exp(max(b - cap, 0)) - 1| %.3g\n", above, worst_rms);
+  CHECK(above >= 3 && above < NU * NV / 2);
+  CHECK(worst_rms < 1e-12);
+  sf_output_norm_restore(&n, &d);
+  sf_error_clear(&err);
+  CHECK(sf_output_norm_fit(&d, 2, 3, -0.5, &n, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
   /* a degree out of range; more coefficients than slices (the first 40
    * samples are 40 slices); a set of zeros */
-  CHECK(sf_output_norm_fit(&d, 8, 1, &n, &err) == SF_ERR_INPUT);
+  CHECK(sf_output_norm_fit(&d, 8, 1, INFINITY, &n, &err) == SF_ERR_INPUT);
   printf("refused: %s\n", err.message);
   long all = d.n;
   d.n = 40;
   sf_error_clear(&err);
-  CHECK(sf_output_norm_fit(&d, 7, 7, &n, &err) == SF_ERR_INPUT);
+  CHECK(sf_output_norm_fit(&d, 7, 7, INFINITY, &n, &err) == SF_ERR_INPUT);
   printf("refused: %s\n", err.message);
   d.n = all;
   for (long j = 0; j < d.n * 3; ++j) d.y[j] = 0.0;
   sf_error_clear(&err);
-  CHECK(sf_output_norm_fit(&d, 1, 1, &n, &err) == SF_ERR_INPUT);
+  CHECK(sf_output_norm_fit(&d, 1, 1, INFINITY, &n, &err) == SF_ERR_INPUT);
   printf("refused: %s\n", err.message);
   free(y0);
   sf_dataset_free(&d);
@@ -136,7 +165,7 @@ static void make_model(const sf_atmosphere *atm, int split, sf_mlp_sky *s) {
   }
 }
 
-static void test_model(const sf_atmosphere *atm, int split) {
+static void test_model(const sf_atmosphere *atm, int split, double cap) {
   sf_error err = {0};
   sf_mlp_sky raw, normed;
   make_model(atm, split, &raw);
@@ -146,42 +175,50 @@ static void test_model(const sf_atmosphere *atm, int split) {
   n.degree_h = 2;
   n.degree_mu_s = 3;
   memcpy(n.coef, true_coef, sizeof true_coef);
+  n.has_cap = isfinite(cap);
+  n.cap = n.has_cap ? cap : 0.0;
   CHECK(sf_mlp_sky_set_output_norm(&normed, 0, &n, &err) == SF_OK);
   sf_rng rng;
   sf_rng_seed(&rng, 9, split, 0);
   double worst_d = 0.0, worst_f = 0.0;
-  int ground_rays = 0, below = 0;
+  int ground_rays = 0, below = 0, capped = 0;
   for (int i = 0; i < 4000; ++i) {
     double h = 100.0 * pow(sf_rng_uniform(&rng), 2.0), mu = 2.0 * sf_rng_uniform(&rng) - 1.0;
     double mu_s = 2.0 * sf_rng_uniform(&rng) - 1.0, nu = 2.0 * sf_rng_uniform(&rng) - 1.0;
     nu = sf_clamp_nu(mu, mu_s, nu);
     int ground = split && sf_mlp_ray_ends_on_ground(atm->bottom_radius_km, h, mu);
     ground_rays += ground;
+    /* the ground network has no normalisation: factor 1 there (x2 reaches
+     * -2.3 here: b extrapolated below the fitted square, where the sky
+     * network itself sees the sun at the square's edge v = -1: the raw
+     * model is evaluated there, for a nu both suns allow) */
+    double u = (sqrt(h) - raw.offset[0]) * raw.scale[0], v = (mu_s - raw.offset[2]) * raw.scale[2];
+    double f = ground ? 1.0 : exp(model_b(u, v, cap));
+    capped += !ground && isfinite(cap) && true_b(fmin(fmax(u, -1.0), 1.0), fmin(fmax(v, -1.0), 1.0)) > cap;
+    double mu_s_net = !ground && v < -1.0 ? raw.offset[2] - 1.0 / raw.scale[2] : mu_s;
+    if (sf_clamp_nu(mu, mu_s_net, nu) != nu) continue;
+    below += !ground && v < -1.0;
     double L0[3], L1[3];
     float F0[3], F1[3];
-    sf_mlp_scattering(&raw, h, mu, mu_s, nu, L0);
+    sf_mlp_scattering(&raw, h, mu, mu_s_net, nu, L0);
     sf_mlp_scattering(&normed, h, mu, mu_s, nu, L1);
-    sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s, (float)nu, F0);
+    sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s_net, (float)nu, F0);
     sf_mlp_scattering_f(&normed, (float)h, (float)mu, (float)mu_s, (float)nu, F1);
-    /* the ground network has no normalisation: factor 1 there (x2 reaches
-     * -2.3 here: b extrapolated below the fitted square) */
-    double u = (sqrt(h) - raw.offset[0]) * raw.scale[0], v = (mu_s - raw.offset[2]) * raw.scale[2];
-    double f = ground ? 1.0 : exp(model_b(u, v));
-    below += !ground && v < -1.0;
     for (int c = 0; c < 3; ++c) {
       if (L0[c] > 0.0) worst_d = fmax(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
       if (F0[c] > 0.0f) worst_f = fmax(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
     }
   }
-  printf("split %d (%d ground rays, %d sky rays with the sun below the square): normalised / raw vs exp(b): "
-         "double %.3g, float32 %.3g\n", split, ground_rays, below, worst_d, worst_f);
+  printf("split %d, cap %g (%d ground rays, %d sky rays with the sun below the square, %d capped): normalised / raw "
+         "vs exp(b): double %.3g, float32 %.3g\n", split, cap, ground_rays, below, capped, worst_d, worst_f);
   CHECK(worst_d < 1e-13);
   CHECK(worst_f < 1e-5);
   CHECK(!split || ground_rays > 100);
   CHECK(below > 500);
+  CHECK(!isfinite(cap) || capped > 200);
   /* the slope at v = -1 of this polynomial is positive over u in [0, 1]:
    * b keeps falling below the square */
-  CHECK(model_b(0.5, -2.0) < model_b(0.5, -1.0) - 1.0);
+  CHECK(model_b(0.5, -2.0, cap) < model_b(0.5, -1.0, cap) - 1.0);
   /* weights round trip */
   sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -1.0, 1.0};
   cJSON *doc = mlp_scattering_weights_doc(atm, &domain, normed.offset, normed.scale);
@@ -195,6 +232,7 @@ static void test_model(const sf_atmosphere *atm, int split) {
   CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_OK);
   CHECK(back.norm.active && !back.norm_ground.active && back.norm.degree_h == 2 && back.norm.degree_mu_s == 3);
   CHECK(memcmp(back.norm.coef, normed.norm.coef, sizeof true_coef) == 0);
+  CHECK(back.norm.has_cap == normed.norm.has_cap && (!back.norm.has_cap || back.norm.cap == normed.norm.cap));
   double a[3], b[3];
   sf_mlp_scattering(&normed, 1.5, 0.2, 0.1, 0.3, a);
   sf_mlp_scattering(&back, 1.5, 0.2, 0.1, 0.3, b);
@@ -214,6 +252,19 @@ static void test_model(const sf_atmosphere *atm, int split) {
   CHECK(strstr(err.message, "bad.json") && strstr(err.message, "params.norm_coef"));
   sf_weights_free(&w);
   free(text);
+  /* a cap of 1e300 (the float32 cap would be infinite): refused */
+  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_coef");
+  sf_weights_add_param(doc, "norm_coef", 2, (const int[]){3, 4}, true_coef);
+  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_cap");
+  sf_weights_add_param(doc, "norm_cap", 1, (const int[]){1}, (const double[]){1e300});
+  text = sf_weights_print(doc);
+  sf_error_clear(&err);
+  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
+  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  CHECK(strstr(err.message, "bad.json") && strstr(err.message, "params.norm_cap"));
+  sf_weights_free(&w);
+  free(text);
   cJSON_Delete(doc);
   sf_mlp_sky_free(&raw);
   sf_mlp_sky_free(&normed);
@@ -223,7 +274,10 @@ int main(void) {
   test_fit();
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
-  test_model(&atm, 0);
-  test_model(&atm, 1);
+  test_model(&atm, 0, INFINITY);
+  test_model(&atm, 1, INFINITY);
+  /* a cap crossing the polynomial's range over the square (-5.1..-1.4) */
+  test_model(&atm, 0, -2.5);
+  test_model(&atm, 1, -2.5);
   return check_summary();
 }
