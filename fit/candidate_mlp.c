@@ -272,6 +272,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     if (job->normalise) {   /* brightness */
       sf_cache_key_add_number(&key, "norm_degree_h", SF_OUTPUT_NORM_DEGREE_H);
       sf_cache_key_add_number(&key, "norm_degree_mu_s", SF_OUTPUT_NORM_DEGREE_MU_S);
+      sf_cache_key_add_number(&key, "norm_cap_below", SF_OUTPUT_NORM_CAP_BELOW);
     }
   }
   char path[4400];

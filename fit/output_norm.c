@@ -99,6 +99,8 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, doubl
 int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *out, char *why, size_t why_size,
                            sf_error *err) {
   if (why_size > 0) why[0] = '\0';
+  if (!(cap_below >= 0.0))   /* a caller's error, not a set too coarse */
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: cap %g below the brightest: expected >= 0", cap_below);
   sf_error fit_err = {0};
   int status = sf_output_norm_fit(d, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, cap_below, out, &fit_err);
   if (status == SF_OK) {

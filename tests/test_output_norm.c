@@ -165,6 +165,25 @@ static void make_model(const sf_atmosphere *atm, int split, sf_mlp_sky *s) {
   }
 }
 
+static void replace_param(cJSON *doc, const char *name, int n_dims, const int *shape, const double *values) {
+  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), name);
+  sf_weights_add_param(doc, name, n_dims, shape, values);
+}
+
+/* doc, printed and loaded as bad.json, is refused naming the file and key */
+static void expect_refused(const cJSON *doc, const char *key) {
+  sf_error err = {0};
+  sf_weights w;
+  sf_mlp_sky back;
+  char *text = sf_weights_print(doc);
+  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
+  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
+  printf("refused: %s\n", err.message);
+  CHECK(strstr(err.message, "bad.json") && strstr(err.message, key));
+  sf_weights_free(&w);
+  free(text);
+}
+
 static void test_model(const sf_atmosphere *atm, int split, double cap) {
   sf_error err = {0};
   sf_mlp_sky raw, normed;
@@ -241,30 +260,13 @@ static void test_model(const sf_atmosphere *atm, int split, double cap) {
   sf_weights_free(&w);
   free(text);
   /* degree 8 in u: refused, naming the file and key */
-  sf_error_clear(&err);
   double big[9 * 2] = {0};
-  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_coef");
-  sf_weights_add_param(doc, "norm_coef", 2, (const int[]){9, 2}, big);
-  text = sf_weights_print(doc);
-  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
-  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
-  printf("refused: %s\n", err.message);
-  CHECK(strstr(err.message, "bad.json") && strstr(err.message, "params.norm_coef"));
-  sf_weights_free(&w);
-  free(text);
+  replace_param(doc, "norm_coef", 2, (const int[]){9, 2}, big);
+  expect_refused(doc, "params.norm_coef");
   /* a cap of 1e300 (the float32 cap would be infinite): refused */
-  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_coef");
-  sf_weights_add_param(doc, "norm_coef", 2, (const int[]){3, 4}, true_coef);
-  cJSON_DeleteItemFromObject(cJSON_GetObjectItem(doc, "params"), "norm_cap");
-  sf_weights_add_param(doc, "norm_cap", 1, (const int[]){1}, (const double[]){1e300});
-  text = sf_weights_print(doc);
-  sf_error_clear(&err);
-  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
-  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
-  printf("refused: %s\n", err.message);
-  CHECK(strstr(err.message, "bad.json") && strstr(err.message, "params.norm_cap"));
-  sf_weights_free(&w);
-  free(text);
+  replace_param(doc, "norm_coef", 2, (const int[]){3, 4}, true_coef);
+  replace_param(doc, "norm_cap", 1, (const int[]){1}, (const double[]){1e300});
+  expect_refused(doc, "params.norm_cap");
   cJSON_Delete(doc);
   sf_mlp_sky_free(&raw);
   sf_mlp_sky_free(&normed);
