@@ -137,13 +137,14 @@ void sf_mlp_bruneton_inverse(double bottom_radius_km, double top_radius_km, doub
  * dims on at the rate it dims at that edge, never brighter, and the
  * network itself sees it at the edge (its input v clamped to -1): it was
  * never trained there, and of 12 networks measured one grew there faster
- * than the brightness fell (space view RMSE 3.6; 0.005 clamped);
- * a sun above the highest keeps its brightness. The cap (fit/output_norm.h) leaves the
- * bright situations, those within e^-cap_below of the brightest, weighed
- * among themselves as raw targets are, and lifts only the dimmer ones:
- * without it noon's error grows up to 2.4x. Without has_cap (a file
- * without params.norm_cap) there is none. The model evaluates this operation for operation in double
- * and float32, and so does the emitted code. */
+ * than the brightness fell (space view RMSE 3.6; 0.005 clamped); a sun
+ * above the highest keeps its brightness. The cap (fit/output_norm.h)
+ * leaves the bright situations, those within a factor e^cap_below of the
+ * brightest, weighed among themselves as raw targets are, and lifts only
+ * the dimmer ones: without it the noon views' error grew up to 2.4x.
+ * Without has_cap (a file without params.norm_cap) there is none. The
+ * model evaluates this operation for operation in double and float32, and
+ * so does the emitted code. */
 #define SF_MLP_NORM_MAX_DEGREE 7
 /* |cap| must be below this: exp(cap) stays a normal float32 */
 #define SF_MLP_NORM_CAP_LIMIT 80.0
