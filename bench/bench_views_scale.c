@@ -49,12 +49,8 @@ typedef struct pixel_sums {
  * is below the domain's lowest: there the tables, our reference, hold their
  * edge's values and the network extrapolates. */
 static int sun_below_domain(const sf_atmosphere *atm, const double in[4], double mu_s_min) {
-  double r = atm->bottom_radius_km + in[0], t_enter, t_exit;
-  int hits_ground;
-  if (!sf_ray_atmosphere_segment(r, in[1], atm->bottom_radius_km, atm->top_radius_km, &t_enter, &t_exit, &hits_ground))
-    return 0;
-  double r_e = sqrt(r * r + t_enter * t_enter + 2.0 * r * in[1] * t_enter);
-  return (r * in[2] + t_enter * in[3]) / r_e < mu_s_min - 1e-9;
+  double r, mu = in[1], mu_s = in[2];
+  return sf_sky_enter_atmosphere(atm, in[0], &r, &mu, &mu_s, in[3]) && mu_s < mu_s_min - 1e-9;
 }
 
 static double rms(double sum_sq, long n) { return n > 0 ? sqrt(sum_sq / (double)n) : 0.0; }

@@ -198,9 +198,9 @@ static int run_sky(int argc, char **argv, int scattering) {
       if (parse_switch(command, a, argv[++i], "brightness", &job.normalise)) return 2;
     } else if (scattering && strcmp(a, "--normalise-cap") == 0) {
       const char *v = argv[++i];
-      char *end;
-      job.normalise_cap = strcmp(v, "none") == 0 ? INFINITY : strtod(v, &end);
-      if (strcmp(v, "none") != 0 && (end == v || *end || !(job.normalise_cap >= 0.0) || !isfinite(job.normalise_cap))) {
+      if (strcmp(v, "none") == 0)
+        job.normalise_cap = INFINITY;
+      else if (sf_mlp_cli_parse_double(v, 0.0, HUGE_VAL, &job.normalise_cap)) {
         fprintf(stderr, "%s: --normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
         return 2;
       }

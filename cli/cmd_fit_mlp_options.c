@@ -26,7 +26,7 @@ static int parse_long(const char *text, long lo, long hi, long *out) {
   return 0;
 }
 
-static int parse_double(const char *text, double lo, double hi, double *out) {
+int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out) {
   char *end;
   errno = 0;
   double v = strtod(text, &end);
@@ -79,7 +79,7 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
   } else if (strcmp(a, "--loss-floor") == 0 || strcmp(a, "--lr") == 0 || strcmp(a, "--lr-decay") == 0 ||
              strcmp(a, "--validation") == 0) {
     int is_frac = strcmp(a, "--validation") == 0;
-    if (parse_double(v, is_frac ? 0.0 : 1e-300, is_frac ? 0.9 : (strcmp(a, "--lr-decay") == 0 ? 1.0 : 1e3), &x)) {
+    if (sf_mlp_cli_parse_double(v, is_frac ? 0.0 : 1e-300, is_frac ? 0.9 : (strcmp(a, "--lr-decay") == 0 ? 1.0 : 1e3), &x)) {
       fprintf(stderr, "%s: %s: expected a %s, got '%s'\n", command, a,
               is_frac ? "fraction in [0, 0.9]" : "positive number", v);
       return -1;

@@ -27,6 +27,8 @@ void sf_mlp_cli_default(sf_mlp_cli *o);
  * bad value: -1 after printing "<command>: <problem>". */
 int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv, int *i);
 void sf_mlp_cli_help(FILE *out);
+/* The whole of text as a finite number in [lo, hi]: 0; else -1. */
+int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out);
 
 /* Levenberg-Marquardt polish of a trained network (fit/mlp_lm.h) with the
  * training loss (delta_k = loss_floor * max |y_k| of train, as fit/train.h);

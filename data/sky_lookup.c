@@ -21,10 +21,7 @@ void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf
   sky->multiple = set->multiple.data ? &set->multiple : NULL;   /* none: transmittance only */
 }
 
-/* Moves a viewer above the top to where the ray enters. Returns 0 if the
- * ray never enters; else fills r, mu, mu_s at the (new) viewer. */
-static int enter_atmosphere(const sf_atmosphere *atm, double h, double *r, double *mu, double *mu_s,
-                            double nu) {
+int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, double *mu, double *mu_s, double nu) {
   double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
   *r = R + h;
   if (*r <= Rt) return 1;
@@ -47,7 +44,7 @@ void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s
   memset(out, 0, sizeof *out);
   nu = sf_clamp_nu(mu, mu_s, nu);
   double r;
-  if (!enter_atmosphere(atm, h_km, &r, &mu, &mu_s, nu)) return;
+  if (!sf_sky_enter_atmosphere(atm, h_km, &r, &mu, &mu_s, nu)) return;
   out->in_atmosphere = 1;
   sf_scattering_coord c = {r - atm->bottom_radius_km, mu, mu_s, nu,
                            sf_ray_hits_sphere_from_above(r, mu, atm->bottom_radius_km)};
@@ -82,7 +79,7 @@ void sf_sky_transmittance(const sf_sky_tables *sky, double h_km, double mu, doub
   int nch = atm->n_channels;
   for (int ch = 0; ch < nch; ++ch) transmittance[ch] = 1.0;
   double r, mu_s = 0.0;
-  if (!enter_atmosphere(atm, h_km, &r, &mu, &mu_s, 0.0)) return;
+  if (!sf_sky_enter_atmosphere(atm, h_km, &r, &mu, &mu_s, 0.0)) return;
   double R = atm->bottom_radius_km, h = r - R;
   int ground = sf_ray_hits_sphere_from_above(r, mu, R);
   if (sky->params.kind == SF_PARAM_LEENMAN || !ground) {

@@ -34,6 +34,11 @@ typedef struct sf_sky_sample {
   double radiance[SF_MAX_CHANNELS];   /* sum_c phase_c(nu) single_c + multiple */
 } sf_sky_sample;
 
+/* Moves a viewer at altitude h above the top to where its ray (mu, sun at
+ * mu_s, view-sun cosine nu) enters. Returns 0 if the ray never enters;
+ * else fills r, mu, mu_s at the (new) viewer (unchanged inside). */
+int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, double *mu, double *mu_s, double nu);
+
 /* Viewer at altitude h_km (>= 0, may be above the top) looking along mu, sun
  * at mu_s, view-sun cosine nu (clamped into what mu and mu_s allow). */
 void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s, double nu,

@@ -214,6 +214,9 @@ double sf_mlp_output_norm_log_brightness(const sf_mlp_output_norm *n, double u, 
   return log_brightness(n, u, v);
 }
 
+/* |cap| within SF_MLP_NORM_CAP_LIMIT (and not NaN) */
+static int norm_cap_valid(double cap) { return fabs(cap) < SF_MLP_NORM_CAP_LIMIT; }
+
 int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_norm *norm, sf_error *err) {
   const sf_mlp *net = ground ? &m->net_ground : &m->net;
   if (m->target == SF_MLP_TARGET_TRANSMITTANCE_TOP || !net->params)
@@ -223,7 +226,7 @@ int sf_mlp_sky_set_output_norm(sf_mlp_sky *m, int ground, const sf_mlp_output_no
       norm->degree_mu_s > SF_MLP_NORM_MAX_DEGREE)
     return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: degrees %d, %d: expected 0..%d", norm->degree_h,
                    norm->degree_mu_s, SF_MLP_NORM_MAX_DEGREE);
-  if (norm->has_cap && !(fabs(norm->cap) < SF_MLP_NORM_CAP_LIMIT))
+  if (norm->has_cap && !norm_cap_valid(norm->cap))
     return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: cap %g: expected a finite log brightness in (-%g, %g)",
                    norm->cap, SF_MLP_NORM_CAP_LIMIT, SF_MLP_NORM_CAP_LIMIT);
   sf_mlp_output_norm *dst = ground ? &m->norm_ground : &m->norm;
@@ -270,7 +273,7 @@ static int load_norm(const sf_weights *w, sf_mlp_sky *m, int ground, sf_error *e
     int cap_shape[1] = {1};
     if (sf_weights_param(w, cap_name, 1, cap_shape, &n.cap, 1, err)) return err->status;
     n.has_cap = 1;
-    if (!(fabs(n.cap) < SF_MLP_NORM_CAP_LIMIT))
+    if (!norm_cap_valid(n.cap))
       return sf_fail(err, SF_ERR_INPUT, "%s: params.%s: %g: expected a finite log brightness in (-%g, %g)", w->source,
                      cap_name, n.cap, SF_MLP_NORM_CAP_LIMIT, SF_MLP_NORM_CAP_LIMIT);
   }
