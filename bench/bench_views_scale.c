@@ -14,7 +14,7 @@
  *       single scattering alone), beside App. B's "Naive" column (a
  *       raymarch of single scattering, seed 000 §11.2.6): as a mean square
  *       the seed's naive model errs by somewhat more than that, as a root
- *       it would err by 10-200x less, which no model without multiple
+ *       it would err by 9-64x less, which no model without multiple
  *       scattering can;
  *   - the network's RMSE over every pixel (the report's figure), then split
  *     into pixels whose ray leaves the atmosphere (sky) and pixels whose ray

@@ -185,9 +185,9 @@ sfit s4889_split_log_long --epochs "$(e 200)" --lr-decay 0.98 --polish "$(e 200)
   --threads 2
 # dawn alone: the split trained only on sun elevations -10..-2 deg (--scene):
 # is dawn limited by the loss's weighting of dawn against day, or by the
-# network? Measured: ground-dawn 0.0090, plane-dawn 0.0094, orbit-dawn 0.032
-# (the build's all-day network 0.027, 0.029, 0.195; the seed 3.0e-4, 1.1e-3,
-# 0.0125): 3-6x better, still 8-30x the seed
+# network? Measured (with the earlier cameras, before the brightness
+# normalisation): ground-dawn 0.0090, plane-dawn 0.0094, orbit-dawn 0.032
+# (the build's all-day network 0.027, 0.029, 0.195): 3-6x better
 printf '{"name": "dawn", "viewer_altitude_km": [0, 100], "view": "all", "sun_elevation_deg": [-10, -2], "quantities": ["sky_radiance"], "color": "rgb"}\n' \
   >"$work/dawn-scene.json"
 sfit s4889_dawn_only --scene "$work/dawn-scene.json" --epochs "$(e 100)" --lr-decay 0.98 --polish "$(e 100)" \

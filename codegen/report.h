@@ -153,12 +153,16 @@ int sf_report_write_all(const sf_report *rep, sf_error *err);
  *
  * The printed figures are mean squared errors, though the appendices head
  * them "RMSE" (eq. 61 has the root). App. B's "Naive" column (a raymarch
- * of single scattering only) is 1.2-5.3x the mean square of the multiple
- * scattering in our reference views (10 of 12 views); as roots its figures
- * would be 9-200x below the multiple scattering's RMS, an error no model
+ * of single scattering only) is 1.2-5.8x the mean square of the multiple
+ * scattering in our reference views (11 of 12 views); as roots its figures
+ * would be 9-64x below the multiple scattering's RMS, an error no model
  * without multiple scattering can have. Its "Empty" column (a white image,
- * seed 000 §11.2.1) is within 5 % of the mean of (1 - L)^2 over our views
- * in 9 of 12, of its root in 3 (bench/bench_views_scale.c prints both).
+ * seed 000 §11.2.1) is within 1.7 % of the mean of (1 - L)^2 over our views
+ * in 11 of 12, of its root in 5, the dim views where both are near 1
+ * (bench/bench_views_scale.c prints both);
+ * the views' camera pitches are chosen to reproduce it (models/
+ * views_standard.h), but no pitch brings the roots to it at ground-noon (a
+ * white image's MSE would have to be 0.67; it is 0.71 at best).
  * App. D comes from the same procedure (seed 000 §11.5: "This process is
  * repeated for the transmittance models").
  * sf_paper_rmse gives their square roots, which compare with our RMSE. */

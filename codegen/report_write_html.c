@@ -192,8 +192,8 @@ static void views_section(FILE *f, const sf_report *rep, int q) {
     fputs("</tr>\n", f);
   }
   fputs("</table>\n<p class=\"note\">The seed's columns are the square roots of its appendix's figures, which are "
-        "mean squared errors though headed RMSE: its Naive column (single scattering only) is 1.2-5x the mean square of "
-        "the multiple scattering in our views, and as a root it would be 9-200x below it (codegen/report.h). "
+        "mean squared errors though headed RMSE: its Naive column (single scattering only) is 1.2-5.8x the mean square of "
+        "the multiple scattering in our views, and as a root it would be 9-64x below it (codegen/report.h). "
         "Seed 000 compares against a path tracer (sky radiance) or a 128-step raymarch "
         "(transmittance) at 1920&times;1080 with its own cameras; ours compares against our reference tables / exact "
         "optical depth, at the view size below, with the cameras of models/views_standard.h. Same views, exposures and "

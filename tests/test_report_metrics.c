@@ -64,22 +64,24 @@ static void cameras(void) {
   sf_view_camera cam;
   double in[4];
   /* Ground, noon, 3x3: the centre pixel looks along the camera axis,
-   * pitched up 20 deg: mu = sin 20, the sun overhead: mu_s = 1, nu = mu. */
+   * pitched up p: mu = sin p, the sun overhead: mu_s = 1, nu = mu. */
   sf_view_camera_make(noon, &atm, 3, 3, &cam);
   sf_view_pixel_inputs(&cam, &atm, 1, 1, in);
-  double s20 = sin(20.0 * SF_PI / 180.0);
-  printf("ground-noon centre: h %.3g mu %.15g mu_s %.15g nu %.15g (sin 20 = %.15g)\n", in[0], in[1], in[2], in[3], s20);
+  double pitch = noon->pitch_deg * SF_PI / 180.0, s_p = sin(pitch);
+  CHECK(noon->pitch_deg > 0.0);
+  printf("ground-noon centre: h %.3g mu %.15g mu_s %.15g nu %.15g (sin pitch = %.15g)\n", in[0], in[1], in[2], in[3],
+         s_p);
   CHECK_ABS(in[0], 0.0, 1e-9);
-  CHECK_ABS(in[1], s20, 1e-12);
+  CHECK_ABS(in[1], s_p, 1e-12);
   CHECK_ABS(in[2], 1.0, 1e-12);
-  CHECK_ABS(in[3], s20, 1e-12);
+  CHECK_ABS(in[3], s_p, 1e-12);
   /* Top-left pixel of a 3x3 view at 60 deg vertical fov: camera-space
    * direction (-(2/3) tan_h, (2/3) tan_v, 1) with tan_v = tan 30, tan_h =
    * tan_v (square): its elevation is asin of the normalised up component. */
   double tv = tan(30.0 * SF_PI / 180.0), x = -2.0 / 3.0 * tv, y = 2.0 / 3.0 * tv;
   double len = sqrt(1 + x * x + y * y);
-  double c20 = cos(20.0 * SF_PI / 180.0);
-  double want_mu = (s20 + y * c20) / len;
+  double c_p = cos(pitch);
+  double want_mu = (s_p + y * c_p) / len;
   sf_view_pixel_inputs(&cam, &atm, 0, 0, in);
   printf("ground-noon top-left: mu %.15g want %.15g\n", in[1], want_mu);
   CHECK_ABS(in[1], want_mu, 1e-12);

@@ -10,10 +10,11 @@
  *
  * The camera is written out here (the example depends on nothing of
  * skyfit's but the header): a viewer on the ground, pinhole camera pitched
- * up 20°, 60° vertical field of view, the horizontal one following the
- * aspect ratio; the sun overhead; exposure 1 and sun irradiance 6. World
- * frame: planet centre at the origin, viewer at (0, 0, R); forward is +x
- * tilted up by the pitch, right is -y. Pixel (i, j), j = 0 the top row:
+ * up 3° (the ground-noon view of models/views_standard.h), 60° vertical
+ * field of view, the horizontal one following the aspect ratio; the sun
+ * overhead; exposure 1 and sun irradiance 6. World frame: planet centre at
+ * the origin, viewer at (0, 0, R); forward is +x tilted up by the pitch,
+ * right is -y. Pixel (i, j), j = 0 the top row:
  * direction ∝ forward + x right + y up, x = (2 (i + 1/2) / W - 1) tan(hfov/2),
  * y = (1 - 2 (j + 1/2) / H) tan(vfov/2). Model inputs: mu = d.z (the zenith
  * is +z at the viewer), mu_s = s.z, nu = d.s. Hosek is a model of the sky
@@ -30,7 +31,7 @@
 #include SKYFIT_SKY_HEADER
 
 #define PI 3.14159265358979323846
-#define PITCH_DEG 20.0
+#define PITCH_DEG 3.0
 #define VFOV_DEG 60.0
 #define SUN_ELEVATION_DEG 90.0
 #define EXPOSURE 1.0
