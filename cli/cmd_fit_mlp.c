@@ -36,7 +36,7 @@ static void sky_usage(FILE *out, int scattering) {
           scattering ? "Trains the scattering network: (sqrt h, mu, mu_s, nu) normalised -> scattered light\n"
                        "along the ray, exp(-x) outputs (models/mlp_sky.h). Defaults: --layers 4,8,8,9\n"
                        "--target separate --loss mse --epochs 60 --batch 1024 --lr 0.01 --lr-decay 0.95\n"
-                       "--polish 30 --polish-samples 20000 --normalise brightness --normalise-cap 1.5."
+                       "--polish 100 --polish-samples 10000 --normalise brightness --normalise-cap 1.5."
                      : "Trains the transmittance network: Bruneton's (x_r, x_mu) normalised -> transmittance per channel\n"
                        "of the ray to the top boundary, exp(-exp(-x)) output (--output exp_neg_exp); rays hitting the ground are evaluated\n"
                        "reversed (eq. 43). Defaults: --layers 2,8,8,3 --loss mse --epochs 500 --batch 256\n"
@@ -158,13 +158,13 @@ static int run_sky(int argc, char **argv, int scattering) {
    * reaches ten times lower RMSE with two hidden layers of 8 and a
    * Levenberg-Marquardt polish (fit/mlp_lm.h) than 2-4-3 with Adam alone,
    * and the exp_neg_exp output halves its error on full rays and views
-   * against exp_neg. */
+   * against exp_neg. The scattering network's polish: fit/mlp_lm.h. */
   t->loss = SF_LOSS_MSE;
   t->epochs = scattering ? 60 : 500;
   t->batch = scattering ? 1024 : 256;
   t->adam.lr_decay_per_epoch = scattering ? 0.95 : 0.995;
-  job.mlp.polish.iterations = scattering ? 30 : 60;
-  if (scattering) job.mlp.polish.max_samples = 20000;
+  job.mlp.polish.iterations = scattering ? SF_MLP_SCATTERING_POLISH : 60;
+  if (scattering) job.mlp.polish.max_samples = SF_MLP_SCATTERING_POLISH_SAMPLES;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {

@@ -158,7 +158,9 @@ int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dat
     delta[k] = t->loss_floor * m > 0.0 ? t->loss_floor * m : 1e-300;
   }
   sf_mlp_loss loss = {t->loss, delta};
-  int status = sf_mlp_lm_polish(&t->shape, result->net.params, &loss, train, validation, &o->polish, lm, err);
+  sf_mlp_lm_options polish = o->polish;
+  polish.n_threads = t->n_threads;
+  int status = sf_mlp_lm_polish(&t->shape, result->net.params, &loss, train, validation, &polish, lm, err);
   if (status) return status;
   result->train_loss = sf_mlp_dataset_loss(&t->shape, result->net.params, &loss, train, t->n_threads);
   if (validation && validation->n > 0)

@@ -1,6 +1,7 @@
 #include "fit/mlp_lm.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,6 +11,7 @@ void sf_mlp_lm_options_default(sf_mlp_lm_options *o) {
   o->iterations = 0;
   o->max_samples = 0;
   o->lambda0 = 1e-3;
+  o->n_threads = 0;
 }
 
 /* f'(z) from z and a = f(z). */
@@ -99,18 +101,36 @@ static void jacobian_row(const sf_mlp_shape *s, const double *params, int k, dou
   }
 }
 
-/* Sum of squared residuals over the first n samples. */
-static double total_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_dataset *d,
-                         long n) {
+/* A pass over the samples goes in LM_CHUNKS fixed chunks, chunk c holding
+ * samples n c / LM_CHUNKS .. n (c + 1) / LM_CHUNKS - 1, each summed on its
+ * own and the chunks' sums added in chunk order: the same bits whatever
+ * the number of threads that computed them. */
+#define LM_CHUNKS 32
+
+static long chunk_begin(long n, int c) { return n * c / LM_CHUNKS; }
+
+/* Sum of squared residuals over samples s0..s1-1. */
+static double chunk_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_dataset *d,
+                         long s0, long s1) {
   double out[SF_MLP_MAX_WIDTH], sum = 0.0, slope;
   int n_out = s->sizes[s->n_layers];
-  for (long i = 0; i < n; ++i) {
+  for (long i = s0; i < s1; ++i) {
     sf_mlp_forward(s, params, d->x + i * d->n_in, out);
     for (int k = 0; k < n_out; ++k) {
       double e = residual(loss, k, out[k], d->y[i * d->n_out + k], &slope);
       sum += e * e;
     }
   }
+  return sum;
+}
+
+/* Sum of squared residuals over the first n samples. */
+static double total_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_dataset *d,
+                         long n, int n_threads) {
+  double part[LM_CHUNKS], sum = 0.0;
+#pragma omp parallel for schedule(static, 1) num_threads(n_threads) if (n_threads > 1)
+  for (int c = 0; c < LM_CHUNKS; ++c) part[c] = chunk_loss(s, params, loss, d, chunk_begin(n, c), chunk_begin(n, c + 1));
+  for (int c = 0; c < LM_CHUNKS; ++c) sum += part[c];
   return sum;
 }
 
@@ -165,6 +185,60 @@ static void add_block_gram(int P, double *block, int filled, double *JTJ) {
   }
 }
 
+/* One thread's buffers for the normal equations of a chunk of samples. */
+typedef struct lm_worker {
+  lm_work w;
+  double *row, *block;   /* a Jacobian row; LM_BLOCK rows, parameter-major */
+  double *JTJ, *JTe;     /* the chunk's sums (J^T J: upper triangle) */
+} lm_worker;
+
+static int lm_worker_init(lm_worker *t, int P) {
+  memset(t, 0, sizeof *t);
+  size_t PP = (size_t)P * (size_t)P;
+  t->row = malloc((size_t)P * sizeof(double));
+  t->block = malloc((size_t)P * LM_BLOCK * sizeof(double));
+  t->JTJ = malloc(PP * sizeof(double));
+  t->JTe = malloc((size_t)P * sizeof(double));
+  t->w.P = P;
+  t->w.row = t->row;
+  return t->row && t->block && t->JTJ && t->JTe ? 0 : -1;
+}
+
+static void lm_worker_free(lm_worker *t) {
+  free(t->row);
+  free(t->block);
+  free(t->JTJ);
+  free(t->JTe);
+}
+
+/* J^T J (upper triangle) and J^T e of samples s0..s1-1 into t->JTJ, t->JTe:
+ * each residual's Jacobian row, gathered LM_BLOCK rows at a time. */
+static void chunk_normal_equations(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                                   const sf_dataset *train, long s0, long s1, lm_worker *t) {
+  int P = t->w.P, n_out = shape->sizes[shape->n_layers];
+  memset(t->JTJ, 0, (size_t)P * (size_t)P * sizeof(double));
+  memset(t->JTe, 0, (size_t)P * sizeof(double));
+  double out[SF_MLP_MAX_WIDTH];
+  int filled = 0;
+  for (long s = s0; s < s1; ++s) {
+    forward_store(shape, params, train->x + s * train->n_in, &t->w);
+    memcpy(out, t->w.a[shape->n_layers], (size_t)n_out * sizeof(double));
+    for (int k = 0; k < n_out; ++k) {
+      double slope, e = residual(loss, k, out[k], train->y[s * train->n_out + k], &slope);
+      jacobian_row(shape, params, k, slope, &t->w);
+      for (int i = 0; i < P; ++i) {
+        t->JTe[i] += t->row[i] * e;
+        t->block[(size_t)i * LM_BLOCK + filled] = t->row[i];
+      }
+      if (++filled == LM_BLOCK) {
+        add_block_gram(P, t->block, filled, t->JTJ);
+        filled = 0;
+      }
+    }
+  }
+  if (filled) add_block_gram(P, t->block, filled, t->JTJ);
+}
+
 int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_loss *loss, const sf_dataset *train,
                      const sf_dataset *validation, const sf_mlp_lm_options *o, sf_mlp_lm_result *result,
                      sf_error *err) {
@@ -178,19 +252,20 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
   double *JTe = malloc((size_t)P * sizeof(double)), *step = malloc((size_t)P * sizeof(double));
   double *trial = malloc((size_t)P * sizeof(double)), *best = malloc((size_t)P * sizeof(double));
   double *A = malloc(PP * sizeof(double));
-  lm_work *w = malloc(sizeof *w);
-  double *row = malloc((size_t)P * sizeof(double));
-  double *block = malloc((size_t)P * LM_BLOCK * sizeof(double));
-  if (!JTJ || !Lw || !JTe || !step || !trial || !best || !A || !w || !row || !block) {
-    free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(w); free(row); free(block);
+  int n_threads = o->n_threads > 0 ? o->n_threads : omp_get_max_threads();
+  if (n_threads > LM_CHUNKS) n_threads = LM_CHUNKS;
+  lm_worker *workers = calloc((size_t)n_threads, sizeof *workers);
+  int ok = JTJ && Lw && JTe && step && trial && best && A && workers;
+  for (int t = 0; ok && t < n_threads; ++t) ok = lm_worker_init(&workers[t], P) == 0;
+  if (!ok) {
+    for (int t = 0; workers && t < n_threads; ++t) lm_worker_free(&workers[t]);
+    free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(workers);
     return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   }
-  w->P = P;
-  w->row = row;
-  double cost = total_loss(shape, params, loss, train, n);
+  double cost = total_loss(shape, params, loss, train, n, n_threads);
   double norm = (double)n * n_out;
   result->initial_loss = result->final_loss = cost / norm;
-  double best_val = has_val ? sf_mlp_dataset_loss(shape, params, loss, validation, 1) : NAN;
+  double best_val = has_val ? sf_mlp_dataset_loss(shape, params, loss, validation, n_threads) : NAN;
   result->initial_validation = result->final_validation = best_val;
   memcpy(best, params, (size_t)P * sizeof(double));
   double lambda = o->lambda0;
@@ -199,25 +274,16 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
     if (need_jacobian) {
       memset(JTJ, 0, PP * sizeof(double));
       memset(JTe, 0, (size_t)P * sizeof(double));
-      double out[SF_MLP_MAX_WIDTH];
-      int filled = 0;
-      for (long s = 0; s < n; ++s) {
-        forward_store(shape, params, train->x + s * train->n_in, w);
-        memcpy(out, w->a[shape->n_layers], (size_t)n_out * sizeof(double));
-        for (int k = 0; k < n_out; ++k) {
-          double slope, e = residual(loss, k, out[k], train->y[s * train->n_out + k], &slope);
-          jacobian_row(shape, params, k, slope, w);
-          for (int i = 0; i < P; ++i) {
-            JTe[i] += row[i] * e;
-            block[(size_t)i * LM_BLOCK + filled] = row[i];
-          }
-          if (++filled == LM_BLOCK) {
-            add_block_gram(P, block, filled, JTJ);
-            filled = 0;
-          }
+#pragma omp parallel for ordered schedule(static, 1) num_threads(n_threads) if (n_threads > 1)
+      for (int c = 0; c < LM_CHUNKS; ++c) {
+        lm_worker *t = &workers[omp_get_thread_num()];
+        chunk_normal_equations(shape, params, loss, train, chunk_begin(n, c), chunk_begin(n, c + 1), t);
+#pragma omp ordered
+        for (int i = 0; i < P; ++i) {
+          JTe[i] += t->JTe[i];
+          for (int j = i; j < P; ++j) JTJ[(size_t)i * P + j] += t->JTJ[(size_t)i * P + j];
         }
       }
-      if (filled) add_block_gram(P, block, filled, JTJ);
       need_jacobian = 0;
     }
     /* damped normal equations; the floor keeps parameters no sample sees solvable */
@@ -232,7 +298,7 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
     double trial_cost = INFINITY;
     if (!bad) {
       for (int i = 0; i < P; ++i) trial[i] = params[i] + step[i];
-      trial_cost = total_loss(shape, trial, loss, train, n);
+      trial_cost = total_loss(shape, trial, loss, train, n, n_threads);
     }
     if (!bad && trial_cost < cost) {
       memcpy(params, trial, (size_t)P * sizeof(double));
@@ -241,7 +307,7 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
       result->accepted += 1;
       need_jacobian = 1;
       if (has_val) {
-        double v = sf_mlp_dataset_loss(shape, params, loss, validation, 1);
+        double v = sf_mlp_dataset_loss(shape, params, loss, validation, n_threads);
         if (v < best_val) {
           best_val = v;
           memcpy(best, params, (size_t)P * sizeof(double));
@@ -253,8 +319,9 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
     }
   }
   if (has_val) memcpy(params, best, (size_t)P * sizeof(double));
-  result->final_loss = total_loss(shape, params, loss, train, n) / norm;
+  result->final_loss = total_loss(shape, params, loss, train, n, n_threads) / norm;
   result->final_validation = best_val;
-  free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(w); free(row); free(block);
+  for (int t = 0; t < n_threads; ++t) lm_worker_free(&workers[t]);
+  free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(workers);
   return SF_OK;
 }
