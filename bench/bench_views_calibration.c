@@ -37,9 +37,15 @@
 
 typedef struct place_group {
   const char *name;
-  int views[MAX_GROUP], n;
+  double altitude_km;          /* the place's viewers: SF_PLACE_VIEWER at this altitude */
   double pitch_lo, pitch_hi;   /* the scanned grid, degrees */
+  int views[MAX_GROUP], n;
 } place_group;
+
+/* App. B's figure (as printed: a mean squared error) of a view. */
+static double paper_figure(const sf_paper_table *paper, const char *view_name, const char *column) {
+  return paper->values[sf_paper_row(paper, view_name) * paper->n_columns + sf_paper_column(paper, column)];
+}
 
 /* Our reference's white-image MSE and multiple scattering's mean square of
  * a view drawn with the given pitch (NAN: down to the horizon). */
@@ -77,9 +83,7 @@ static void group_fit(const place_group *g, const sf_view_def *views, const sf_p
   *ratio = INFINITY;
   for (int k = 0; k < g->n; ++k) {
     const sf_view_def *v = &views[g->views[k]];
-    int row = sf_paper_row(paper, v->name);
-    double empty = paper->values[row * paper->n_columns + sf_paper_column(paper, "Empty")];
-    double naive = paper->values[row * paper->n_columns + sf_paper_column(paper, "Naive")];
+    double empty = paper_figure(paper, v->name, "Empty"), naive = paper_figure(paper, v->name, "Naive");
     double multiple;
     view_statistics(v, pitch_deg, sky, atm, &white[k], &multiple);
     *gap = fmax(*gap, fabs(white[k] / empty - 1.0));
@@ -128,24 +132,22 @@ int main(int argc, char **argv) {
   int nv = sf_standard_radiance_views(&views);
 
   /* places: viewers of the same altitude and move back share a camera */
-  place_group groups[] = {{"ground", {0}, 0, 0.0, 40.0},
-                          {"plane", {0}, 0, 0.0, 40.0},
-                          {"orbit", {0}, 0, -12.0, 6.0},
-                          {"200 km", {0}, 0, -12.0, 10.0}};
-  const double altitude[] = {0.0, 5.0, 100.0, 200.0};
+  place_group groups[] = {{"ground", 0.0, 0.0, 40.0, {0}, 0},
+                          {"plane", 5.0, 0.0, 40.0, {0}, 0},
+                          {"orbit", 100.0, -12.0, 6.0, {0}, 0},
+                          {"200 km", 200.0, -12.0, 10.0, {0}, 0}};
   const int n_groups = (int)(sizeof groups / sizeof groups[0]);
   for (int v = 0; v < nv; ++v)
     for (int g = 0; g < n_groups; ++g)
-      if (views[v].place == SF_PLACE_VIEWER && views[v].altitude_km == altitude[g] && groups[g].n < MAX_GROUP)
+      if (views[v].place == SF_PLACE_VIEWER && views[v].altitude_km == groups[g].altitude_km && groups[g].n < MAX_GROUP)
         groups[g].views[groups[g].n++] = v;
 
   printf("pitch of each place against seed 000 App. B's Empty and Naive columns (reference: tables over every sun)\n");
   for (int g = 0; g < n_groups; ++g) {
     const place_group *G = &groups[g];
     printf("\n%s:", G->name);
-    for (int k = 0; k < G->n; ++k) printf(" %s (Empty %.4f)", views[G->views[k]].name,
-                                          paper.values[sf_paper_row(&paper, views[G->views[k]].name) * paper.n_columns +
-                                                       sf_paper_column(&paper, "Empty")]);
+    for (int k = 0; k < G->n; ++k)
+      printf(" %s (Empty %.4f)", views[G->views[k]].name, paper_figure(&paper, views[G->views[k]].name, "Empty"));
     printf("\n  %-9s %10s  %10s   our white-image MSE per view\n", "pitch", "max gap", "Naive/MS");
     double white[MAX_GROUP], gap, ratio, best_gap = INFINITY, best_pitch = NAN;
     group_fit(G, views, &paper, NAN, &sky, atm, &gap, &ratio, white);
