@@ -46,10 +46,14 @@ summary() {
 import json, sys
 for f in sys.argv[1:]:
     d = json.load(open(f)); m = d["metrics"]; t = d["training"]
-    print("%s: layers %s loss %s epochs %s lr %s decay %s batch %s polish %s; train loss %.4g validation loss %.4g"
+    print("%s: layers %s loss %s epochs %s lr %s decay %s batch %s polish %s; train loss %.4g validation loss %.4g (%s)"
           % (f.split("/")[-1], "-".join(str(x) for x in t["layers"]), t["loss"], t["epochs_run"], t["lr"],
              t["lr_decay_per_epoch"], t["batch"], t.get("polish_iterations", 0), m["train_loss"],
-             m.get("validation_loss", float("nan"))))
+             m.get("validation_loss", float("nan")), m.get("loss_targets", "raw")))
+    if "ground_network" in m:   # a horizon split: the ground network's losses, in its own units
+        g = m["ground_network"]
+        print("    ground network: train loss %.4g validation loss %.4g (%s)"
+              % (g["train_loss"], g.get("validation_loss", float("nan")), g["loss_targets"]))
     for k in ("validation", "full_ray_random", "full_ray_random_float32", "radiance_noon", "radiance_sunrise",
               "radiance_dawn"):
         if k in m:

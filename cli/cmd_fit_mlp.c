@@ -14,6 +14,7 @@
 #include "fit/dataset_sky.h"
 #include "fit/mlp_sky_metrics.h"
 #include "fit/output_norm.h"
+#include "fit/train_losses_json.h"
 #include "models/atmosphere_file.h"
 #include "models/mlp_sky.h"
 #include "models/scene_file.h"
@@ -387,15 +388,10 @@ static int run_sky(int argc, char **argv, int scattering) {
   model.input_map = scattering ? SF_MLP_INPUTS_SQRT_H_MU : job.input_map;
   if (split && sf_mlp_sky_set_ground_net(&model, &result_g.net, &err)) goto fail;
   if (norm.active && sf_mlp_sky_set_output_norm(&model, 0, &norm, &err)) goto fail;
-  /* the model's figures over both halves: losses weighted by their sizes,
-   * errors on both validation sets */
+  /* the model's errors on both validation sets (the losses stay per
+   * network: fit/train_losses_json.h) */
   const sf_dataset *val_model = &val;
   if (split) {
-    result.train_loss = (result.train_loss * (double)train.n + result_g.train_loss * (double)train_g.n) /
-                        (double)(train.n + train_g.n);
-    if (val.n + val_g.n > 0)
-      result.validation_loss = (result.validation_loss * (double)val.n + result_g.validation_loss * (double)val_g.n) /
-                               (double)(val.n + val_g.n);
     if (sf_dataset_concat(&val, &val_g, &val_all, &err)) goto fail;
     val_model = &val_all;
   }
@@ -447,8 +443,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     cJSON_AddNumberToObject(g, "validation_samples", (double)val_g.n);
   }
   cJSON *metrics = sf_weights_metrics(doc);
-  cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
-  if (val_model->n > 0) cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
+  if (sf_train_losses_to_json(metrics, &result, norm.active, split ? &result_g : NULL)) goto fail;
   sf_mlp_error e;
   if (val_model->n > 0) {
     sf_mlp_error_validation(&model, val_model, &e);

@@ -26,6 +26,7 @@
 #include "fit/mlp_lm.h"
 #include "fit/output_norm.h"
 #include "fit/train.h"
+#include "fit/train_losses_json.h"
 #include "models/mlp_sky.h"
 
 static void mlp_t_eval(const void *ctx, const double *in, double *out) {
@@ -191,11 +192,6 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   if (status == SF_OK && split)
     status = train_network(in, job, &ground, &result_ground, &n_train_ground, &n_val_ground, err);
   if (status == SF_OK && split) {
-    /* the losses of the two halves together: means weighted by their sizes */
-    result.train_loss = (result.train_loss * n_train + result_ground.train_loss * n_train_ground) /
-                        (double)(n_train + n_train_ground);
-    result.validation_loss = (result.validation_loss * n_val + result_ground.validation_loss * n_val_ground) /
-                             (double)(n_val + n_val_ground);
     n_train += n_train_ground;
     n_val += n_val_ground;
   }
@@ -244,9 +240,8 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     cJSON_AddNumberToObject(training, "validation_samples", (double)n_val);
     cJSON_AddNumberToObject(training, "grid_points_in_domain", n_all);
     cJSON *metrics = sf_weights_metrics(doc);
-    cJSON_AddNumberToObject(metrics, "train_loss", result.train_loss);
-    if (n_val > 0 && isfinite(result.validation_loss))
-      cJSON_AddNumberToObject(metrics, "validation_loss", result.validation_loss);
+    if (status == SF_OK && sf_train_losses_to_json(metrics, &result, norm.active, split ? &result_ground : NULL))
+      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     if (status == SF_OK) status = sf_weights_write(doc, path, err);
     cJSON_Delete(doc);
   }

@@ -30,6 +30,17 @@ grep -q '"norm_coef"' "$TMP/s1.json" && grep -q '"norm_cap"' "$TMP/s1.json" && !
   ! grep -q '"norm_cap"' "$TMP/nc.json" &&
   pass "brightness by default: the sky network's norm_coef and norm_cap in the file; no cap with --normalise-cap none; neither with --normalise none" ||
   fail "normalisation: norm_coef / norm_cap missing or misplaced"
+# each network's losses apart, in the units of its targets (fit/train_losses_json.h)
+/usr/bin/python3 - "$TMP/s1.json" "$TMP/n1.json" <<'PY' &&
+import json, math, sys
+for path, sky_units in ((sys.argv[1], "brightness_normalised"), (sys.argv[2], "raw")):
+    m = json.load(open(path))["metrics"]
+    g = m["ground_network"]
+    assert m["loss_targets"] == sky_units and g["loss_targets"] == "raw", (path, m)
+    assert all(math.isfinite(x[k]) and x[k] > 0 for x in (m, g) for k in ("train_loss", "validation_loss")), m
+PY
+  pass "losses per network: the sky network's in its targets' units, the ground network's raw" ||
+  fail "losses per network: missing, or units misnamed"
 # interrupted in the normalised sky network, resumed: the normalisation is
 # fitted again from the same data, to the straight run's bytes
 set +e
