@@ -1,12 +1,15 @@
 #include "cli/build_command.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/cmd_fit_mlp_options.h"
 #include "cli/progress_bar.h"
 #include "fit/build_pipeline.h"
 #include "fit/candidate_fitted.h"
+#include "fit/output_norm.h"
 #include "models/scene_file.h"
 
 static void usage(FILE *out, const char *command, int emit) {
@@ -37,6 +40,8 @@ static void usage(FILE *out, const char *command, int emit) {
           "  --mlp-normalise N    brightness (default) or none: the sky network learns its targets\n"
           "                       divided by a fitted, capped brightness of (altitude, sun elevation):\n"
           "                       the dawn views several times better (README)\n"
+          "  --mlp-normalise-cap C  that brightness capped C (natural log) below the brightest\n"
+          "                       situation's (default %g), or none\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --quiet              no progress or notes\n"
@@ -46,7 +51,7 @@ static void usage(FILE *out, const char *command, int emit) {
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
                : "builds\nthe candidates, ",
-          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS);
+          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW);
 }
 
 static void print_note(void *ctx, const char *message) {
@@ -137,6 +142,14 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         return 2;
       }
       o.mlp_scattering_normalise = strcmp(v, "brightness") == 0;
+    } else if (!strcmp(a, "--mlp-normalise-cap") && v) {
+      ++i;
+      if (strcmp(v, "none") == 0)
+        o.mlp_scattering_normalise_cap = INFINITY;
+      else if (sf_mlp_cli_parse_double(v, 0.0, HUGE_VAL, &o.mlp_scattering_normalise_cap)) {
+        fprintf(stderr, "%s: --mlp-normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
+        return 2;
+      }
     } else if (!strcmp(a, "--threads") && v) {
       if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
       o.report.run.n_threads = (int)n;

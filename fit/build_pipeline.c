@@ -9,6 +9,7 @@
 #include "codegen/codegen_file.h"
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
+#include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
 #include "models/weights_file.h"
 #include "fit/candidate_fitted.h"
@@ -24,6 +25,7 @@ void sf_build_options_default(sf_build_options *o) {
   /* the sky network brightness-normalised (fit/output_norm.h): lower view
    * errors in every seed measured, dawn several times lower (README) */
   o->mlp_scattering_normalise = 1;
+  o->mlp_scattering_normalise_cap = SF_OUTPUT_NORM_CAP_BELOW;
 }
 
 /* "dir/base.ext" -> dir, base. */
@@ -189,7 +191,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
                             .mlp_transmittance_epochs = o->mlp_transmittance_epochs,
                             .mlp_scattering_epochs = o->mlp_scattering_epochs,
                             .mlp_scattering_samples = o->mlp_scattering_samples,
-                            .mlp_scattering_normalise = o->mlp_scattering_normalise, .run = o->report.run,
+                            .mlp_scattering_normalise = o->mlp_scattering_normalise,
+                            .mlp_scattering_normalise_cap = o->mlp_scattering_normalise_cap, .run = o->report.run,
                             .note = log_note, .note_ctx = notes};
   sf_candidate_list list;
   sf_candidate_list_init(&list);

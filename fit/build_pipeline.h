@@ -21,6 +21,8 @@ typedef struct sf_build_options {
   int mlp_scattering_epochs;
   long mlp_scattering_samples;       /* 0: default; < 0: every grid point */
   int mlp_scattering_normalise;      /* 1 (default): the sky network brightness-normalised (fit/output_norm.h) */
+  double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (default
+                                            SF_OUTPUT_NORM_CAP_BELOW); INFINITY: none */
   int emit;                          /* write the headers (default 1) */
   sf_candidate_note_fn note;         /* messages for the user; may be NULL */
   void *note_ctx;

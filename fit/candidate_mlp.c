@@ -86,6 +86,7 @@ typedef struct mlp_job {
   int polish_iterations;     /* Levenberg-Marquardt steps after Adam (fit/mlp_lm.h) */
   long polish_samples;       /* samples forming J^T J, <= 0: all */
   int normalise;             /* scattering: the sky network's brightness normalisation */
+  double normalise_cap;      /* its cap below the brightest (fit/output_norm.h); INFINITY: none */
 } mlp_job;
 
 static void train_progress(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
@@ -163,7 +164,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   memset(&norm, 0, sizeof norm);
   if (status == SF_OK && job->normalise) {
     char why[512];
-    status = sf_output_norm_prepare(&data, SF_OUTPUT_NORM_CAP_BELOW, &norm, why, sizeof why, err);
+    status = sf_output_norm_prepare(&data, job->normalise_cap, &norm, why, sizeof why, err);
     if (status == SF_OK && why[0] && in->note) {
       char text[700];
       snprintf(text, sizeof text, "%s: sky network trained on raw targets: %s", job->name, why);
@@ -268,7 +269,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     if (job->normalise) {   /* brightness */
       sf_cache_key_add_number(&key, "norm_degree_h", SF_OUTPUT_NORM_DEGREE_H);
       sf_cache_key_add_number(&key, "norm_degree_mu_s", SF_OUTPUT_NORM_DEGREE_MU_S);
-      sf_cache_key_add_number(&key, "norm_cap_below", SF_OUTPUT_NORM_CAP_BELOW);
+      sf_cache_key_add_number(&key, "norm_cap_below", job->normalise_cap);
     }
   }
   char path[4400];
@@ -418,6 +419,7 @@ int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate
                     : in->mlp_scattering_samples > 0 ? in->mlp_scattering_samples
                                                      : SF_BUILD_MLP_SCATTERING_SAMPLES;
   job.normalise = in->mlp_scattering_normalise;
+  job.normalise_cap = in->mlp_scattering_normalise_cap;
   job.train.seed = in->seed;
   return make(in, &job, out, err);
 }

@@ -41,6 +41,7 @@ typedef struct sf_candidate_inputs {
   int mlp_scattering_epochs;         /* 0: the build's default */
   long mlp_scattering_samples;       /* training samples kept (0: the default; < 0: all) */
   int mlp_scattering_normalise;      /* 1: the sky network brightness-normalised (fit/output_norm.h) */
+  double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (>= 0); INFINITY: none */
   sf_precompute_options run;         /* threads, progress */
   void (*note)(void *ctx, const char *message);   /* messages for the user; may be NULL */
   void *note_ctx;

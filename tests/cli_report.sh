@@ -136,6 +136,17 @@ assert "norm_coef" in w["params"] and "norm_cap" in w["params"] and w["training"
 print("mars: fitted " + ", ".join(f"{m['name']} (rel RMSE {m['errors']['rel_rmse']:.3g})" for m in fitted))
 PY
 [ $rc -eq 0 ] || { echo "FAIL mars build exited $rc"; cat "$tmp/mars.out"; fail=1; }
+# --mlp-normalise-cap none: the brightness normalised, uncapped (as `fit
+# mlp-scattering --normalise-cap none`); a bad cap exits 2, writing nothing
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise-cap none --out "$tmp/mars-nc" > /dev/null 2>&1 &&
+  grep -q '"norm_coef"' "$tmp/mars-nc/weights/mlp-scattering.json" &&
+  ! grep -q '"norm_cap"' "$tmp/mars-nc/weights/mlp-scattering.json" ||
+  { echo "FAIL mars scene: --mlp-normalise-cap none: norm_coef missing or norm_cap present"; fail=1; }
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise-cap -1 --out "$tmp/mars-bad" 2> "$tmp/err"
+rc=$?
+echo "--mlp-normalise-cap -1: exit $rc: $(head -1 "$tmp/err")"
+[ $rc -eq 2 ] && grep -q -- "--mlp-normalise-cap" "$tmp/err" && [ ! -e "$tmp/mars-bad" ] ||
+  { echo "FAIL --mlp-normalise-cap -1 should exit 2 naming the option and write nothing"; fail=1; }
 "$bin" build "$src/examples/scenes/spectral4.json" "${tiny[@]}" --out "$tmp/s4" > "$tmp/s4.out" 2>&1
 rc=$?
 [ $rc -eq 0 ] || { echo "FAIL spectral4 build exited $rc"; cat "$tmp/s4.out"; fail=1; }
