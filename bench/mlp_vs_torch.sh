@@ -2,6 +2,7 @@
 # skyfit's hand-written Adam against PyTorch (CPU), same architecture, data,
 # batch size, epochs and initial weights, in one run (issue: neural sky):
 #   bench/mlp_vs_torch.sh [--tables DIR] [--epochs-batch N] [--epochs-full N]
+#                                        (transmittance; default 200 2000)
 #                         [--scattering-epochs BATCHED FULL]   (default 2 10)
 #                         [--csv-dir DIR]   (keep the dumped data sets there and
 #                                            reuse them on the next run)
@@ -18,8 +19,12 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$here/build-bench}
 tables=/tmp/skyfit-bench-tables
-epochs_batch=20
-epochs_full=200
+# An epoch of skyfit's transmittance network takes 0.1-0.4 ms: a run of
+# 20 (7 ms) or 200 full-batch epochs (25 ms) was within one host stall of
+# the 2-core virtual machine (3-8 ms, measured) of its own length. 200 and
+# 2000 epochs make its runs 70-500 ms.
+epochs_batch=200
+epochs_full=2000
 s_epochs_batch=2
 s_epochs_full=10
 csv_dir=
