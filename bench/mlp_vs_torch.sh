@@ -19,10 +19,10 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD:-$here/build-bench}
 tables=/tmp/skyfit-bench-tables
-# An epoch of skyfit's transmittance network takes 0.1-0.4 ms: a run of
-# 20 (7 ms) or 200 full-batch epochs (25 ms) was within one host stall of
-# the 2-core virtual machine (3-8 ms, measured) of its own length. 200 and
-# 2000 epochs make its runs 70-500 ms.
+# An epoch of skyfit's transmittance network takes 0.1-0.4 ms, and one
+# stall of the 2-core virtual machine's host (3-8 ms, measured in the first
+# split batches) was a large part of a run of 20 epochs (7 ms) or of 200
+# full-batch ones (25 ms). 200 and 2000 epochs make its runs 70-500 ms.
 epochs_batch=200
 epochs_full=2000
 s_epochs_batch=2
