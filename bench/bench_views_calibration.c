@@ -26,10 +26,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "bench/build_tables.h"
 #include "codegen/report.h"
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
-#include "fit/build_pipeline.h"
 #include "models/scene_file.h"
 #include "models/views_standard.h"
 
@@ -103,23 +103,16 @@ int main(int argc, char **argv) {
     return 2;
   }
   sf_error err = {0};
-  sf_scene *scene = malloc(sizeof *scene);
-  sf_scene_default(scene);
   sf_scene_domain domain;
-  if (sf_scene_get_domain(scene, &domain, &err)) {
+  sf_scene *scene = bench_default_scene(&domain, &err);
+  if (!scene) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }
   domain.mu_s_min = -1.0;
   domain.mu_s_max = 1.0;
-  char cache[4096];
-  snprintf(cache, sizeof cache, "%s/cache", argv[1]);
-  sf_build_options build;
-  sf_build_options_default(&build);
-  sf_table_set_options topt;
-  sf_build_table_options(scene, &domain, &build.tables, cache, &topt);
   sf_table_set set;
-  if (sf_table_set_make(&set, &scene->atmosphere, &topt, &err)) {
+  if (bench_build_tables(argv[1], scene, &domain, &set, &err)) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }

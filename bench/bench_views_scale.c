@@ -31,10 +31,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "bench/build_tables.h"
 #include "codegen/report.h"
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
-#include "fit/build_pipeline.h"
 #include "models/mlp_sky.h"
 #include "models/ray_geometry.h"
 #include "models/scene_file.h"
@@ -61,35 +61,26 @@ int main(int argc, char **argv) {
     return 2;
   }
   sf_error err = {0};
-  sf_scene *scene = malloc(sizeof *scene);
-  sf_scene_default(scene);
   sf_scene_domain domain;
-  if (sf_scene_get_domain(scene, &domain, &err)) {
+  sf_scene *scene = bench_default_scene(&domain, &err);
+  if (!scene) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }
-  /* the build's own table options (default base), so its cache is found */
-  char cache[4096], weights[4096];
-  snprintf(cache, sizeof cache, "%s/cache", argv[1]);
+  char weights[4096];
   if (argc == 3)
     snprintf(weights, sizeof weights, "%s", argv[2]);
   else
     snprintf(weights, sizeof weights, "%s/weights/mlp-scattering.json", argv[1]);
-  sf_build_options build;
-  sf_build_options_default(&build);
-  sf_table_set_options topt;
-  sf_build_table_options(scene, &domain, &build.tables, cache, &topt);
   /* and over every sun: the reference where the views' rays meet the
    * atmosphere with the sun below the domain's lowest */
   sf_scene_domain every_sun = domain;
   every_sun.mu_s_min = -1.0;
   every_sun.mu_s_max = 1.0;
-  sf_table_set_options topt_wide;
-  sf_build_table_options(scene, &every_sun, &build.tables, cache, &topt_wide);
   sf_table_set set, set_wide;
   sf_mlp_sky net;
-  if (sf_table_set_make(&set, &scene->atmosphere, &topt, &err) ||
-      sf_table_set_make(&set_wide, &scene->atmosphere, &topt_wide, &err) || sf_mlp_sky_load(weights, &net, &err)) {
+  if (bench_build_tables(argv[1], scene, &domain, &set, &err) ||
+      bench_build_tables(argv[1], scene, &every_sun, &set_wide, &err) || sf_mlp_sky_load(weights, &net, &err)) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }
@@ -105,7 +96,7 @@ int main(int argc, char **argv) {
   const sf_view_def *views;
   int nv = sf_standard_radiance_views(&views);
   const int W = SF_VIEW_DEFAULT_WIDTH, H = SF_VIEW_DEFAULT_HEIGHT;
-  printf("tables: %d of %d from %s; network %s\n", cached, set.n_tables, cache, weights);
+  printf("tables: %d of %d from %s/cache; network %s\n", cached, set.n_tables, argv[1], weights);
   printf("%-21s | %8s %6s | %9s %9s %6s | %9s %9s | %9s %9s %9s | %9s | %7s %7s\n", "view", "ref RMS", "out %",
          "white MSE", "seed Empty", "root", "multi MSE", "seed Naive", "net all", "net sky", "net ground", "seed NN",
          "net/RMS", "/seed NN");
