@@ -86,7 +86,7 @@ static double loss_groups(const sf_mlp_kernel_args *a) { return loss_groups_isa(
 double sf_mlp_loss_range_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                             const double *x, const double *y, const int *index, long begin, long end,
                             double *grad, sf_mlp_workspace *ws) {
-  sf_mlp_kernel_args a = {s, params, loss, x, y, s->sizes[0], s->sizes[s->n_layers], index, NULL, begin, end, grad, ws};
+  sf_mlp_kernel_args a = {s, params, loss, x, y, s->sizes[0], s->sizes[s->n_layers], index, NULL, begin, end, grad, ws, 0, NULL, 0};
   return loss_groups(&a);
 }
 
@@ -153,13 +153,30 @@ void sf_mlp_rows_free(sf_mlp_rows *r) {
 double sf_mlp_loss_rows_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss, const sf_mlp_rows *r,
                            const int *index, long begin, long end, double *grad, sf_mlp_workspace *ws) {
   sf_mlp_kernel_args a = {s, params, loss, r->data, r->data + r->n_in, r->stride, r->stride, index, NULL, begin, end,
-                          grad, ws};
+                          grad, ws, 0, NULL, 0};
   return loss_groups(&a);
 }
 
 double sf_mlp_loss_columns_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                               const sf_mlp_columns *c, long begin, long end, double *grad, sf_mlp_workspace *ws) {
-  sf_mlp_kernel_args a = {s, params, loss, NULL, NULL, 0, 0, NULL, c, begin, end, grad, ws};
+  sf_mlp_kernel_args a = {s, params, loss, NULL, NULL, 0, 0, NULL, c, begin, end, grad, ws, 0, NULL, 0};
+  return loss_groups(&a);
+}
+
+double sf_mlp_loss_chunks_ws(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
+                             const sf_mlp_columns *columns, const sf_mlp_rows *rows, const double *x,
+                             const double *y, const int *index, long begin, long end, long chunk,
+                             long prefetch_end, double *chunk_loss, double *grad, sf_mlp_workspace *ws) {
+  sf_mlp_kernel_args a = {s,     params, loss, x,  y,     s->sizes[0], s->sizes[s->n_layers], index, NULL,
+                          begin, end,    grad, ws, chunk, chunk_loss,  prefetch_end};
+  if (columns && columns->x && !index) {
+    a.columns = columns;
+    a.x = a.y = NULL;
+  } else if (rows && rows->data) {
+    a.x = rows->data;
+    a.y = rows->data + rows->n_in;
+    a.xs = a.ys = rows->stride;
+  }
   return loss_groups(&a);
 }
 
@@ -177,14 +194,14 @@ static double loss_isa_own_workspace(sf_mlp_isa isa, sf_mlp_kernel_args *a) {
 double sf_mlp_loss_range_isa(sf_mlp_isa isa, const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                              const double *x, const double *y, const int *index, long begin, long end,
                              double *grad) {
-  sf_mlp_kernel_args a = {s, params, loss, x, y, s->sizes[0], s->sizes[s->n_layers], index, NULL, begin, end, grad, NULL};
+  sf_mlp_kernel_args a = {s, params, loss, x, y, s->sizes[0], s->sizes[s->n_layers], index, NULL, begin, end, grad, NULL, 0, NULL, 0};
   return loss_isa_own_workspace(isa, &a);
 }
 
 double sf_mlp_loss_rows_isa(sf_mlp_isa isa, const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                             const sf_mlp_rows *r, const int *index, long begin, long end, double *grad) {
   sf_mlp_kernel_args a = {s, params, loss, r->data, r->data + r->n_in, r->stride, r->stride, index, NULL, begin, end,
-                          grad, NULL};
+                          grad, NULL, 0, NULL, 0};
   return loss_isa_own_workspace(isa, &a);
 }
 

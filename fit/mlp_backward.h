@@ -111,6 +111,20 @@ double sf_mlp_loss_rows_ws(const sf_mlp_shape *shape, const double *params, cons
                            const sf_mlp_rows *r, const int *index, long begin, long end, double *grad,
                            sf_mlp_workspace *ws);
 
+/* The sums of one of the three above (columns when given and index is
+ * NULL, else rows when given, else x and y) over consecutive chunks of
+ * `chunk` samples of begin..end-1 (chunk a multiple of 32; the last chunk
+ * may be shorter), in one pass: chunk k's loss in chunk_loss[k] and, if
+ * grad, its gradient added to grad + k n_params; returns their sum in chunk
+ * order. The same bits as a call per chunk. One pass sets up once and keeps
+ * the shuffled rows' prefetches running from chunk to chunk, and on to
+ * samples index[end..prefetch_end-1], the next pass's first (prefetch_end
+ * <= end: none). */
+double sf_mlp_loss_chunks_ws(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
+                             const sf_mlp_columns *columns, const sf_mlp_rows *rows, const double *x,
+                             const double *y, const int *index, long begin, long end, long chunk,
+                             long prefetch_end, double *chunk_loss, double *grad, sf_mlp_workspace *ws);
+
 /* The same with a workspace of its own (allocated and freed here; NAN when
  * out of memory). */
 double sf_mlp_loss_range(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,

@@ -94,7 +94,15 @@ static inline double residual(sf_mlp_loss_kind kind, double delta, double pred, 
 /* What one call of the kernel computes: the loss of samples begin..end-1
  * (through index when not NULL) and, when grad is not NULL, its gradient
  * added to grad. Sample i's inputs at x + i xs and targets at y + i ys, or
- * columns (then x, y and index are unused). */
+ * columns (then x, y and index are unused).
+ * chunk > 0 (a multiple of GROUP) splits begin..end-1 into consecutive
+ * chunks of that many samples (the last may be shorter), each summed as if
+ * by a call of its own: chunk k's loss goes to chunk_loss[k] and its
+ * gradient is added to grad + k n_params; the call returns their sum in
+ * chunk order. One call instead of one per chunk keeps the shuffled rows'
+ * prefetches running across chunk boundaries and sets up once.
+ * prefetch_end > end (shuffled rows): samples end..prefetch_end-1, the next
+ * call's first, are asked for early too. */
 typedef struct sf_mlp_kernel_args {
   const sf_mlp_shape *shape;
   const double *params;
@@ -106,6 +114,9 @@ typedef struct sf_mlp_kernel_args {
   long begin, end;
   double *grad;
   sf_mlp_workspace *ws;
+  long chunk;            /* <= 0: one sum over begin..end-1 */
+  double *chunk_loss;    /* with chunk > 0 */
+  long prefetch_end;     /* <= end: none past end */
 } sf_mlp_kernel_args;
 
 double sf_mlp_kernel_baseline(const sf_mlp_kernel_args *a);

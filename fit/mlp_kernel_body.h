@@ -302,6 +302,8 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
     w_off[l] = sf_mlp_weight_offset(s, l);
     b_off[l] = sf_mlp_bias_offset(s, l);
   }
+  const long chunk = args->chunk > 0 ? args->chunk : end - begin;
+  const long prefetch_end = args->prefetch_end > end ? args->prefetch_end : end;
   /* the first group's rows now, the next group's spread over 2 L steps */
   prefetch_cursor pc = {begin, begin + GROUP < end ? begin + GROUP : end};
   const long per_step = (GROUP + 2 * L - 1) / (2 * L);
@@ -310,11 +312,14 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
   if (index) prefetch_some(&pc, x, xs, y, ys, index, per_step, n_in, n_out)
   const double inv_n = 1.0 / n_out;
   sf_lanes loss_lanes = sf_lanes_set1(0.0);
-  for (long first = begin; first < end; first += GROUP) {
-    const int nv = end - first < GROUP ? (int)(end - first) : GROUP;
+  double total_loss = 0.0;
+  long chunk_end = begin + chunk < end ? begin + chunk : end;
+  int nv = 0;
+  for (long first = begin, k = 0; first < end; first += nv) {
+    nv = chunk_end - first < GROUP ? (int)(chunk_end - first) : GROUP;
     if (index) {
       prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);   /* what the last group left */
-      pc.stop = first + 2 * GROUP < end ? first + 2 * GROUP : end;
+      pc.stop = first + 2 * GROUP < prefetch_end ? first + 2 * GROUP : prefetch_end;
     }
     /* The group's inputs and targets: read in place from columns (padded
      * past the last sample), else gathered. */
@@ -349,8 +354,7 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
       for (int u = 0; u < VECS; ++u) sq[u] = sf_lanes_load(v + u * LANES);
     }
     for (int u = 0; u < VECS; ++u) loss_lanes = sf_lanes_add(loss_lanes, sf_lanes_scale(sq[u], inv_n));
-    if (!grad) continue;
-    for (int l = L - 1; l >= 0; --l) {
+    for (int l = L - 1; grad && l >= 0; --l) {
       int ni = s->sizes[l], no = s->sizes[l + 1];
       PREFETCH_STEP();
       weight_gradient(d, l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, ni, no, g.grad + (long)w_off[l] * LANES,
@@ -360,12 +364,23 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
       propagate(s->hidden, params + w_off[l], d, g.act[l], ni, no, dn);
       d = dn;
     }
+    if (first + nv < chunk_end) continue;
+    /* the chunk's sums out, its lanes back to zero */
+    double lanes[LANES];
+    sf_lanes_store(lanes, loss_lanes);
+    double chunk_sum = lane_sum(lanes);
+    loss_lanes = sf_lanes_set1(0.0);
+    if (args->chunk > 0) args->chunk_loss[k] = chunk_sum;
+    total_loss += chunk_sum;
+    if (grad) {
+      double *gk = grad + k * np;
+      for (int q = 0; q < np; ++q) gk[q] += lane_sum(g.grad + (long)q * LANES);
+      memset(g.grad, 0, (size_t)np * LANES * sizeof(double));
+    }
+    k += 1;
+    chunk_end = chunk_end + chunk < end ? chunk_end + chunk : end;
   }
 #undef PREFETCH_STEP
-  if (grad)
-    for (int k = 0; k < np; ++k) grad[k] += lane_sum(g.grad + (long)k * LANES);
-  double total[LANES];
-  sf_lanes_store(total, loss_lanes);
-  return lane_sum(total);
+  return total_loss;
 }
 

@@ -103,23 +103,24 @@ static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf
   /* Dynamic: a thread slowed by another process (a shared machine) takes
    * fewer chunks; each chunk's sums are stored apart and added in chunk
    * order below, so the result does not depend on who computed what. A
-   * thread takes up to 8 chunks at a time, fewer in a small batch (4 chunks
-   * of a 1024-sample batch: one each, else one thread takes all). */
-  long grab = n_chunks / (2L * threads);
-  grab = grab < 1 ? 1 : grab > 8 ? 8 : grab;
-#pragma omp parallel for schedule(dynamic, grab) num_threads(threads) if (threads > 1)
-  for (long c = 0; c < n_chunks; ++c) {
+   * thread takes a run of up to 8 chunks at a time, fewer in a small batch
+   * (4 chunks of a 1024-sample batch: one each), and one thread all of
+   * them; a run is one pass of the kernel (the same sums as a pass per
+   * chunk, fit/mlp_backward.h), whose shuffled rows' prefetches run on
+   * into the next run's first group (the next batch's, after the last). */
+  long grab = threads > 1 ? n_chunks / (2L * threads) : n_chunks;
+  grab = grab < 1 ? 1 : threads > 1 && grab > 8 ? 8 : grab;
+  long n_runs = (n_chunks + grab - 1) / grab;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
+  for (long run = 0; run < n_runs; ++run) {
+    long c = run * grab, count = c + grab < n_chunks ? grab : n_chunks - c;
     long b = begin + c * SF_TRAIN_CHUNK;
-    long e = b + SF_TRAIN_CHUNK < end ? b + SF_TRAIN_CHUNK : end;
+    long e = b + count * SF_TRAIN_CHUNK < end ? b + count * SF_TRAIN_CHUNK : end;
+    long prefetch_end = index ? (e + SF_TRAIN_PREFETCH < d->n ? e + SF_TRAIN_PREFETCH : d->n) : 0;
     double *g = grad ? cs->grad + c * np : NULL;
-    if (g) memset(g, 0, (size_t)np * sizeof(double));
-    sf_mlp_workspace *ws = &cs->ws[omp_get_thread_num()];
-    if (columns && columns->x && !index)
-      cs->loss[c] = sf_mlp_loss_columns_ws(s, params, loss, columns, b, e, g, ws);
-    else if (rows && rows->data)
-      cs->loss[c] = sf_mlp_loss_rows_ws(s, params, loss, rows, index, b, e, g, ws);
-    else
-      cs->loss[c] = sf_mlp_loss_range_ws(s, params, loss, d->x, d->y, index, b, e, g, ws);
+    if (g) memset(g, 0, (size_t)(count * np) * sizeof(double));
+    sf_mlp_loss_chunks_ws(s, params, loss, columns, rows, d->x, d->y, index, b, e, SF_TRAIN_CHUNK, prefetch_end,
+                          cs->loss + c, g, &cs->ws[omp_get_thread_num()]);
   }
   double total = 0.0;
   if (grad) memset(grad, 0, (size_t)np * sizeof(double));

@@ -4,7 +4,8 @@
  * gradient's size; the forward pass against a hand-computed 2-2-1 network;
  * the blocked kernel on many shuffled samples (several blocks, a partial
  * one) against the one-sample forward pass of models/mlp.h and against
- * finite differences, and read from packed rows; the kernel compiled for
+ * finite differences, and read from packed rows; chunked passes against a
+ * pass per chunk; the kernel compiled for
  * each instruction set this CPU runs (AVX-512F, AVX2 with FMA) against the
  * baseline one, bit for bit. */
 #include <math.h>
@@ -55,6 +56,49 @@ static double worst_gradient_error(const sf_mlp_shape *s, sf_mlp_loss_kind kind,
   free(p);
   free(g);
   return worst;
+}
+
+/* sf_mlp_loss_chunks_ws over begin..end-1 in chunks of 64 (the last one
+ * partial) against one call per chunk, bit for bit: from packed rows
+ * through index (prefetching past end), from columns, from x and y. */
+static void chunked_passes(const sf_mlp_shape *s, const double *p, const sf_mlp_loss *loss, const double *x,
+                           const double *y, const sf_mlp_rows *rows, const int *index, long n, long begin, long end,
+                           sf_mlp_workspace *ws) {
+  enum { CHUNK = 64, MAX_CHUNKS = 64 };
+  int np = sf_mlp_param_count(s);
+  long n_chunks = (end - begin + CHUNK - 1) / CHUNK;
+  CHECK(n_chunks <= MAX_CHUNKS && (end - begin) % CHUNK != 0);
+  sf_mlp_columns columns;
+  CHECK(sf_mlp_columns_make(&columns, x, y, n, s->sizes[0], s->sizes[s->n_layers]) == 0);
+  double *g_one = calloc((size_t)(MAX_CHUNKS * np), sizeof(double));
+  double *g_all = calloc((size_t)(MAX_CHUNKS * np), sizeof(double));
+  static const char *const sources[] = {"packed rows, shuffled", "columns", "x and y rows, shuffled"};
+  for (int src = 0; src < 3; ++src) {
+    const int *ix = src == 1 ? NULL : index;
+    double l_one[MAX_CHUNKS], l_all[MAX_CHUNKS];
+    memset(g_one, 0, sizeof(double) * (size_t)(MAX_CHUNKS * np));
+    memset(g_all, 0, sizeof(double) * (size_t)(MAX_CHUNKS * np));
+    double sum_one = 0.0;
+    for (long c = 0; c < n_chunks; ++c) {
+      long b = begin + c * CHUNK, e = b + CHUNK < end ? b + CHUNK : end;
+      double *g = g_one + c * np;
+      l_one[c] = src == 0   ? sf_mlp_loss_rows_ws(s, p, loss, rows, ix, b, e, g, ws)
+                 : src == 1 ? sf_mlp_loss_columns_ws(s, p, loss, &columns, b, e, g, ws)
+                            : sf_mlp_loss_range_ws(s, p, loss, x, y, ix, b, e, g, ws);
+      sum_one += l_one[c];
+    }
+    double sum_all = sf_mlp_loss_chunks_ws(s, p, loss, src == 1 ? &columns : NULL, src == 0 ? rows : NULL, x, y, ix,
+                                           begin, end, CHUNK, ix ? end + 32 : 0, l_all, g_all, ws);
+    int same = memcmp(l_one, l_all, sizeof(double) * (size_t)n_chunks) == 0 &&
+               memcmp(g_one, g_all, sizeof(double) * (size_t)(n_chunks * np)) == 0 &&
+               memcmp(&sum_one, &sum_all, sizeof sum_one) == 0;
+    printf("%s: %ld chunks in one pass, losses and gradients bit for bit a pass per chunk: %s\n", sources[src],
+           n_chunks, same ? "yes" : "no");
+    CHECK(same);
+  }
+  sf_mlp_columns_free(&columns);
+  free(g_one);
+  free(g_all);
 }
 
 /* 1000 samples of a 4-8-8-9 network taken through a shuffled index: the
@@ -141,6 +185,7 @@ static void many_samples(void) {
     printf("packed rows, %s kernel: bit for bit: %s\n", isa_names[q], same ? "yes" : "no");
     CHECK(same);
   }
+  chunked_passes(&s, p, &loss, x, y, &rows, index, N, BEGIN, END, &ws);
   sf_mlp_rows_free(&rows);
   sf_mlp_workspace_free(&ws);
   free(g_rows);
