@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fit/lm_gram.h"
 #include "fit/train.h"
 
 void sf_mlp_lm_options_default(sf_mlp_lm_options *o) {
@@ -163,26 +164,17 @@ static int cholesky_solve(int P, const double *A, const double *b, double *Lw, d
 
 /* Jacobian rows are gathered LM_BLOCK at a time, stored parameter-major
  * (block[i * LM_BLOCK + r] = row r's entry i), and J^T J's upper triangle
- * gets each block's Gram matrix: contiguous dot products instead of one
- * pass over the whole P x P matrix per row (which made the polish of a
- * 2-16-16-3 network memory-bound). The sum order is fixed by the samples. */
-#define LM_BLOCK 64
+ * gets each block's Gram matrix (fit/lm_gram.h): contiguous dot products
+ * instead of one pass over the whole P x P matrix per row (which made the
+ * polish of a 2-16-16-3 network memory-bound). The sum order is fixed by
+ * the samples. */
+#define LM_BLOCK SF_LM_GRAM_BLOCK
 
 static void add_block_gram(int P, double *block, int filled, double *JTJ) {
   int padded = (filled + 7) & ~7;
   for (int i = 0; i < P; ++i)
     for (int r = filled; r < padded; ++r) block[(size_t)i * LM_BLOCK + r] = 0.0;
-  for (int i = 0; i < P; ++i) {
-    const double *bi = block + (size_t)i * LM_BLOCK;
-    double *Ai = JTJ + (size_t)i * P;
-    for (int j = i; j < P; ++j) {
-      const double *bj = block + (size_t)j * LM_BLOCK;
-      double lane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-      for (int r = 0; r < padded; r += 8)
-        for (int l = 0; l < 8; ++l) lane[l] += bi[r + l] * bj[r + l];
-      Ai[j] += ((lane[0] + lane[4]) + (lane[2] + lane[6])) + ((lane[1] + lane[5]) + (lane[3] + lane[7]));
-    }
-  }
+  sf_lm_add_block_gram(P, block, padded, JTJ);
 }
 
 /* One thread's buffers for the normal equations of a chunk of samples. */
