@@ -177,23 +177,38 @@ static void add_block_gram(int P, double *block, int filled, double *JTJ) {
   sf_lm_add_block_gram(P, block, padded, JTJ);
 }
 
+/* Rows are staged row-major LM_STAGE at a time and then written into the
+ * parameter-major block a 64-byte line per parameter: written one by one,
+ * each row touched P lines of a block larger than L1. */
+#define LM_STAGE 8   /* divides LM_BLOCK */
+_Static_assert(LM_BLOCK % LM_STAGE == 0, "LM_STAGE must divide LM_BLOCK");
+
 /* One thread's buffers for the normal equations of a chunk of samples. */
 typedef struct lm_worker {
   lm_work w;
-  double *row, *block;   /* a Jacobian row; LM_BLOCK rows, parameter-major */
+  double *row, *block;   /* LM_STAGE Jacobian rows, row-major; LM_BLOCK rows, parameter-major */
   double *JTJ, *JTe;     /* the chunk's sums (J^T J: upper triangle) */
 } lm_worker;
 
 static int lm_worker_init(lm_worker *t, int P) {
   memset(t, 0, sizeof *t);
   size_t PP = (size_t)P * (size_t)P;
-  t->row = malloc((size_t)P * sizeof(double));
+  t->row = malloc((size_t)P * LM_STAGE * sizeof(double));
   t->block = malloc((size_t)P * LM_BLOCK * sizeof(double));
   t->JTJ = malloc(PP * sizeof(double));
   t->JTe = malloc((size_t)P * sizeof(double));
   t->w.P = P;
   t->w.row = t->row;
   return t->row && t->block && t->JTJ && t->JTe ? 0 : -1;
+}
+
+/* Staged rows 0..count-1 into block rows first..first+count-1. */
+static void unstage_rows(const lm_worker *t, int count, int first) {
+  int P = t->w.P;
+  for (int i = 0; i < P; ++i) {
+    double *b = t->block + (size_t)i * LM_BLOCK + first;
+    for (int r = 0; r < count; ++r) b[r] = t->row[(size_t)r * P + i];
+  }
 }
 
 static void lm_worker_free(lm_worker *t) {
@@ -217,17 +232,19 @@ static void chunk_normal_equations(const sf_mlp_shape *shape, const double *para
     memcpy(out, t->w.a[shape->n_layers], (size_t)n_out * sizeof(double));
     for (int k = 0; k < n_out; ++k) {
       double slope, e = residual(loss, k, out[k], train->y[s * train->n_out + k], &slope);
+      int staged = filled % LM_STAGE;
+      t->w.row = t->row + (size_t)staged * P;
       jacobian_row(shape, params, k, slope, &t->w);
-      for (int i = 0; i < P; ++i) {
-        t->JTe[i] += t->row[i] * e;
-        t->block[(size_t)i * LM_BLOCK + filled] = t->row[i];
-      }
-      if (++filled == LM_BLOCK) {
+      for (int i = 0; i < P; ++i) t->JTe[i] += t->w.row[i] * e;
+      ++filled;
+      if (staged + 1 == LM_STAGE) unstage_rows(t, LM_STAGE, filled - LM_STAGE);
+      if (filled == LM_BLOCK) {
         add_block_gram(P, t->block, filled, t->JTJ);
         filled = 0;
       }
     }
   }
+  if (filled % LM_STAGE) unstage_rows(t, filled % LM_STAGE, filled - filled % LM_STAGE);
   if (filled) add_block_gram(P, t->block, filled, t->JTJ);
 }
 
