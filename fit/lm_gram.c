@@ -17,20 +17,23 @@
 #define GRAM_TILED 1
 #endif
 
-/* A[i][j] += ((l0 + l4) + (l2 + l6)) + ((l1 + l5) + (l3 + l7)), entry by
- * entry (GCC vectorises the lanes). */
+/* Entry (i, j) of a block's Gram matrix: ((l0 + l4) + (l2 + l6)) + ((l1 +
+ * l5) + (l3 + l7)), lane k the products of rows k, k + 8, ... in order (GCC
+ * vectorises the lanes). */
+static inline double entry_sum(const double *bi, const double *bj, int padded) {
+  double l[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  for (int r = 0; r < padded; r += 8)
+    for (int k = 0; k < 8; ++k) l[k] += bi[r + k] * bj[r + k];
+  return ((l[0] + l[4]) + (l[2] + l[6])) + ((l[1] + l[5]) + (l[3] + l[7]));
+}
+
+static inline void add_entry(int P, const double *block, int padded, int i, int j, double *A) {
+  A[(size_t)i * P + j] += entry_sum(block + (size_t)i * SF_LM_GRAM_BLOCK, block + (size_t)j * SF_LM_GRAM_BLOCK, padded);
+}
+
 void sf_lm_add_block_gram_plain(int P, const double *block, int padded, double *A) {
-  for (int i = 0; i < P; ++i) {
-    const double *bi = block + (size_t)i * SF_LM_GRAM_BLOCK;
-    double *Ai = A + (size_t)i * P;
-    for (int j = i; j < P; ++j) {
-      const double *bj = block + (size_t)j * SF_LM_GRAM_BLOCK;
-      double l[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-      for (int r = 0; r < padded; r += 8)
-        for (int k = 0; k < 8; ++k) l[k] += bi[r + k] * bj[r + k];
-      Ai[j] += ((l[0] + l[4]) + (l[2] + l[6])) + ((l[1] + l[5]) + (l[3] + l[7]));
-    }
-  }
+  for (int i = 0; i < P; ++i)
+    for (int j = i; j < P; ++j) add_entry(P, block, padded, i, j, A);
 }
 
 #if defined(GRAM_TILED)
@@ -51,24 +54,11 @@ __attribute__((always_inline)) static inline lanes4 load4(const double *p) {
   return v;
 }
 
-/* Entry (i, j) alone, the lanes as the plain loop adds them. */
-__attribute__((always_inline)) static inline void add_entry(const double *block, int padded, int i, int j, int P,
-                                                            double *A) {
-  const double *bi = block + (size_t)i * SF_LM_GRAM_BLOCK, *bj = block + (size_t)j * SF_LM_GRAM_BLOCK;
-  lanes4 lo = {0}, hi = {0};
-  for (int r = 0; r < padded; r += 8) {
-    lo += load4(bi + r) * load4(bj + r);
-    hi += load4(bi + r + 4) * load4(bj + r + 4);
-  }
-  lanes4 h = lo + hi;   /* l0 + l4, l1 + l5, l2 + l6, l3 + l7 */
-  A[(size_t)i * P + j] += (h[0] + h[2]) + (h[1] + h[3]);
-}
-
 /* Columns j0..j0+3 together, down rows 0..j0: their 4 rows of B (2 KiB)
  * stay in L1 while B[i] streams past (the whole block, P x 64 doubles, is
  * an L2 load per entry otherwise); their sums are independent dependency
  * chains, and the four entries' lanes are added together, the same
- * additions as add_entry by pairwise shuffles. The rest of the triangle,
+ * additions as entry_sum by pairwise shuffles. The rest of the triangle,
  * and columns past the last tile, entry by entry. */
 __attribute__((target("avx2"))) static void gram_tiled(int P, const double *block, int padded, double *A) {
   int j0 = 0;
@@ -96,10 +86,10 @@ __attribute__((target("avx2"))) static void gram_tiled(int P, const double *bloc
       memcpy(Aij, &row, sizeof row);
     }
     for (int i = j0 + 1; i < j0 + TILE; ++i)
-      for (int j = i; j < j0 + TILE; ++j) add_entry(block, padded, i, j, P, A);
+      for (int j = i; j < j0 + TILE; ++j) add_entry(P, block, padded, i, j, A);
   }
   for (int i = 0; i < P; ++i)
-    for (int j = i > j0 ? i : j0; j < P; ++j) add_entry(block, padded, i, j, P, A);
+    for (int j = i > j0 ? i : j0; j < P; ++j) add_entry(P, block, padded, i, j, A);
 }
 #endif
 
