@@ -174,13 +174,13 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
   if (status == SF_OK) {
     char layers[64];
     int nch = in->atm->n_channels;
-    /* Sizes and outputs from bench/mlp_accuracy.sh: 2-8-8-3 with exp(-exp(-z))
-     * output reaches a validation RMSE about 6x below 2-4-3's; on Bruneton's
-     * inputs (x_r, x_mu) with this budget 1.6x lower than on (sqrt h, mu), 1.9x
-     * lower on random full rays, 5x on seed 000 App. D's ground view, and
-     * trains faster (issue 6). */
+    /* Outputs and inputs from bench/mlp_accuracy.sh: exp(-exp(-z)) output
+     * (2-8-8-3: a validation RMSE about 6x below 2-4-3's); Bruneton's inputs
+     * (x_r, x_mu): 1.6x lower than on (sqrt h, mu), 1.9x lower on random full
+     * rays, 5x on seed 000 App. D's ground view (issue 6). Sizes:
+     * fit/mlp_lm.h. */
     if (job->scattering) snprintf(layers, sizeof layers, "4,8,8,%d", (n_single + 1) * nch);
-    else snprintf(layers, sizeof layers, "2,8,8,%d", nch);
+    else snprintf(layers, sizeof layers, "2,%s,%d", SF_MLP_TRANSMITTANCE_HIDDEN, nch);
     status = sf_mlp_shape_parse_layers(layers, &job->train.shape, err);
     job->train.shape.hidden = SF_ACT_SIGMOID;
     job->train.shape.output = job->scattering ? SF_ACT_EXP_NEG : SF_ACT_EXP_NEG_EXP;
@@ -382,7 +382,7 @@ int sf_candidate_make_mlp_transmittance(const sf_candidate_inputs *in, sf_candid
   job.train.loss = SF_LOSS_MSE;
   job.train.batch = 256;
   job.train.adam.lr_decay_per_epoch = 0.995;
-  job.polish_iterations = in->quick ? 10 : 60;
+  job.polish_iterations = in->quick ? 10 : SF_MLP_TRANSMITTANCE_POLISH;
   job.polish_samples = 0;
   job.train.epochs = in->mlp_transmittance_epochs > 0 ? in->mlp_transmittance_epochs
                      : in->quick                     ? 20

@@ -30,6 +30,17 @@
 #define SF_MLP_SCATTERING_POLISH 100
 #define SF_MLP_SCATTERING_POLISH_SAMPLES 10000
 
+/* The transmittance network's shape and polish, in `skyfit fit
+ * mlp-transmittance` and in the build alike: two hidden layers of 16, then
+ * 400 steps on every training sample. The 2-8-8-3 of before, 50 epochs and
+ * 60 steps, left T_top's RMSE over the (x_r, x_mu) square at 0.0026 and the
+ * default build's transmittance 2.9x over its 1e-3 budget; 2-16-16-3 after
+ * 50 epochs: 6.7e-4-8.2e-4 with 200 steps, 3.4e-4-6.6e-4 with 400 (seeds
+ * 1-4, bench_transmittance_error_map). The error left lies on rays whose
+ * lowest point is in the ozone layer's kinks (20-50 km). */
+#define SF_MLP_TRANSMITTANCE_HIDDEN "16,16"
+#define SF_MLP_TRANSMITTANCE_POLISH 400
+
 typedef struct sf_mlp_lm_options {
   int iterations;          /* accepted or rejected steps; 0: nothing */
   long max_samples;        /* samples used to form J^T J (the first ones); <= 0: all */
