@@ -11,11 +11,18 @@
  * SF_LM_GRAM_BLOCK + r], rows r < padded (a multiple of 8; the caller
  * zeroes rows past its last). Each entry's sum in a fixed order: row r goes
  * to lane r mod 8 (rows in order), and the lanes are added as ((l0 + l4) +
- * (l2 + l6)) + ((l1 + l5) + (l3 + l7)). Tiled for AVX2 where the CPU has
- * it (x86-64, GCC), else the plain loop, with the same operations per lane
- * (no fused multiply-adds): the same bits on every CPU. */
+ * (l2 + l6)) + ((l1 + l5) + (l3 + l7)). By the widest path the CPU runs
+ * (below), each with the same operations per lane (no fused
+ * multiply-adds): the same bits on every CPU. */
 void sf_lm_add_block_gram(int P, const double *block, int padded, double *A);
-/* The plain loop on any CPU (tests: the same bits as the above). */
-void sf_lm_add_block_gram_plain(int P, const double *block, int padded, double *A);
+
+/* The paths: the plain loop (any CPU), and with GCC on x86-64 two tiled
+ * ones, for AVX2 and for AVX-512F. */
+typedef enum sf_lm_gram_path { SF_LM_GRAM_PLAIN, SF_LM_GRAM_AVX2, SF_LM_GRAM_AVX512 } sf_lm_gram_path;
+/* Whether this build and CPU can run path p. */
+int sf_lm_gram_path_available(sf_lm_gram_path p);
+/* sf_lm_add_block_gram by path p, which must be available (tests: every
+ * path gives the same bits). */
+void sf_lm_add_block_gram_path(sf_lm_gram_path p, int P, const double *block, int padded, double *A);
 
 #endif

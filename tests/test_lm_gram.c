@@ -2,8 +2,9 @@
  * out in its documented order, bit for bit, and against a long double sum
  * (loosely: a wrong entry, not rounding), for parameter counts below,
  * at and around multiples of its 8-column tiles and for full and partial
- * blocks of rows; entries below the diagonal untouched. Both the path this
- * CPU runs (tiled with AVX2) and the plain loop. */
+ * blocks of rows; entries below the diagonal untouched. Every path this
+ * CPU can run (plain, tiled for AVX2, tiled for AVX-512F), and the one it
+ * picks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,26 +27,42 @@ static void reference_gram(int P, const double *block, int padded, double *A) {
 }
 
 int main(void) {
-  static const int sizes[] = {1, 5, 8, 9, 16, 27, 31, 123, 193};
+  static const int sizes[] = {1, 5, 8, 9, 16, 27, 31, 123, 193, 371};
   static const int rows[] = {8, 40, 64};
   sf_rng rng;
   sf_rng_seed(&rng, 3, 0x6772616dull, 0);   /* "gram" */
+  static const sf_lm_gram_path paths[] = {SF_LM_GRAM_PLAIN, SF_LM_GRAM_AVX2, SF_LM_GRAM_AVX512};
+  static const char *const path_names[] = {"plain", "AVX2", "AVX-512F"};
+  enum { N_SIZES = sizeof sizes / sizeof sizes[0], N_PATHS = sizeof paths / sizeof paths[0] };
+  char ran[64] = "";
+  for (int p = 0; p < N_PATHS; ++p)
+    if (sf_lm_gram_path_available(paths[p]))
+      snprintf(ran + strlen(ran), sizeof ran - strlen(ran), "%s%s", ran[0] ? ", " : "", path_names[p]);
+  CHECK(sf_lm_gram_path_available(SF_LM_GRAM_PLAIN));
   int all_same = 1;
   double worst_rel = 0.0;
-  for (int s = 0; s < 9; ++s)
+  for (int s = 0; s < N_SIZES; ++s)
     for (int q = 0; q < 3; ++q) {
       int P = sizes[s], padded = rows[q];
+      size_t bytes = sizeof(double) * (size_t)P * P;
       double *block = malloc(sizeof(double) * (size_t)P * SF_LM_GRAM_BLOCK);
-      double *got = malloc(sizeof(double) * (size_t)P * P), *want = malloc(sizeof(double) * (size_t)P * P);
-      double *start = malloc(sizeof(double) * (size_t)P * P), *plain = malloc(sizeof(double) * (size_t)P * P);
+      double *got = malloc(bytes), *want = malloc(bytes), *start = malloc(bytes), *by_path = malloc(bytes);
       for (int k = 0; k < P * SF_LM_GRAM_BLOCK; ++k) block[k] = (2.0 * sf_rng_uniform(&rng) - 1.0) * exp(8.0 * sf_rng_uniform(&rng) - 4.0);
       /* a sum already there (the previous blocks'), also below the diagonal */
-      for (int k = 0; k < P * P; ++k) start[k] = got[k] = want[k] = plain[k] = sf_rng_uniform(&rng) - 0.5;
+      for (int k = 0; k < P * P; ++k) start[k] = sf_rng_uniform(&rng) - 0.5;
+      memcpy(got, start, bytes);
+      memcpy(want, start, bytes);
       sf_lm_add_block_gram(P, block, padded, got);
-      sf_lm_add_block_gram_plain(P, block, padded, plain);
       reference_gram(P, block, padded, want);
-      int same = memcmp(got, want, sizeof(double) * (size_t)P * P) == 0 &&
-                 memcmp(plain, want, sizeof(double) * (size_t)P * P) == 0;
+      int same = memcmp(got, want, bytes) == 0;
+      for (int p = 0; p < N_PATHS; ++p) {
+        if (!sf_lm_gram_path_available(paths[p])) continue;
+        memcpy(by_path, start, bytes);
+        sf_lm_add_block_gram_path(paths[p], P, block, padded, by_path);
+        int path_same = memcmp(by_path, want, bytes) == 0;
+        if (!path_same) printf("  %s: P %d, %d rows differs from the documented order\n", path_names[p], P, padded);
+        same &= path_same;
+      }
       for (int i = 1; i < P; ++i)
         for (int j = 0; j < i; ++j) same &= got[i * P + j] == start[i * P + j];
       all_same &= same;
@@ -66,11 +83,11 @@ int main(void) {
       free(got);
       free(want);
       free(start);
-      free(plain);
+      free(by_path);
     }
-  printf("block Gram, 9 sizes x 3 row counts, as run here and plain: bit for bit the documented order: %s; worst error against a long "
-         "double sum %.3g (of the sum of |products| + 1)\n",
-         all_same ? "yes" : "no", worst_rel);
+  printf("block Gram, %d sizes x 3 row counts, paths %s and the one picked: bit for bit the documented order: %s; worst "
+         "error against a long double sum %.3g (of the sum of |products| + 1)\n",
+         (int)N_SIZES, ran, all_same ? "yes" : "no", worst_rel);
   CHECK(worst_rel < 1e-13);
   return check_summary();
 }
