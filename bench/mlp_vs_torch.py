@@ -52,11 +52,14 @@ def main():
     t0 = time.perf_counter()
     c0 = time.process_time()
     for epoch in range(a.epochs):
-        perm = torch.randperm(n)
+        # A full batch is not shuffled (skyfit does not shuffle it either):
+        # its gradient is the same sum in any order, and a permuted copy of
+        # the whole set each epoch would slow PyTorch down for nothing.
+        perm = torch.randperm(n) if batch < n else None
         for s in range(0, n, batch):
-            idx = perm[s : s + batch]
+            xb, yb = (x[perm[s : s + batch]], y[perm[s : s + batch]]) if perm is not None else (x, y)
             opt.zero_grad(set_to_none=True)
-            loss = torch.mean((forward(x[idx]) - y[idx]) ** 2)
+            loss = torch.mean((forward(xb) - yb) ** 2)
             loss.backward()
             opt.step()
     dt = (time.perf_counter() - t0) / a.epochs
