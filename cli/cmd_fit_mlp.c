@@ -157,10 +157,10 @@ static int run_sky(int argc, char **argv, int scattering) {
    * relative loss leaves the scattering network far from the data in RMSE
    * at every sun elevation, MSE does not; the transmittance network
    * reaches ten times lower RMSE with two hidden layers of 8 and a
-   * Levenberg-Marquardt polish (fit/mlp_lm.h) than 2-4-3 with Adam alone
-   * (and lower again with two of 16 and a longer polish, fit/mlp_lm.h),
-   * and the exp_neg_exp output halves its error on full rays and views
-   * against exp_neg. Both networks' polish: fit/mlp_lm.h. */
+   * Levenberg-Marquardt polish (fit/mlp_lm.h) than 2-4-3 with Adam alone,
+   * two of 16 with a longer polish 4-8x lower again (fit/mlp_lm.h), and
+   * the exp_neg_exp output halves its error on full rays and views against
+   * exp_neg. Both networks' sizes and polish: fit/mlp_lm.h. */
   t->loss = SF_LOSS_MSE;
   t->epochs = scattering ? 60 : 500;
   t->batch = scattering ? 1024 : 256;

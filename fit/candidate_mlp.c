@@ -177,8 +177,8 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     /* Outputs and inputs from bench/mlp_accuracy.sh: exp(-exp(-z)) output
      * (2-8-8-3: a validation RMSE about 6x below 2-4-3's); Bruneton's inputs
      * (x_r, x_mu): 1.6x lower than on (sqrt h, mu), 1.9x lower on random full
-     * rays, 5x on seed 000 App. D's ground view (issue 6). Sizes:
-     * fit/mlp_lm.h. */
+     * rays, 5x on seed 000 App. D's ground view (issue 6). The
+     * transmittance network's hidden layers: fit/mlp_lm.h. */
     if (job->scattering) snprintf(layers, sizeof layers, "4,8,8,%d", (n_single + 1) * nch);
     else snprintf(layers, sizeof layers, "2,%s,%d", SF_MLP_TRANSMITTANCE_HIDDEN, nch);
     status = sf_mlp_shape_parse_layers(layers, &job->train.shape, err);

@@ -1,7 +1,7 @@
 /* The polish's block Gram matrix (fit/lm_gram.h) against the sums written
  * out in its documented order, bit for bit, and against a long double sum
  * (loosely: a wrong entry, not rounding), for parameter counts below,
- * at and around multiples of its 8-column tiles and for full and partial
+ * at and around multiples of its 4-column tiles and for full and partial
  * blocks of rows; entries below the diagonal untouched. Every path this
  * CPU can run (plain, tiled for AVX2, tiled for AVX-512F), and the one it
  * picks. */
@@ -63,8 +63,7 @@ int main(void) {
         if (!path_same) printf("  %s: P %d, %d rows differs from the documented order\n", path_names[p], P, padded);
         same &= path_same;
       }
-      for (int i = 1; i < P; ++i)
-        for (int j = 0; j < i; ++j) same &= got[i * P + j] == start[i * P + j];
+      /* want's lower triangle is start's: every path left it alone */
       all_same &= same;
       CHECK(same);
       for (int i = 0; i < P; ++i)
