@@ -111,9 +111,12 @@ echo "| layers     | inputs   | params | val RMSE | val max  | ray RMSE | ray ma
 # alone, and sigmoid output (T itself) with the LM polish
 trow t243_seed --input-map sqrt_h_mu --layers 2,4,3 --output exp_neg --epochs "$(e 400)" --lr-decay 1 --polish 0
 trow t243_sigmoid_lm --input-map sqrt_h_mu --layers 2,4,3 --output sigmoid --epochs "$(e 400)" --polish 200
-# skyfit build's budget (50 epochs + 60 LM steps): before issue 6 (sqrt h, mu) and now (x_r, x_mu)
-trow t2883_build_sqrt_h_mu --input-map sqrt_h_mu --epochs "$(e 50)"
-trow t2883_build --epochs "$(e 50)"
+# skyfit build's former network (2-8-8-3, 50 epochs + 60 LM steps): before
+# issue 6 (sqrt h, mu) and after (x_r, x_mu); then the present one (fit's
+# default 2-16-16-3, 50 epochs + 400 LM steps on every sample, fit/mlp_lm.h)
+trow t2883_build_sqrt_h_mu --input-map sqrt_h_mu --layers 2,8,8,3 --epochs "$(e 50)" --polish 60
+trow t2883_build --layers 2,8,8,3 --epochs "$(e 50)" --polish 60
+trow t216163_build --epochs "$(e 50)"
 # Adam then LM to convergence (a further 300 LM steps on t216163 change the loss by < 1 %)
 trow t2883_lm --layers 2,8,8,3 --output exp_neg --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 400)" --polish-samples 4000
 trow t216163_lm --layers 2,16,16,3 --output exp_neg --epochs "$(e 300)" --lr-decay 0.99 --polish "$(e 800)" \
@@ -163,7 +166,8 @@ echo "== scattering network 4-8-8-9 (target separate, split at the horizon), MSE
 sfit s4889_default --epochs "$(e 60)"
 sfit s4889_adam_only --epochs "$(e 30)" --polish 0
 sfit s4889_rel --loss rel --epochs "$(e 30)" --polish 0
-# skyfit build's budget (fit/candidate_mlp.c)
+# skyfit build's former budget (40 epochs, 30 LM steps on 5,000 samples; the
+# present build trains as s4889_default, fit/candidate_mlp.c)
 sfit s4889_build --epochs "$(e 40)" --lr-decay 0.95 --polish 30 --polish-samples 5000
 sfit s416169 --layers 4,16,16,9 --epochs "$(e 30)" --polish 0
 
