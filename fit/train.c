@@ -103,12 +103,17 @@ static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf
   /* Dynamic: a thread slowed by another process (a shared machine) takes
    * fewer chunks; each chunk's sums are stored apart and added in chunk
    * order below, so the result does not depend on who computed what. A
-   * thread takes a run of up to 8 chunks at a time, fewer in a small batch
-   * (4 chunks of a 1024-sample batch: one each), and one thread all of
+   * thread takes a run of up to 8 chunks at a time, a small batch (fewer
+   * than 4 chunks per thread) one run per thread, and one thread all of
    * them; a run is one pass of the kernel (the same sums as a pass per
    * chunk, fit/mlp_backward.h), whose shuffled rows' prefetches run on
-   * into the next run's first group (the next batch's, after the last). */
-  long grab = threads > 1 ? n_chunks / (2L * threads) : n_chunks;
+   * into the next run's first group (the next batch's, after the last).
+   * A run's first group waits on its rows: in a batch of 1024 samples on 2
+   * threads, runs of 2 chunks instead of 1 made an epoch of the scattering
+   * set 3-4 % faster (33.0-33.6 ms against 34.4-34.6, two runs each). */
+  long grab = threads == 1 ? n_chunks
+              : n_chunks < 4L * threads ? (n_chunks + threads - 1) / threads
+                                        : n_chunks / (2L * threads);
   grab = grab < 1 ? 1 : threads > 1 && grab > 8 ? 8 : grab;
   long n_runs = (n_chunks + grab - 1) / grab;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
