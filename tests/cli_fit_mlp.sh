@@ -13,8 +13,8 @@ fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
 pass() { echo "ok    $*"; passed=$((passed + 1)); }
 TAB=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4 --orders 2)
 
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 1 --out "$TMP/t1.json" --quiet
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --threads 2 --out "$TMP/t2.json" --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/t1.json" --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 2 --out "$TMP/t2.json" --quiet
 if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identical for 1 and 2 threads"; else fail "thread count changed the weights"; fi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
@@ -97,15 +97,15 @@ done
 
 # interruption by the test hook, twice, then --resume
 set +e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
 rc=$?
 set -e
 [ "$rc" = 130 ] && [ -f "$TMP/r.json.checkpoint" ] && [ ! -f "$TMP/r.json" ] && pass "interrupted: exit 130, checkpoint, no weights" || fail "interrupt: rc $rc"
 set +e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
 set -e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/r.json" --resume --quiet
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --out "$TMP/straight.json" --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/straight.json" --quiet
 if cmp -s "$TMP/r.json" "$TMP/straight.json"; then pass "resumed run identical to the straight run"; else fail "resume differs"; fi
 [ ! -f "$TMP/r.json.checkpoint" ] && pass "checkpoint removed after the finished run" || fail "checkpoint left behind"
 
