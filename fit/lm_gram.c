@@ -68,6 +68,19 @@ __attribute__((always_inline)) static inline void add_four_sums(const lanes4 h[T
   memcpy(Aij, &row, sizeof row);
 }
 
+/* The entries of a column tile below its diagonal row j0 (rows j0+1..j0+3,
+ * i <= j), entry by entry. */
+static inline void tile_triangle(int P, const double *block, int padded, int j0, double *A) {
+  for (int i = j0 + 1; i < j0 + TILE; ++i)
+    for (int j = i; j < j0 + TILE; ++j) add_entry(P, block, padded, i, j, A);
+}
+
+/* Columns j_end..P-1, past the last whole tile, entry by entry. */
+static inline void columns_past_tiles(int P, const double *block, int padded, int j_end, double *A) {
+  for (int i = 0; i < P; ++i)
+    for (int j = i > j_end ? i : j_end; j < P; ++j) add_entry(P, block, padded, i, j, A);
+}
+
 /* Columns j0..j0+3 together, down rows 0..j0: their 4 rows of B (2 KiB)
  * stay in L1 while B[i] streams past (the whole block, P x 64 doubles, is
  * an L2 load per entry otherwise); their sums are independent dependency
@@ -93,11 +106,9 @@ __attribute__((target("avx2"))) static void gram_tiled(int P, const double *bloc
       for (int k = 0; k < TILE; ++k) h[k] = lo[k] + hi[k];
       add_four_sums(h, A + (size_t)i * P + j0);
     }
-    for (int i = j0 + 1; i < j0 + TILE; ++i)
-      for (int j = i; j < j0 + TILE; ++j) add_entry(P, block, padded, i, j, A);
+    tile_triangle(P, block, padded, j0, A);
   }
-  for (int i = 0; i < P; ++i)
-    for (int j = i > j0 ? i : j0; j < P; ++j) add_entry(P, block, padded, i, j, A);
+  columns_past_tiles(P, block, padded, j0, A);
 }
 
 typedef double lanes8 __attribute__((vector_size(64)));
@@ -157,11 +168,9 @@ __attribute__((target("avx512f"))) static void gram_tiled_avx512(int P, const do
       for (int k = 0; k < TILE; ++k) h[k] = halves_added(acc[k]);
       add_four_sums(h, A + (size_t)i * P + j0);
     }
-    for (int i = j0 + 1; i < j0 + TILE; ++i)
-      for (int j = i; j < j0 + TILE; ++j) add_entry(P, block, padded, i, j, A);
+    tile_triangle(P, block, padded, j0, A);
   }
-  for (int i = 0; i < P; ++i)
-    for (int j = i > j0 ? i : j0; j < P; ++j) add_entry(P, block, padded, i, j, A);
+  columns_past_tiles(P, block, padded, j0, A);
 }
 #endif
 

@@ -111,10 +111,10 @@ static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf
    * A run's first group waits on its rows: in a batch of 1024 samples on 2
    * threads, runs of 2 chunks instead of 1 made an epoch of the scattering
    * set 3-4 % faster (33.0-33.6 ms against 34.4-34.6, two runs each). */
-  long grab = threads == 1 ? n_chunks
-              : n_chunks < 4L * threads ? (n_chunks + threads - 1) / threads
-                                        : n_chunks / (2L * threads);
-  grab = grab < 1 ? 1 : threads > 1 && grab > 8 ? 8 : grab;
+  long grab = n_chunks;
+  if (threads > 1 && n_chunks < 4L * threads) grab = (n_chunks + threads - 1) / threads;
+  else if (threads > 1) grab = n_chunks / (2L * threads) < 8 ? n_chunks / (2L * threads) : 8;
+  if (grab < 1) grab = 1;
   long n_runs = (n_chunks + grab - 1) / grab;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
   for (long run = 0; run < n_runs; ++run) {
