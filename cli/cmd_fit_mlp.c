@@ -279,6 +279,18 @@ static int run_sky(int argc, char **argv, int scattering) {
     goto done;
   }
 
+  char checkpoint[4200] = "", checkpoint_g[4300];
+  if (job.mlp.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", job.mlp.out);
+  const char *ckpt = job.mlp.checkpoint ? job.mlp.checkpoint : checkpoint;
+  snprintf(checkpoint_g, sizeof checkpoint_g, "%s.ground", ckpt);
+  /* --resume without a checkpoint fails now, not after the tables (minutes
+   * when they are not cached); the scattering split's ground network has
+   * its own (below). */
+  if (job.mlp.out && t->resume && !sf_cache_exists(ckpt) && !(scattering && sf_cache_exists(checkpoint_g))) {
+    sf_fail(&err, SF_ERR_INPUT, "%s: --resume: no checkpoint to resume from", ckpt);
+    goto fail;
+  }
+
   /* tables */
   sf_table_set_options *so = &job.tables.set;
   so->kind = SF_PARAM_BRUNETON;
@@ -338,10 +350,6 @@ static int run_sky(int argc, char **argv, int scattering) {
     if ((status = sf_mlp_cli_read_init(command, job.mlp.init_weights, &t->shape, init))) goto done;
     t->init_params = init;
   }
-  char checkpoint[4200], checkpoint_g[4300];
-  snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", job.mlp.out);
-  const char *ckpt = job.mlp.checkpoint ? job.mlp.checkpoint : checkpoint;
-  snprintf(checkpoint_g, sizeof checkpoint_g, "%s.ground", ckpt);
   t->interrupt = sf_mlp_catch_interrupt();
   /* --resume with the split: each network resumes from its own checkpoint
    * if it has one; a network that had finished before the interruption
@@ -581,6 +589,18 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     return 2;
   }
   if (o.write_init) return sf_mlp_cli_write_init(command, o.write_init, &t->shape, t->seed);
+  char checkpoint[4200];
+  if (o.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", o.out);
+  t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
+  /* before the CSV is read (seconds for a million rows) */
+  if (t->resume && !t->checkpoint_path) {
+    fprintf(stderr, "%s: --resume needs --out or --checkpoint (the checkpoint to resume from)\n", command);
+    return 2;
+  }
+  if (t->resume && !sf_cache_exists(t->checkpoint_path)) {
+    fprintf(stderr, "%s: %s: --resume: no checkpoint to resume from\n", command, t->checkpoint_path);
+    return 2;
+  }
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);
@@ -600,9 +620,6 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     if ((status = sf_mlp_cli_read_init(command, o.init_weights, &t->shape, init))) goto done;
     t->init_params = init;
   }
-  char checkpoint[4200];
-  if (o.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", o.out);
-  t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
   t->interrupt = sf_mlp_catch_interrupt();
   sf_mlp_progress progress;
   sf_mlp_progress_init(&progress, o.quiet);

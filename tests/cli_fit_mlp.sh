@@ -215,5 +215,16 @@ expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
 expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"
 expect_error "missing resume" "checkpoint" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --resume --out "$TMP/bad.json"
+expect_error "resume without a checkpoint path" "needs --out or --checkpoint" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 \
+  --layers 2,4,3 --resume
+# --resume without a checkpoint fails before the tables are sampled: the
+# empty tables folder stays empty
+for q in transmittance scattering; do
+  mkdir -p "$TMP/no-tables-$q"
+  expect_error "$q: missing resume" "no checkpoint to resume from" "$BIN" fit mlp-$q --tables "$TMP/no-tables-$q" \
+    --resume --out "$TMP/bad.json"
+  [ -z "$(ls -A "$TMP/no-tables-$q")" ] && pass "$q: missing resume: no table sampled" ||
+    fail "$q: missing resume: tables were sampled first"
+done
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]
