@@ -636,10 +636,14 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   }
   sf_mlp_lm_result lm;
   if (sf_mlp_cli_polish(&o, &train, &val, &result, &lm, &err)) goto fail;
-  if (o.polish.iterations > 0 && !o.quiet)
-    fprintf(stderr, "%s: polish: %d steps, %d accepted; training loss %.6g -> %.6g, validation %.6g -> %.6g\n",
-            command, lm.iterations, lm.accepted, lm.initial_loss, lm.final_loss, lm.initial_validation,
-            lm.final_validation);
+  if (o.polish.iterations > 0 && !o.quiet) {
+    char validation[96] = "";   /* none without a validation set */
+    if (!isnan(lm.initial_validation))
+      snprintf(validation, sizeof validation, ", validation %.6g -> %.6g", lm.initial_validation,
+               lm.final_validation);
+    fprintf(stderr, "%s: polish: %d steps, %d accepted; training loss %.6g -> %.6g%s\n", command, lm.iterations,
+            lm.accepted, lm.initial_loss, lm.final_loss, validation);
+  }
   /* The final training MSE over the whole training set, whatever the loss. */
   sf_mlp_loss mse = {SF_LOSS_MSE, NULL};
   double train_mse = sf_mlp_dataset_loss(&t->shape, result.net.params, &mse, &train, t->n_threads);

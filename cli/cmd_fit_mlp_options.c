@@ -183,9 +183,10 @@ void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, i
   p->last = t;
   double done = ((double)restart * n_epochs + epoch) / ((double)n_restarts * n_epochs);
   double elapsed = t - p->start;
-  fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g  validation %.4g  ETA %.0f s   ", restart + 1,
-          n_restarts, epoch, n_epochs, train_loss, validation_loss,
-          done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
+  char validation[48] = "";   /* none without a validation set */
+  if (!isnan(validation_loss)) snprintf(validation, sizeof validation, "  validation %.4g", validation_loss);
+  fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g%s  ETA %.0f s   ", restart + 1, n_restarts, epoch,
+          n_epochs, train_loss, validation, done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
   fflush(stderr);
   p->bar.drawn = 1;
 }

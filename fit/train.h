@@ -48,6 +48,7 @@
 #define SF_TRAIN_PROBE_BATCHES 4
 #define SF_TRAIN_PROBE_EPOCHS 50
 
+/* validation_loss is NAN without a validation set. */
 typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
                                      double train_loss, double validation_loss);
 

@@ -123,6 +123,25 @@ polished=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs
 m0=$(echo "$plain" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 m1=$(echo "$polished" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 awk -v a="$m0" -v b="$m1" 'BEGIN { exit !(b > 0 && b < 0.8 * a) }' && pass "polish: training MSE $m0 -> $m1" || fail "polish: $m0 -> $m1"
+# what the terminal shows: a validation loss only with a validation set
+# (fit mlp has none unless asked); the progress line needs a terminal
+# (script(1), where installed)
+for v in 0 0.1; do
+  said=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 5 --batch 64 --polish 3 --validation $v \
+    2>&1 >/dev/null)
+  if command -v script >/dev/null; then
+    said="$said $(script -qec "'$BIN' fit mlp --data '$TMP/t.csv' --inputs 2 --layers 2,4,3 --epochs 5 --batch 64 \
+      --validation $v" /dev/null 2>&1 | tr '\r' '\n' | grep ' epoch ')"
+  fi
+  case "$v:$said" in
+    0:*validation* | 0:*nan* | 0.1:*nan*) fail "terminal output, --validation $v: $said" ;;
+    0:*polish:*) pass "terminal output without a validation set: no validation loss" ;;
+    0.1:*polish:*validation*epoch*validation*) pass "terminal output with --validation 0.1: its loss" ;;
+    0.1:*polish:*validation*) command -v script >/dev/null && fail "no progress line: $said" ||
+      pass "terminal output with --validation 0.1: its loss (polish line; no script(1))" ;;
+    *) fail "terminal output, --validation $v: $said" ;;
+  esac
+done
 "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m_straight.json" --quiet >/dev/null
 "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,8,3 --epochs 3000 --batch 16 --out "$TMP/m.json" --quiet >/dev/null &
 pid=$!
