@@ -115,6 +115,8 @@ static int train_network(sky_job *job, const char *command, const sf_dataset *da
   if (sf_dataset_split(data, job->mlp.validation_fraction, t->seed, train, val, err)) return err->status;
   t->checkpoint_path = checkpoint;
   t->resume = resume;
+  /* Ctrl-C in the polish keeps the trained state: --resume polishes again */
+  t->keep_final_checkpoint = job->mlp.polish.iterations > 0;
   sf_mlp_progress progress;
   sf_mlp_progress_init(&progress, job->mlp.quiet);
   t->progress = sf_mlp_progress_update;
@@ -131,6 +133,12 @@ static int train_network(sky_job *job, const char *command, const sf_dataset *da
   if (sf_mlp_cli_polish(&job->mlp, train, val, result, lm, err)) {
     sf_mlp_free(&result->net);
     return err->status;
+  }
+  if (lm->interrupted) {
+    fprintf(stderr, "%s: interrupted in the polish after %d of %d steps; checkpoint %s (training done); "
+            "continue with --resume\n", command, lm->iterations, job->mlp.polish.iterations, checkpoint);
+    sf_mlp_free(&result->net);
+    return -1;
   }
   return SF_OK;
 }
@@ -496,6 +504,8 @@ static int run_sky(int argc, char **argv, int scattering) {
   }
   /* Timing stays out of the file: the same run must write the same bytes. */
   if (sf_weights_write(doc, job.mlp.out, &err)) goto fail;
+  remove(ckpt);   /* the trained states kept for an interrupted polish */
+  if (split) remove(checkpoint_g);
   if (!job.mlp.quiet) {
     char *text = cJSON_Print(metrics);
     if (text)
@@ -621,6 +631,8 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     t->init_params = init;
   }
   t->interrupt = sf_mlp_catch_interrupt();
+  /* Ctrl-C in the polish keeps the trained state: --resume polishes again */
+  t->keep_final_checkpoint = o.polish.iterations > 0;
   sf_mlp_progress progress;
   sf_mlp_progress_init(&progress, o.quiet);
   t->progress = sf_mlp_progress_update;
@@ -636,6 +648,13 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   }
   sf_mlp_lm_result lm;
   if (sf_mlp_cli_polish(&o, &train, &val, &result, &lm, &err)) goto fail;
+  if (lm.interrupted) {
+    fprintf(stderr, "%s: interrupted in the polish after %d of %d steps%s%s\n", command, lm.iterations,
+            o.polish.iterations, t->checkpoint_path ? "; checkpoint (training done) " : "",
+            t->checkpoint_path ? t->checkpoint_path : "");
+    status = 130;
+    goto done;
+  }
   if (o.polish.iterations > 0 && !o.quiet) {
     char validation[96] = "";   /* none without a validation set */
     if (!isnan(lm.initial_validation))
@@ -661,6 +680,7 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     cJSON_AddNumberToObject(sf_weights_metrics(doc), "train_mse", train_mse);
     if (sf_weights_write(doc, o.out, &err)) goto fail;
   }
+  if (t->checkpoint_path) remove(t->checkpoint_path);   /* kept for an interrupted polish */
   printf("{\"final_train_mse\": %.9g, \"final_train_loss\": %.9g, \"seconds_per_epoch\": %.6g, "
          "\"cpu_seconds_per_epoch\": %.6g, \"epochs\": %d, \"samples\": %ld, \"batch\": %ld, \"threads\": %d}\n",
          train_mse, result.train_loss, result.seconds_per_epoch, result.cpu_seconds_per_epoch, result.epochs_run,

@@ -49,7 +49,8 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
                                            "--epochs", "--batch", "--lr", "--lr-decay", "--restarts",
                                            "--patience", "--validation", "--seed", "--threads", "--out",
                                            "--checkpoint", "--init-weights", "--write-init",
-                                           "--stop-after-epochs", "--polish", "--polish-samples", NULL};
+                                           "--stop-after-epochs", "--stop-after-polish-steps", "--polish",
+                                           "--polish-samples", NULL};
   int known = 0;
   for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
   if (!known) return 0;
@@ -113,6 +114,7 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     else if (strcmp(a, "--threads") == 0) t->n_threads = (int)n;
     else if (strcmp(a, "--polish") == 0) o->polish.iterations = (int)n;
     else if (strcmp(a, "--polish-samples") == 0) o->polish.max_samples = n;
+    else if (strcmp(a, "--stop-after-polish-steps") == 0) o->polish.stop_after_steps = (int)n;
     else t->stop_after_epochs = (int)n;
   }
   return 1;
@@ -142,6 +144,7 @@ void sf_mlp_cli_help(FILE *out) {
           "  --polish N              N Levenberg-Marquardt steps after Adam (fit/mlp_lm.h; 0: none)\n"
           "  --polish-samples N      training samples used by the polish (0: all)\n"
           "  --stop-after-epochs K   behave as if interrupted after K epochs (tests)\n"
+          "  --stop-after-polish-steps K  the same after K polish steps (tests)\n"
           "  --quiet                 no progress line\n");
 }
 
@@ -160,8 +163,14 @@ int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dat
   sf_mlp_loss loss = {t->loss, delta};
   sf_mlp_lm_options polish = o->polish;
   polish.n_threads = t->n_threads;
+  polish.interrupt = t->interrupt;
+  sf_mlp_progress progress;
+  sf_mlp_progress_init(&progress, o->quiet);
+  polish.progress = sf_mlp_progress_polish;
+  polish.progress_ctx = &progress;
   int status = sf_mlp_lm_polish(&t->shape, result->net.params, &loss, train, validation, &polish, lm, err);
-  if (status) return status;
+  sf_mlp_progress_finish(&progress);
+  if (status || lm->interrupted) return status;
   result->train_loss = sf_mlp_dataset_loss(&t->shape, result->net.params, &loss, train, t->n_threads);
   if (validation && validation->n > 0)
     result->validation_loss = sf_mlp_dataset_loss(&t->shape, result->net.params, &loss, validation, t->n_threads);
@@ -187,6 +196,21 @@ void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, i
   if (!isnan(validation_loss)) snprintf(validation, sizeof validation, "  validation %.4g", validation_loss);
   fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g%s  ETA %.0f s   ", restart + 1, n_restarts, epoch,
           n_epochs, train_loss, validation, done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
+  fflush(stderr);
+  p->bar.drawn = 1;
+}
+
+void sf_mlp_progress_polish(void *ctx, int step, int n_steps, double train_loss, double validation_loss) {
+  sf_mlp_progress *p = ctx;
+  if (!p->bar.enabled) return;
+  double t = sf_wall_seconds();
+  if (t - p->last < 0.1 && step < n_steps) return;
+  p->last = t;
+  char validation[48] = "";
+  if (!isnan(validation_loss)) snprintf(validation, sizeof validation, "  validation %.4g", validation_loss);
+  /* the ETA if every step is taken (the polish may stop earlier) */
+  fprintf(stderr, "\r  polish step %d/%d  train %.4g%s  ETA %.0f s   ", step, n_steps, train_loss, validation,
+          (t - p->start) * (n_steps - step) / step);
   fflush(stderr);
   p->bar.drawn = 1;
 }

@@ -33,7 +33,8 @@ int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out)
 /* Levenberg-Marquardt polish of a trained network (fit/mlp_lm.h) with the
  * training loss (delta_k = loss_floor * max |y_k| of train, as fit/train.h);
  * then recomputes result->train_loss and validation_loss. Nothing when
- * o->polish.iterations is 0. */
+ * o->polish.iterations is 0. Stops at o->train.interrupt (lm->interrupted:
+ * the network is not to be written); a progress line unless o->quiet. */
 int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dataset *validation,
                       sf_train_result *result, sf_mlp_lm_result *lm, sf_error *err);
 
@@ -47,9 +48,13 @@ void sf_mlp_progress_init(sf_mlp_progress *p, int quiet);
 void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
                             double validation_loss);
 void sf_mlp_progress_finish(sf_mlp_progress *p);
+/* The polish's line: step, training and best validation loss, ETA
+ * (sf_mlp_lm_progress_fn; ctx an sf_mlp_progress). */
+void sf_mlp_progress_polish(void *ctx, int step, int n_steps, double train_loss, double validation_loss);
 
 /* Installs a SIGINT handler that sets the returned flag (training then
- * stops after the epoch and writes its checkpoint). */
+ * stops after the epoch and writes its checkpoint; the polish stops before
+ * its next step, and the trained state stays in the checkpoint). */
 const volatile sig_atomic_t *sf_mlp_catch_interrupt(void);
 
 /* Reads the initial network for --init-weights into params (n values), or

@@ -13,6 +13,10 @@ void sf_mlp_lm_options_default(sf_mlp_lm_options *o) {
   o->max_samples = 0;
   o->lambda0 = 1e-3;
   o->n_threads = 0;
+  o->interrupt = NULL;
+  o->stop_after_steps = 0;
+  o->progress = NULL;
+  o->progress_ctx = NULL;
 }
 
 /* f'(z) from z and a = f(z). */
@@ -280,6 +284,10 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
   double lambda = o->lambda0;
   int need_jacobian = 1;
   for (int it = 0; it < o->iterations; ++it) {
+    if ((o->interrupt && *o->interrupt) || (o->stop_after_steps > 0 && it >= o->stop_after_steps)) {
+      result->interrupted = 1;
+      break;
+    }
     if (need_jacobian) {
       memset(JTJ, 0, PP * sizeof(double));
       memset(JTe, 0, (size_t)P * sizeof(double));
@@ -324,8 +332,9 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
       }
     } else {
       lambda *= 4.0;
-      if (lambda > 1e12) break;
     }
+    if (o->progress) o->progress(o->progress_ctx, it + 1, o->iterations, cost / norm, best_val);
+    if (lambda > 1e12) break;
   }
   if (has_val) memcpy(params, best, (size_t)P * sizeof(double));
   result->final_loss = total_loss(shape, params, loss, train, n, n_threads) / norm;

@@ -16,6 +16,8 @@
 #ifndef SKYFIT_FIT_MLP_LM_H
 #define SKYFIT_FIT_MLP_LM_H
 
+#include <signal.h>
+
 #include "fit/dataset.h"
 #include "fit/mlp_backward.h"
 #include "models/mlp.h"
@@ -41,11 +43,20 @@
 #define SF_MLP_TRANSMITTANCE_HIDDEN "16,16"
 #define SF_MLP_TRANSMITTANCE_POLISH 400
 
+/* After each step: its number (1..n_steps), the mean training loss and
+ * the best validation loss so far (NAN without validation). */
+typedef void (*sf_mlp_lm_progress_fn)(void *ctx, int step, int n_steps, double train_loss, double validation_loss);
+
 typedef struct sf_mlp_lm_options {
   int iterations;          /* accepted or rejected steps; 0: nothing */
   long max_samples;        /* samples used to form J^T J (the first ones); <= 0: all */
   double lambda0;          /* initial damping, default 1e-3 */
   int n_threads;           /* <= 0: all cores (default); the result does not depend on it */
+  /* set (Ctrl-C): stop before the next step, result->interrupted; may be NULL */
+  const volatile sig_atomic_t *interrupt;
+  int stop_after_steps;    /* > 0: behave as interrupted after this many steps (tests) */
+  sf_mlp_lm_progress_fn progress;   /* may be NULL */
+  void *progress_ctx;
 } sf_mlp_lm_options;
 
 void sf_mlp_lm_options_default(sf_mlp_lm_options *o);
@@ -54,6 +65,7 @@ typedef struct sf_mlp_lm_result {
   double initial_loss, final_loss;          /* mean loss on the training samples used */
   double initial_validation, final_validation;   /* NAN without validation */
   int iterations, accepted;
+  int interrupted;         /* stopped by o->interrupt: params are a partial polish */
 } sf_mlp_lm_result;
 
 /* Polishes params (in place; the best iterate by validation loss if

@@ -457,7 +457,10 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
       epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : 0.0;
   result->train_loss = sf_mlp_dataset_loss(s, result->net.params, &loss, train, o->n_threads);
   result->validation_loss = has_val ? sf_mlp_dataset_loss(s, result->net.params, &loss, val, o->n_threads) : NAN;
-  if (o->checkpoint_path) remove(o->checkpoint_path);
+  if (o->checkpoint_path && o->keep_final_checkpoint)
+    status = write_checkpoint(o->checkpoint_path, fingerprint, &st, np, err);
+  else if (o->checkpoint_path)
+    remove(o->checkpoint_path);
 done:
   if (status != SF_OK || result->interrupted) {
     if (status != SF_OK) sf_mlp_free(&result->net);

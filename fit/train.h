@@ -70,6 +70,10 @@ typedef struct sf_train_options {
   const double *init_params;   /* optional initial network of restart 0 (n_params values) */
   const char *checkpoint_path; /* NULL: no checkpoints */
   int resume;               /* continue from checkpoint_path */
+  int keep_final_checkpoint;   /* at the end, the finished state to checkpoint_path instead of
+                                  removing it: a step after training (the polish) may then be
+                                  interrupted, and --resume runs no epoch again; the caller
+                                  removes it */
   int stop_after_epochs;    /* > 0: behave as interrupted after this many epochs in this call */
   const volatile sig_atomic_t *interrupt;   /* may be NULL */
   sf_train_progress_fn progress;            /* may be NULL */

@@ -56,7 +56,9 @@ set -e
 
 # the scattering model split at the horizon (models/mlp_sky.h): two networks
 # in one file; the hook interrupting the second (3 epochs each, the hook at
-# 5 of the command's epochs), then the first; each resumed to the straight run
+# 5 of the command's epochs: the first network's finished state is kept
+# beside the second's checkpoint), then the first; each resumed to the
+# straight run
 grep -q '"ground_W0"' "$TMP/s1.json" && grep -q '"split":[[:space:]]*"horizon"' "$TMP/s1.json" &&
   pass "scattering weights hold the ground-ray network (split horizon)" || fail "no ground-ray network in the weights"
 # --scene restricts the data to its domain; viewers on the ground looking
@@ -83,14 +85,38 @@ for stop in 5 2; do
   "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sr.json" --stop-after-epochs $stop --quiet
   rc=$?
   set -e
-  if [ $stop = 5 ]; then want="$TMP/sr.json.checkpoint.ground"; other="$TMP/sr.json.checkpoint"; else want="$TMP/sr.json.checkpoint"; other="$TMP/sr.json.checkpoint.ground"; fi
-  [ "$rc" = 130 ] && [ -f "$want" ] && [ ! -f "$other" ] && [ ! -f "$TMP/sr.json" ] &&
-    pass "split, hook after $stop epochs: exit 130, checkpoint $(basename "$want") only" || fail "split interrupt after $stop: rc $rc"
+  sky="$TMP/sr.json.checkpoint" ground="$TMP/sr.json.checkpoint.ground"
+  [ "$rc" = 130 ] && [ -f "$sky" ] && if [ $stop = 5 ]; then [ -f "$ground" ]; else [ ! -f "$ground" ]; fi &&
+    [ ! -f "$TMP/sr.json" ] && pass "split, hook after $stop epochs: exit 130, checkpoints $(cd "$TMP" && echo sr.json.ch*)" ||
+    fail "split interrupt after $stop: rc $rc, $(cd "$TMP" && echo sr.json*)"
   "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sr.json" --resume --quiet
-  cmp -s "$TMP/sr.json" "$TMP/s1.json" && [ ! -f "$want" ] &&
-    pass "split, resumed after $stop epochs: identical to the straight run, checkpoint removed" || fail "split resume after $stop differs"
+  cmp -s "$TMP/sr.json" "$TMP/s1.json" && [ ! -f "$sky" ] && [ ! -f "$ground" ] &&
+    pass "split, resumed after $stop epochs: identical to the straight run, checkpoints removed" || fail "split resume after $stop differs"
   rm -f "$TMP/sr.json"
 done
+# interrupted in a polish (the hook after 2 of 3 steps: the first network's;
+# after 5 of 20, the transmittance network's): exit 130, no weights, the
+# trained state kept; --resume polishes again to the straight run
+set +e
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sp.json" --stop-after-polish-steps 2 \
+  --quiet 2>"$TMP/sp.err"
+rc_s=$?
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" \
+  --stop-after-polish-steps 5 --quiet 2>"$TMP/tp.err"
+rc_t=$?
+set -e
+[ "$rc_s" = 130 ] && [ "$rc_t" = 130 ] && [ -f "$TMP/sp.json.checkpoint" ] && [ ! -f "$TMP/sp.json.checkpoint.ground" ] &&
+  [ -f "$TMP/tp.json.checkpoint" ] && [ ! -e "$TMP/sp.json" ] && [ ! -e "$TMP/tp.json" ] &&
+  grep -q "interrupted in the polish after 2 of 3 steps" "$TMP/sp.err" &&
+  grep -q "interrupted in the polish after 5 of 20 steps" "$TMP/tp.err" &&
+  pass "polish interrupted: exit 130, trained states kept, no weights" ||
+  fail "polish interrupted: rc $rc_s $rc_t, $(cat "$TMP/sp.err" "$TMP/tp.err")"
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sp.json" --resume --quiet
+"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" --resume --quiet
+cmp -s "$TMP/sp.json" "$TMP/s1.json" && cmp -s "$TMP/tp.json" "$TMP/t1.json" && [ ! -e "$TMP/sp.json.checkpoint" ] &&
+  [ ! -e "$TMP/tp.json.checkpoint" ] && pass "polish interrupted, resumed: identical to the straight runs, checkpoints removed" ||
+  fail "polish resume differs or left a checkpoint"
+
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --split none --out "$TMP/s0.json" --quiet
 ! grep -q '"ground_W0"' "$TMP/s0.json" && grep -q '"split":[[:space:]]*"none"' "$TMP/s0.json" &&
   pass "--split none: one network" || fail "--split none still wrote a ground-ray network"
