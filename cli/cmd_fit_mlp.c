@@ -294,10 +294,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   /* --resume without a checkpoint fails now, not after the tables (minutes
    * when they are not cached); the scattering split's ground network has
    * its own (below). */
-  if (job.mlp.out && t->resume && !sf_cache_exists(ckpt) && !(scattering && sf_cache_exists(checkpoint_g))) {
-    sf_fail(&err, SF_ERR_INPUT, "%s: --resume: no checkpoint to resume from", ckpt);
-    goto fail;
-  }
+  if (job.mlp.out && t->resume &&
+      (status = sf_mlp_cli_check_resume(command, ckpt, scattering ? checkpoint_g : NULL)))
+    goto done;
 
   /* tables */
   sf_table_set_options *so = &job.tables.set;
@@ -603,14 +602,7 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   if (o.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", o.out);
   t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
   /* before the CSV is read (seconds for a million rows) */
-  if (t->resume && !t->checkpoint_path) {
-    fprintf(stderr, "%s: --resume needs --out or --checkpoint (the checkpoint to resume from)\n", command);
-    return 2;
-  }
-  if (t->resume && !sf_cache_exists(t->checkpoint_path)) {
-    fprintf(stderr, "%s: %s: --resume: no checkpoint to resume from\n", command, t->checkpoint_path);
-    return 2;
-  }
+  if (t->resume && sf_mlp_cli_check_resume(command, t->checkpoint_path, NULL)) return 2;
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "fit/candidate_cache.h"
 #include "models/atmosphere_file.h"
 #include "models/weights_file.h"
 #include "util/clock.h"
@@ -120,6 +121,16 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
   return 1;
 }
 
+int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const char *other) {
+  if (!checkpoint) {
+    fprintf(stderr, "%s: --resume needs --out or --checkpoint (the checkpoint to resume from)\n", command);
+    return 2;
+  }
+  if (sf_cache_exists(checkpoint) || (other && sf_cache_exists(other))) return 0;
+  fprintf(stderr, "%s: %s: --resume: no checkpoint to resume from\n", command, checkpoint);
+  return 2;
+}
+
 void sf_mlp_cli_help(FILE *out) {
   fprintf(out,
           "training options:\n"
@@ -183,17 +194,30 @@ void sf_mlp_progress_init(sf_mlp_progress *p, int quiet) {
   p->last = 0.0;
 }
 
+/* Whether to draw now (at most every 0.1 s, and the last step); sets *now. */
+static int progress_due(sf_mlp_progress *p, int last_step, double *now) {
+  if (!p->bar.enabled) return 0;
+  *now = sf_wall_seconds();
+  if (*now - p->last < 0.1 && !last_step) return 0;
+  p->last = *now;
+  return 1;
+}
+
+/* "  validation L", or nothing without a validation set (loss NAN). */
+static void validation_text(double validation_loss, char *text, size_t size) {
+  text[0] = '\0';
+  if (!isnan(validation_loss)) snprintf(text, size, "  validation %.4g", validation_loss);
+}
+
 void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
                             double validation_loss) {
   sf_mlp_progress *p = ctx;
-  if (!p->bar.enabled) return;
-  double t = sf_wall_seconds();
-  if (t - p->last < 0.1 && epoch < n_epochs) return;
-  p->last = t;
+  double t;
+  if (!progress_due(p, epoch == n_epochs, &t)) return;
   double done = ((double)restart * n_epochs + epoch) / ((double)n_restarts * n_epochs);
   double elapsed = t - p->start;
-  char validation[48] = "";   /* none without a validation set */
-  if (!isnan(validation_loss)) snprintf(validation, sizeof validation, "  validation %.4g", validation_loss);
+  char validation[48];
+  validation_text(validation_loss, validation, sizeof validation);
   fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g%s  ETA %.0f s   ", restart + 1, n_restarts, epoch,
           n_epochs, train_loss, validation, done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
   fflush(stderr);
@@ -202,12 +226,10 @@ void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, i
 
 void sf_mlp_progress_polish(void *ctx, int step, int n_steps, double train_loss, double validation_loss) {
   sf_mlp_progress *p = ctx;
-  if (!p->bar.enabled) return;
-  double t = sf_wall_seconds();
-  if (t - p->last < 0.1 && step < n_steps) return;
-  p->last = t;
-  char validation[48] = "";
-  if (!isnan(validation_loss)) snprintf(validation, sizeof validation, "  validation %.4g", validation_loss);
+  double t;
+  if (!progress_due(p, step == n_steps, &t)) return;
+  char validation[48];
+  validation_text(validation_loss, validation, sizeof validation);
   /* the ETA if every step is taken (the polish may stop earlier) */
   fprintf(stderr, "\r  polish step %d/%d  train %.4g%s  ETA %.0f s   ", step, n_steps, train_loss, validation,
           (t - p->start) * (n_steps - step) / step);

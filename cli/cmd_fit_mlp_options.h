@@ -27,6 +27,11 @@ void sf_mlp_cli_default(sf_mlp_cli *o);
  * bad value: -1 after printing "<command>: <problem>". */
 int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv, int *i);
 void sf_mlp_cli_help(FILE *out);
+/* For --resume, before any long work: 0 if checkpoint (or other, when not
+ * NULL) exists; else says so (or that there is no checkpoint path, when
+ * checkpoint is NULL) and returns the exit code 2. */
+int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const char *other);
+
 /* The whole of text as a finite number in [lo, hi]: 0; else -1. */
 int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out);
 
