@@ -251,13 +251,37 @@ int sf_sky_fit_gram(const sf_sky_fit_data *d, const double *coeffs, double scale
   return 0;
 }
 
+struct sf_sky_fit_prepared {
+  sky_fit_view view;
+};
+
+sf_sky_fit_prepared *sf_sky_fit_prepare(const sf_sky_fit_data *d) {
+  sf_sky_fit_prepared *p = malloc(sizeof *p);
+  if (p && sky_view_make(d, &p->view)) {
+    free(p);
+    return NULL;
+  }
+  return p;
+}
+
+void sf_sky_fit_prepared_gram(const sf_sky_fit_prepared *p, const double *coeffs, double scale,
+                              double *sum_squares, double *gram) {
+  sky_view_gram(&p->view, coeffs, scale, sum_squares, gram);
+}
+
+void sf_sky_fit_prepared_free(sf_sky_fit_prepared *p) {
+  if (!p) return;
+  sky_view_free(&p->view);
+  free(p);
+}
+
 void sf_sky_fit_options_default(sf_lsq_options *o) {
   sf_lsq_options_default(o);
-  /* the global fit over elevations (fit/fit_sky_elevation.c) hands Ceres
-   * its rows (samples x 60 control points): J^T J by Cholesky costs a
-   * third of a dense QR there; the one-sky fits reach Ceres as the
-   * n_coeffs + 2 rows of their Gram matrix's factor (sf_fit_sky_config),
-   * where both cost the same (bench/ceres_vs_scipy.sh, BENCH_QR) */
+  /* J^T J by Cholesky: a third of a dense QR's time when the global fit
+   * over elevations handed Ceres its rows (samples x 60 control points).
+   * Every sky fit now reaches Ceres as the few rows of its Gram matrix's
+   * factor (sf_fit_sky_config; fit/sky_bezier_gram.h), where both cost the
+   * same (bench/ceres_vs_scipy.sh, BENCH_QR) */
   o->normal_equations = 1;
   /* Ceres' Levenberg-Marquardt damps with mu diag(J^T J) (Marquardt's
    * scaling), so its steps do not depend on the columns' scale and Jacobi

@@ -57,6 +57,16 @@ double sf_sky_fit_cost(const sf_sky_fit_data *d, const double *coeffs, double sc
 int sf_sky_fit_gram(const sf_sky_fit_data *d, const double *coeffs, double scale,
                     double *sum_squares, double *gram);
 
+/* sf_sky_fit_gram for many evaluations on the same samples: the
+ * coefficient-free part of every sample computed once (copied: d need not
+ * outlive it). The same numbers as sf_sky_fit_gram. NULL when out of
+ * memory. */
+typedef struct sf_sky_fit_prepared sf_sky_fit_prepared;
+sf_sky_fit_prepared *sf_sky_fit_prepare(const sf_sky_fit_data *d);
+void sf_sky_fit_prepared_gram(const sf_sky_fit_prepared *p, const double *coeffs, double scale,
+                              double *sum_squares, double *gram);
+void sf_sky_fit_prepared_free(sf_sky_fit_prepared *p);
+
 /* Solves in place from the start in coeffs/scale (clamped into the bounds
  * first). Returns 0 when usable (SF_ERR_INTERNAL with Ceres' message
  * otherwise). */

@@ -8,12 +8,12 @@
 
 #include "fit/fit_sky_config.h"
 #include "fit/linear_lsq.h"
+#include "fit/sky_bezier_gram.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/preetham.h"
 #include "util/constants.h"
 #include "util/clock.h"
 
-#define CHUNK 128
 #define MAX_PARAMS (SF_BEZIER_POINTS * SF_HOSEK_N_COEFFS)
 
 static const double start_turbidities[3] = {2.0, 4.0, 7.0};
@@ -38,54 +38,32 @@ typedef struct global_ctx {
   double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];
 } global_ctx;
 
-typedef struct global_chunk {
-  const global_ctx *g;
-  int elevation, begin, count;
-} global_chunk;
-
-/* Blocks: [0] coefficient control points [6][nc], [1] scale control points [6]. */
-static int global_residuals(void *user, const double *const *params, double *r, double **jac) {
-  const global_chunk *c = user;
-  const global_ctx *g = c->g;
-  int nc = sf_sky_form_n_coeffs(g->form);
-  const double *bw = g->bernstein[c->elevation];
-  double coeffs[SF_HOSEK_N_COEFFS] = {0}, scale = 0.0;
-  for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
-    for (int i = 0; i < nc; ++i) coeffs[i] += bw[j] * params[0][j * nc + i];
-    scale += bw[j] * params[1][j];
-  }
-  const sf_sky_samples *s = &g->samples[c->elevation];
-  double w = g->weight[c->elevation];
-  int np = SF_BEZIER_POINTS * nc;
-  for (int t = 0; t < c->count; ++t) {
-    int i = c->begin + t;
-    double grad[SF_HOSEK_N_COEFFS];
-    double f = sf_sky_form_f(g->form, coeffs, s->cos_theta[i], s->gamma[i], s->cos_gamma[i], grad);
-    r[t] = w * (scale * f - s->radiance[(size_t)i * s->n_channels + g->channel]);
-    if (!isfinite(r[t])) return 0;
-    if (jac && jac[0])
-      for (int j = 0; j < SF_BEZIER_POINTS; ++j)
-        for (int k = 0; k < nc; ++k) jac[0][t * np + j * nc + k] = w * scale * bw[j] * grad[k];
-    if (jac && jac[1])
-      for (int j = 0; j < SF_BEZIER_POINTS; ++j) jac[1][t * SF_BEZIER_POINTS + j] = w * bw[j] * f;
-  }
+/* sf_lsq_gram_fn over blocks [0] coefficient control points [6][nc], [1]
+ * scale control points [6]. */
+static int global_gram(void *user, const double *const *params, double *sum_squares, double *gram) {
+  sf_sky_bezier_gram_eval(user, params[0], params[1], sum_squares, gram);
   return 1;
 }
 
-/* One Ceres fit of a channel's control points from P, Q (solved in place).
- * Returns SF_OK when usable, SF_ERR_INTERNAL when out of memory, -1 when
- * this start failed (not finite, or the solver gave up). */
-static int global_fit(const global_ctx *g, int n_samples, const sf_sky_samples *samples,
-                      const sf_lsq_options *lsq, double *P, double *Q, sf_lsq_summary *sum,
-                      sf_error *err) {
+/* One Ceres fit of a channel's control points from P, Q (solved in place),
+ * through the Gram matrix of all its samples (fit/sky_bezier_gram.h: the
+ * same bits on any CPU). Returns SF_OK when usable, SF_ERR_INTERNAL when
+ * out of memory, -1 when this start failed (not finite, or the solver gave
+ * up). */
+static int global_fit(const global_ctx *g, const sf_lsq_options *lsq, double *P, double *Q,
+                      sf_lsq_summary *sum, sf_error *err) {
   int nc = sf_sky_form_n_coeffs(g->form), n_e = g->n_elevations;
   memset(sum, 0, sizeof *sum);
+  sf_sky_fit_data data[SF_SKY_MAX_ELEVATIONS];
+  for (int e = 0; e < n_e; ++e) {
+    const sf_sky_samples *s = &g->samples[e];
+    data[e] = (sf_sky_fit_data){g->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
+                                s->radiance + g->channel, s->n_channels, g->weight[e]};
+  }
+  sf_sky_bezier_gram bezier;
   sf_lsq_problem *p = sf_lsq_problem_new();
-  int n_chunks_max = n_samples / CHUNK + n_e + 1;
-  global_chunk *chunks = calloc((size_t)n_chunks_max, sizeof *chunks);
-  if (!p || !chunks) {
+  if (!p || sf_sky_bezier_gram_init(&bezier, g->form, n_e, data, g->bernstein)) {
     sf_lsq_problem_free(p);
-    free(chunks);
     return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   }
   int blocks[2] = {sf_lsq_add_block(p, P, SF_BEZIER_POINTS * nc),
@@ -99,23 +77,14 @@ static int global_fit(const global_ctx *g, int n_samples, const sf_sky_samples *
     if (g->form == SF_SKY_FORM_PEREZ) sf_lsq_set_bounds(p, blocks[1], j, 0.0, INFINITY);
   }
   if (g->form == SF_SKY_FORM_HOSEK) sf_lsq_set_constant(p, blocks[1]);
-  int n_chunks = 0;
-  for (int e = 0; e < n_e; ++e)
-    for (int b = 0; b < samples[e].n; b += CHUNK) {
-      global_chunk *c = &chunks[n_chunks++];
-      c->g = g;
-      c->elevation = e;
-      c->begin = b;
-      c->count = samples[e].n - b < CHUNK ? samples[e].n - b : CHUNK;
-      sf_lsq_add_residuals(p, global_residuals, c, c->count, 2, blocks, SF_LSQ_LOSS_NONE, 0.0);
-    }
+  sf_lsq_add_gram_residuals(p, global_gram, &bezier, 2, blocks);
   double start_cost;
   int rc = -1;
   if (sf_lsq_cost(p, &start_cost) == 0 && isfinite(start_cost))
     rc = sf_lsq_solve(p, lsq, sum) == 0 && isfinite(sum->final_cost) ? SF_OK : -1;
   else snprintf(sum->message, sizeof sum->message, "start not finite");
   sf_lsq_problem_free(p);
-  free(chunks);
+  sf_sky_bezier_gram_free(&bezier);
   return rc;
 }
 
@@ -381,7 +350,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         if (o->form == SF_SKY_FORM_PEREZ) Q[j] = scale_j;
       }
       sf_lsq_summary sum;
-      int rc = global_fit(&g, rep->n_samples, samples, &o->lsq, P, Q, &sum, err);
+      int rc = global_fit(&g, &o->lsq, P, Q, &sum, err);
       if (rc > 0) status = rc;
       if (status != SF_OK) break;
       if (rc == SF_OK && sum.final_cost < best_cost) {

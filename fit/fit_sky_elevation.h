@@ -19,7 +19,9 @@
  *    at the reference zenith radiance (it is degenerate with C, D, F, G, I);
  *    Perez's K is free.
  * 3. Bezier control points: one Ceres fit of all control points of a
- *    channel against the radiance samples of every elevation (Hosek's R
+ *    channel against the radiance samples of every elevation, given to
+ *    Ceres as their Gram matrix (fit/sky_bezier_gram.h: the same bits on
+ *    any CPU; Hosek's R
  *    curve is held at its least-squares fit to the zenith radiances), from
  *    four starts: the linear least-squares curve through the per-elevation
  *    values, and constant curves holding the values of the elevations at

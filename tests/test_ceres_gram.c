@@ -9,7 +9,12 @@
  * - the sky fits' Gram kernels (fit/fit_sky_config.h, sf_sky_fit_gram) agree
  *   with [J r]^T [J r] summed here from sf_sky_form_f's gradient, entry by
  *   entry to 1e-12 of sqrt(G_aa G_bb), for Hosek and Perez; the cost-only
- *   sum is bit-identical to the Gram matrix's last entry. */
+ *   sum is bit-identical to the Gram matrix's last entry;
+ * - the global sky fit's Gram matrix over 7 elevations' Bezier control
+ *   points (fit/sky_bezier_gram.h) agrees in the same way with [J r]^T
+ *   [J r] summed here from each sample's row (Bernstein weights times the
+ *   one-sky gradient), for Hosek and Perez; the prepared one-sky Gram gives
+ *   sf_sky_fit_gram's bits. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -18,6 +23,7 @@
 #include "check.h"
 #include "fit/ceres_shim.h"
 #include "fit/fit_sky_config.h"
+#include "fit/sky_bezier_gram.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/hosek_dataset.h"
 #include "util/constants.h"
@@ -205,6 +211,90 @@ static void test_sky_gram(sf_sky_form form, const double *truth, const double *a
   sf_sky_samples_free(&s);
 }
 
+/* ---- the global (all elevations) fit's Gram against explicit rows ---- */
+enum { N_BEZIER_ELEVATIONS = 7 };
+
+static void test_bezier_gram(sf_sky_form form, const double *truth) {
+  int nc = sf_sky_form_n_coeffs(form), p = SF_BEZIER_POINTS * (nc + 1), m = p + 1;
+  printf("-- %s Bezier Gram against rows summed here\n", sf_sky_form_model_name(form));
+  sf_sky_samples s[N_BEZIER_ELEVATIONS];
+  sf_sky_fit_data d[N_BEZIER_ELEVATIONS];
+  double bernstein[N_BEZIER_ELEVATIONS][SF_BEZIER_POINTS];
+  sf_error err = {0};
+  for (int e = 0; e < N_BEZIER_ELEVATIONS; ++e) {
+    double x = (double)e / (N_BEZIER_ELEVATIONS - 1), elev = 0.5 * SF_PI * x * x * x;
+    sf_bezier_weights(x, bernstein[e]);
+    CHECK(sf_sky_samples_alloc(&s[e], 12 * 20, 2, &err) == 0);
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 20; ++j) {
+        double th = (i + 0.5) / 12 * 0.5 * SF_PI, ph = (double)j / 19 * SF_PI;
+        int q = i * 20 + j;
+        sf_sky_sample_set_angles(&s[e], q, th, cos(th) * sin(elev) + sin(th) * cos(elev) * cos(ph));
+        /* channel 1 is fitted; channel 0 must be skipped by the stride */
+        double f = sf_sky_form_f(form, truth, s[e].cos_theta[q], s[e].gamma[q], s[e].cos_gamma[q], NULL);
+        s[e].radiance[2 * q] = -1.0;
+        s[e].radiance[2 * q + 1] = (1.0 + 0.2 * x) * f;
+      }
+    d[e] = (sf_sky_fit_data){form, s[e].n, s[e].cos_theta, s[e].gamma, s[e].cos_gamma, s[e].radiance + 1, 2,
+                             0.5 + 0.1 * e};
+  }
+  /* control points near the truth, each one a little off */
+  double P[SF_BEZIER_POINTS * SF_HOSEK_N_COEFFS], Q[SF_BEZIER_POINTS];
+  for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+    for (int i = 0; i < nc; ++i) P[j * nc + i] = truth[i] * (1.0 + 0.01 * ((i + 2 * j) % 5) - 0.02);
+    Q[j] = 1.0 + 0.05 * j;
+  }
+  static double want[(SF_SKY_BEZIER_MAX_PARAMS + 1) * (SF_SKY_BEZIER_MAX_PARAMS + 1)];
+  memset(want, 0, sizeof want);
+  double rows_ss = 0.0;
+  for (int e = 0; e < N_BEZIER_ELEVATIONS; ++e) {
+    double c[SF_HOSEK_N_COEFFS] = {0}, scale = 0.0;
+    for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+      for (int i = 0; i < nc; ++i) c[i] += bernstein[e][j] * P[j * nc + i];
+      scale += bernstein[e][j] * Q[j];
+    }
+    for (int t = 0; t < s[e].n; ++t) {
+      double grad[SF_HOSEK_N_COEFFS], row[SF_SKY_BEZIER_MAX_PARAMS + 1];
+      double f = sf_sky_form_f(form, c, s[e].cos_theta[t], s[e].gamma[t], s[e].cos_gamma[t], grad);
+      double w = d[e].weight;
+      for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
+        for (int i = 0; i < nc; ++i) row[j * nc + i] = w * scale * bernstein[e][j] * grad[i];
+        row[SF_BEZIER_POINTS * nc + j] = w * bernstein[e][j] * f;
+      }
+      row[p] = w * (scale * f - s[e].radiance[2 * t + 1]);
+      rows_ss += row[p] * row[p];
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) want[a * m + b] += row[a] * row[b];
+    }
+  }
+  sf_sky_bezier_gram g;
+  CHECK(sf_sky_bezier_gram_init(&g, form, N_BEZIER_ELEVATIONS, d, (const double(*)[SF_BEZIER_POINTS])bernstein) == 0);
+  static double got[(SF_SKY_BEZIER_MAX_PARAMS + 1) * (SF_SKY_BEZIER_MAX_PARAMS + 1)];
+  double sum_squares = 0.0, cost_only = 0.0;
+  sf_sky_bezier_gram_eval(&g, P, Q, &sum_squares, got);
+  sf_sky_bezier_gram_eval(&g, P, Q, &cost_only, NULL);
+  double worst = 0;
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      double e = fabs(got[a * m + b] - want[a * m + b]) / sqrt(want[a * m + a] * want[b * m + b]);
+      if (!(e <= worst)) worst = e;
+    }
+  printf("worst entry error / sqrt(G_aa G_bb): %.3g over %d entries\n", worst, m * m);
+  CHECK(worst <= 1e-12);
+  CHECK_REL(sum_squares, rows_ss, 1e-12);
+  CHECK(sum_squares == got[m * m - 1]);
+  CHECK(cost_only == sum_squares);
+  /* the prepared one-sky Gram gives sf_sky_fit_gram's bits */
+  double c0[SF_HOSEK_N_COEFFS], one[(SF_HOSEK_N_COEFFS + 2) * (SF_HOSEK_N_COEFFS + 2)];
+  double two[(SF_HOSEK_N_COEFFS + 2) * (SF_HOSEK_N_COEFFS + 2)], ss1 = 0, ss2 = 0;
+  memcpy(c0, P, sizeof(double) * (size_t)nc);
+  CHECK(sf_sky_fit_gram(&d[3], c0, 1.1, &ss1, one) == 0);
+  sf_sky_fit_prepared_gram(g.elevation[3], c0, 1.1, &ss2, two);
+  CHECK(ss1 == ss2 && memcmp(one, two, sizeof(double) * (size_t)((nc + 2) * (nc + 2))) == 0);
+  sf_sky_bezier_gram_free(&g);
+  for (int e = 0; e < N_BEZIER_ELEVATIONS; ++e) sf_sky_samples_free(&s[e]);
+}
+
 int main(void) {
   curve *c = malloc(sizeof *c);
   make_curve(c);
@@ -224,6 +314,8 @@ int main(void) {
   double perez_at[5];
   for (int i = 0; i < 5; ++i) perez_at[i] = perez_truth[i] * (1.0 + 0.03 * ((i % 3) - 1) + 0.02);
   test_sky_gram(SF_SKY_FORM_PEREZ, perez_truth, perez_at, 1.6);
+  test_bezier_gram(SF_SKY_FORM_HOSEK, truth);
+  test_bezier_gram(SF_SKY_FORM_PEREZ, perez_truth);
   free(ds);
   return check_summary();
 }
