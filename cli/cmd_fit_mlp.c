@@ -507,9 +507,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (split) remove(checkpoint_g);
   if (!job.mlp.quiet) {
     char *text = cJSON_Print(metrics);
-    if (text)
-      fprintf(stderr, "%s: wrote %s (%.4g s per epoch); metrics: %s\n", command, job.mlp.out,
-              result.seconds_per_epoch, text);
+    char timing[48] = "no epoch run: resumed a finished training";
+    if (isfinite(result.seconds_per_epoch)) snprintf(timing, sizeof timing, "%.4g s per epoch", result.seconds_per_epoch);
+    if (text) fprintf(stderr, "%s: wrote %s (%s); metrics: %s\n", command, job.mlp.out, timing, text);
     free(text);
   }
   goto done;
@@ -543,7 +543,8 @@ static void plain_usage(FILE *out) {
           "\n"
           "Trains a network on any CSV (header row; the first N columns are inputs, the rest\n"
           "targets), e.g. one written by --dump-dataset, and prints the final training loss\n"
-          "(over the whole set) and seconds per epoch as JSON on stdout. No validation split\n"
+          "(over the whole set) and seconds per epoch as JSON on stdout (null when the run ran\n"
+          "no epoch: --resume of a training that had finished). No validation split\n"
           "unless --validation is given. Defaults: --hidden sigmoid --output exp_neg --loss mse\n"
           "--batch 1024 --epochs 10.\n"
           "\n"
@@ -673,10 +674,15 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     if (sf_weights_write(doc, o.out, &err)) goto fail;
   }
   if (t->checkpoint_path) remove(t->checkpoint_path);   /* kept for an interrupted polish */
-  printf("{\"final_train_mse\": %.9g, \"final_train_loss\": %.9g, \"seconds_per_epoch\": %.6g, "
-         "\"cpu_seconds_per_epoch\": %.6g, \"epochs\": %d, \"samples\": %ld, \"batch\": %ld, \"threads\": %d}\n",
-         train_mse, result.train_loss, result.seconds_per_epoch, result.cpu_seconds_per_epoch, result.epochs_run,
-         train.n, t->batch, t->n_threads);
+  /* null, not 0, when this call ran no epoch (it resumed a finished run) */
+  char wall[32] = "null", cpu[32] = "null";
+  if (isfinite(result.seconds_per_epoch)) snprintf(wall, sizeof wall, "%.6g", result.seconds_per_epoch);
+  if (isfinite(result.cpu_seconds_per_epoch)) snprintf(cpu, sizeof cpu, "%.6g", result.cpu_seconds_per_epoch);
+  printf("{\"final_train_mse\": %.9g, \"final_train_loss\": %.9g, \"seconds_per_epoch\": %s, "
+         "\"cpu_seconds_per_epoch\": %s, \"epochs\": %d, \"epochs_this_run\": %d, \"samples\": %ld, "
+         "\"batch\": %ld, \"threads\": %d}\n",
+         train_mse, result.train_loss, wall, cpu, result.epochs_run, result.epochs_this_call, train.n, t->batch,
+         t->n_threads);
   goto done;
 fail:
   if (err.status == SF_OK) sf_fail(&err, SF_ERR_INTERNAL, "out of memory");

@@ -452,9 +452,9 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   result->best_epoch = st.best_epoch;
   result->epochs_run = st.epochs_run;
   result->epochs_this_call = epochs_this_call;
-  result->seconds_per_epoch = epochs_this_call > 0 ? (sf_wall_seconds() - t_start) / epochs_this_call : 0.0;
+  result->seconds_per_epoch = epochs_this_call > 0 ? (sf_wall_seconds() - t_start) / epochs_this_call : NAN;
   result->cpu_seconds_per_epoch =
-      epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : 0.0;
+      epochs_this_call > 0 ? (double)(clock() - cpu_start) / CLOCKS_PER_SEC / epochs_this_call : NAN;
   result->train_loss = sf_mlp_dataset_loss(s, result->net.params, &loss, train, o->n_threads);
   result->validation_loss = has_val ? sf_mlp_dataset_loss(s, result->net.params, &loss, val, o->n_threads) : NAN;
   if (o->checkpoint_path && o->keep_final_checkpoint)
@@ -466,7 +466,7 @@ done:
     if (status != SF_OK) sf_mlp_free(&result->net);
     result->epochs_run = st.epochs_run;
     result->epochs_this_call = epochs_this_call;
-    result->seconds_per_epoch = 0.0;
+    result->seconds_per_epoch = result->cpu_seconds_per_epoch = NAN;
   }
   free(delta);
   free(grad);

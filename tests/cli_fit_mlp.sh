@@ -186,6 +186,23 @@ else
   echo "note: the run finished before SIGINT arrived (rc $rc)"
 fi
 if cmp -s "$TMP/m.json" "$TMP/m_straight.json"; then pass "SIGINT + --resume identical to the straight run"; else fail "SIGINT resume differs"; fi
+# A resume whose training had finished (interrupted in the polish) runs no
+# epoch: its time per epoch is null, not 0
+rc=0
+"$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 20 --batch 64 --polish 3 \
+  --stop-after-polish-steps 1 --out "$TMP/fin.json" --quiet >/dev/null 2>&1 || rc=$?
+json=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 20 --batch 64 --polish 3 \
+  --out "$TMP/fin.json" --resume --quiet)
+case "$json" in
+  *'"seconds_per_epoch": null, "cpu_seconds_per_epoch": null, "epochs": 20, "epochs_this_run": 0,'*)
+    [ "$rc" = 130 ] && pass "resumed after the training finished: seconds_per_epoch null, 0 epochs this run" ||
+      fail "finished-training hook: rc $rc" ;;
+  *) fail "resumed after the training finished (rc $rc): $json" ;;
+esac
+case "$(echo "$plain" | sed 's/.*"epochs_this_run": \([0-9]*\),.*/\1/')" in
+  50) pass "a straight run reports its 50 epochs this run" ;;
+  *) fail "epochs_this_run of a straight run: $plain" ;;
+esac
 
 # Bruneton's horizon-aware inputs (models/mlp_sky.h): stored as the input
 # names and emitted in C and GLSL. The emitted C header, compiled, evaluates
