@@ -461,11 +461,14 @@ static int run_sky(int argc, char **argv, int scattering) {
   cJSON *metrics = sf_weights_metrics(doc);
   if (sf_train_losses_to_json(metrics, &result, norm.active, split ? &result_g : NULL)) goto fail;
   sf_mlp_error e;
+  double val_rmse = NAN, val_max_abs = NAN;   /* for the summary line */
   if (val_model->n > 0) {
     sf_mlp_error_validation(&model, val_model, &e);
     cJSON_AddItemToObject(metrics, "validation", error_json(&e, atm));
     cJSON_AddNumberToObject(metrics, "rmse", e.rmse_all);
     cJSON_AddNumberToObject(metrics, "max_abs", e.max_abs_all);
+    val_rmse = e.rmse_all;
+    val_max_abs = e.max_abs_all;
   }
   if (!scattering) {
     sf_mlp_error_transmittance(&model, atm, &dom, 20000, t->seed + 1, 0, &e);
@@ -506,11 +509,13 @@ static int run_sky(int argc, char **argv, int scattering) {
   remove(ckpt);   /* the trained states kept for an interrupted polish */
   if (split) remove(checkpoint_g);
   if (!job.mlp.quiet) {
-    char *text = cJSON_Print(metrics);
-    char timing[48] = "no epoch run: resumed a finished training";
+    /* one line: the whole metrics object (60 lines) is in the file */
+    char timing[48] = "no epoch run: resumed a finished training", summary[96] = "";
     if (isfinite(result.seconds_per_epoch)) snprintf(timing, sizeof timing, "%.4g s per epoch", result.seconds_per_epoch);
-    if (text) fprintf(stderr, "%s: wrote %s (%s); metrics: %s\n", command, job.mlp.out, timing, text);
-    free(text);
+    if (val_model->n > 0)
+      snprintf(summary, sizeof summary, "; validation RMSE %.3g, max error %.3g", val_rmse, val_max_abs);
+    fprintf(stderr, "%s: wrote %s (%s)%s; all metrics under \"metrics\" there\n", command, job.mlp.out, timing,
+            summary);
   }
   goto done;
 fail:
