@@ -169,6 +169,20 @@ static void test_rank_deficient(curve *c) {
 }
 
 /* ---- the sky kernels against sf_sky_form_f ---- */
+
+/* Largest |got - want| / sqrt(want_aa want_bb) over the entries of k x k
+ * Gram matrices (printed). */
+static double worst_gram_error(const double *got, const double *want, int k) {
+  double worst = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b < k; ++b) {
+      double e = fabs(got[a * k + b] - want[a * k + b]) / sqrt(want[a * k + a] * want[b * k + b]);
+      if (!(e <= worst)) worst = e;
+    }
+  printf("worst entry error / sqrt(G_aa G_bb): %.3g over %d entries\n", worst, k * k);
+  return worst;
+}
+
 static void test_sky_gram(sf_sky_form form, const double *truth, const double *at, double scale) {
   int nc = sf_sky_form_n_coeffs(form), k = nc + 2;
   printf("-- %s Gram kernel against sf_sky_form_f\n", sf_sky_form_model_name(form));
@@ -197,14 +211,7 @@ static void test_sky_gram(sf_sky_form form, const double *truth, const double *a
   double got[(SF_HOSEK_N_COEFFS + 2) * (SF_HOSEK_N_COEFFS + 2)], sum_squares = 0, cost_only = 0;
   CHECK(sf_sky_fit_gram(&d, at, scale, &sum_squares, got) == 0);
   CHECK(sf_sky_fit_gram(&d, at, scale, &cost_only, NULL) == 0);
-  double worst = 0;
-  for (int a = 0; a < k; ++a)
-    for (int b = 0; b < k; ++b) {
-      double e = fabs(got[a * k + b] - want[a * k + b]) / sqrt(want[a * k + a] * want[b * k + b]);
-      if (!(e <= worst)) worst = e;
-    }
-  printf("worst entry error / sqrt(G_aa G_bb): %.3g over %d entries\n", worst, k * k);
-  CHECK(worst <= 1e-12);
+  CHECK(worst_gram_error(got, want, k) <= 1e-12);
   CHECK_REL(sum_squares, want[k * k - 1], 1e-12);
   CHECK(sum_squares == got[k * k - 1]);
   CHECK(cost_only == sum_squares);
@@ -273,14 +280,7 @@ static void test_bezier_gram(sf_sky_form form, const double *truth) {
   double sum_squares = 0.0, cost_only = 0.0;
   sf_sky_bezier_gram_eval(&g, P, Q, &sum_squares, got);
   sf_sky_bezier_gram_eval(&g, P, Q, &cost_only, NULL);
-  double worst = 0;
-  for (int a = 0; a < m; ++a)
-    for (int b = 0; b < m; ++b) {
-      double e = fabs(got[a * m + b] - want[a * m + b]) / sqrt(want[a * m + a] * want[b * m + b]);
-      if (!(e <= worst)) worst = e;
-    }
-  printf("worst entry error / sqrt(G_aa G_bb): %.3g over %d entries\n", worst, m * m);
-  CHECK(worst <= 1e-12);
+  CHECK(worst_gram_error(got, want, m) <= 1e-12);
   CHECK_REL(sum_squares, rows_ss, 1e-12);
   CHECK(sum_squares == got[m * m - 1]);
   CHECK(cost_only == sum_squares);
