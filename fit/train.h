@@ -89,7 +89,8 @@ typedef struct sf_train_result {
   int best_restart, best_epoch;   /* where it came from (epochs 1-based) */
   int epochs_run;           /* over all restarts, this call and resumed ones */
   int epochs_this_call;     /* of those, run by this call */
-  /* NAN when this call ran no epoch (a resumed run that had finished) */
+  /* NAN when this call ran no epoch (a resumed run that had finished),
+   * stopped early or failed */
   double seconds_per_epoch; /* wall clock, in this call */
   double cpu_seconds_per_epoch;   /* process CPU time (all threads), in this call */
   int interrupted;          /* 1: stopped early, checkpoint written */
