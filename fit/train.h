@@ -90,7 +90,7 @@ typedef struct sf_train_result {
   int epochs_run;           /* over all restarts, this call and resumed ones */
   int epochs_this_call;     /* of those, run by this call */
   /* NAN when this call ran no epoch (a resumed run that had finished),
-   * stopped early or failed */
+   * interrupted (see interrupted) or failed */
   double seconds_per_epoch; /* wall clock, in this call */
   double cpu_seconds_per_epoch;   /* process CPU time (all threads), in this call */
   int interrupted;          /* 1: stopped early, checkpoint written */
