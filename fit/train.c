@@ -9,6 +9,7 @@
 #include <omp.h>
 
 #include "data/hash64.h"
+#include "fit/thread_probe.h"
 #include "models/rng.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
@@ -150,49 +151,6 @@ double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf
   double total = chunked_loss(s, params, loss, d, NULL, NULL, NULL, 0, d->n, NULL, &cs);
   chunk_sums_free(&cs);
   return total / (double)d->n;
-}
-
-/* Whether a batch below parallel_work runs split or on one thread
- * (fit/train.h): 2 SF_TRAIN_PROBE_BATCHES batches alternate (one thread
- * first) and are timed; the rest run the way whose median batch was faster
- * (the median: the first split batch also starts the threads, and a batch
- * may be lucky or unlucky on a shared machine). A split batch 3x slower
- * than the one-thread batch before it ends the probe at once: another
- * process holds a core, and each split batch costs milliseconds. Only the
- * speed depends on the choice, never the result. */
-typedef struct thread_probe {
-  int active;
-  int k;   /* batches timed so far */
-  double seconds[2][SF_TRAIN_PROBE_BATCHES];   /* one thread, split */
-} thread_probe;
-
-static void thread_probe_start(thread_probe *p) {
-  p->active = 1;
-  p->k = 0;
-}
-
-/* Sets cs's threads for the next batch; 1 if that batch is to be timed. */
-static int thread_probe_before(thread_probe *p, chunk_sums *cs) {
-  if (!p->active) return 0;
-  if (p->k < 2 * SF_TRAIN_PROBE_BATCHES) {
-    cs->small_threads = p->k % 2 ? cs->n_threads : 1;
-    return 1;
-  }
-  cs->small_threads = sf_median_doubles(p->seconds[1], SF_TRAIN_PROBE_BATCHES) <
-                              sf_median_doubles(p->seconds[0], SF_TRAIN_PROBE_BATCHES)
-                          ? cs->n_threads
-                          : 1;
-  p->active = 0;
-  return 0;
-}
-
-static void thread_probe_after(thread_probe *p, chunk_sums *cs, double seconds) {
-  p->seconds[p->k % 2][p->k / 2] = seconds;
-  if (p->k % 2 && seconds > 3.0 * p->seconds[0][p->k / 2]) {
-    cs->small_threads = 1;
-    p->active = 0;
-  }
-  p->k += 1;
 }
 
 /* Everything the rest of a run depends on (what a checkpoint holds). */
@@ -372,8 +330,8 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   }
 
   /* Batches below parallel_work: split or one thread, as measured. */
-  thread_probe probe;
-  memset(&probe, 0, sizeof probe);
+  sf_thread_probe probe;
+  sf_thread_probe_init(&probe, cs.n_threads);
   int measure_threads = cs.n_threads > 1 && (double)batch * np < cs.parallel_work;
   long batches_per_epoch = (train->n + batch - 1) / batch;
 
@@ -395,20 +353,24 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
         sf_dataset_permutation(perm, train->n, o->seed, SHUFFLE_KEY, ((uint64_t)st.restart << 32) | (uint64_t)st.epoch);
       double epoch_loss = 0.0;
       /* The machine's load changes: measure again every epoch of many
-       * batches, every SF_TRAIN_PROBE_EPOCHS epochs of a few. */
-      if (measure_threads &&
-          (batches_per_epoch > 4 * SF_TRAIN_PROBE_BATCHES || epochs_this_call % SF_TRAIN_PROBE_EPOCHS == 0))
-        thread_probe_start(&probe);
+       * batches, every probe.interval epochs of a few (fit/thread_probe.h). */
+      int few_batches = batches_per_epoch <= 4 * SF_TRAIN_PROBE_BATCHES;
+      if (measure_threads && (!few_batches || epochs_this_call >= probe.next_epoch))
+        sf_thread_probe_start(&probe, epochs_this_call);
+      int watch = measure_threads && few_batches && !probe.active;
+      double t_epoch = watch ? sf_wall_seconds() : 0.0;
       for (long b = 0; b < train->n; b += batch) {
         long e = b + batch < train->n ? b + batch : train->n;
         double inv = 1.0 / (double)(e - b);
-        int probing = thread_probe_before(&probe, &cs);
+        int probing = sf_thread_probe_before(&probe);
+        cs.small_threads = probe.threads;
         double t0 = probing ? sf_wall_seconds() : 0.0;
         epoch_loss += chunked_loss(s, st.params, &loss, train, &train_columns, &train_rows, order, b, e, grad, &cs);
-        if (probing) thread_probe_after(&probe, &cs, sf_wall_seconds() - t0);
+        if (probing) sf_thread_probe_after(&probe, sf_wall_seconds() - t0);
         for (int k = 0; k < np; ++k) grad[k] *= inv;
         sf_adam_step(&st.adam, &o->adam, lr, st.params, grad);
       }
+      if (watch) sf_thread_probe_watch(&probe, epochs_this_call, batches_per_epoch, sf_wall_seconds() - t_epoch);
       epoch_loss /= (double)train->n;
       double val_loss = has_val ? chunked_loss(s, st.params, &loss, val, &val_columns, NULL, NULL, 0, val->n, NULL, &val_cs) / (double)val->n : NAN;
       st.epoch += 1;

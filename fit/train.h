@@ -38,15 +38,12 @@
  * network (~0.1 ms of work) split in 2 ran an epoch 40x SLOWER (6.7 s
  * instead of 0.17 s) whenever another process held the second core (every
  * fork/join then waits for the descheduled thread), and 1.3-1.9x faster
- * when the core was free. So batches below it are timed both ways
- * (SF_TRAIN_PROBE_BATCHES each, alternating) and the following ones run
- * the way whose median was faster: measured again at the start of every
- * epoch of more than 4 SF_TRAIN_PROBE_BATCHES batches, else of every
- * SF_TRAIN_PROBE_EPOCHS-th epoch of the call (a full batch: the first
- * epochs are the probe). */
+ * when the core was free. So batches below it are timed both ways and
+ * run the way that was faster (fit/thread_probe.h): measured again at the
+ * start of every epoch of more than 4 SF_TRAIN_PROBE_BATCHES batches, else
+ * every few tens to hundreds of epochs (a full batch: the first epochs are
+ * the probe). */
 #define SF_TRAIN_PARALLEL_WORK 1048576.0
-#define SF_TRAIN_PROBE_BATCHES 4
-#define SF_TRAIN_PROBE_EPOCHS 50
 
 /* validation_loss is NAN without a validation set. */
 typedef void (*sf_train_progress_fn)(void *ctx, int restart, int n_restarts, int epoch, int n_epochs,
