@@ -13,7 +13,6 @@
 #include "models/rng.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
-#include "util/sort_doubles.h"
 
 /* rng stream keys of this file */
 #define INIT_KEY 0x696e6974ull      /* "init" */
