@@ -12,8 +12,8 @@
  * starts the threads and meets their workspaces cold: it took 3x a
  * one-thread batch of the transmittance set, full or of 1024 samples, and
  * ended the first probe on one thread for SF_TRAIN_PROBE_EPOCHS epochs
- * (that set's batch-1024 epochs on 2 threads then took 209-251 µs against
- * 163-256 µs with the rule, 5 alternating runs each).
+ * (that set's batch-1024 epochs on 2 threads took 209-251 µs before this
+ * exemption and 163-256 µs with it, 5 alternating runs each).
  *
  * Training probes every epoch of many batches. With few batches per epoch
  * (a full batch: one) it probes every `interval` epochs: after a clear-cut
