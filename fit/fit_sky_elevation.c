@@ -29,15 +29,6 @@ void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form f
   sf_sky_fit_options_default(&o->lsq);
 }
 
-/* Everything the global (all elevations) fit of one channel reads. */
-typedef struct global_ctx {
-  sf_sky_form form;
-  int channel, n_elevations;
-  const sf_sky_samples *samples;                 /* per elevation */
-  const double *weight;                          /* per elevation */
-  double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];
-} global_ctx;
-
 /* sf_lsq_gram_fn over blocks [0] coefficient control points [6][nc], [1]
  * scale control points [6]. */
 static int global_gram(void *user, const double *const *params, double *sum_squares, double *gram) {
@@ -50,41 +41,32 @@ static int global_gram(void *user, const double *const *params, double *sum_squa
  * same bits on any CPU). Returns SF_OK when usable, SF_ERR_INTERNAL when
  * out of memory, -1 when this start failed (not finite, or the solver gave
  * up). */
-static int global_fit(const global_ctx *g, const sf_lsq_options *lsq, double *P, double *Q,
+static int global_fit(const sf_sky_bezier_gram *bezier, const sf_lsq_options *lsq, double *P, double *Q,
                       sf_lsq_summary *sum, sf_error *err) {
-  int nc = sf_sky_form_n_coeffs(g->form), n_e = g->n_elevations;
+  const sf_sky_form form = bezier->form;
+  int nc = sf_sky_form_n_coeffs(form);
   memset(sum, 0, sizeof *sum);
-  sf_sky_fit_data data[SF_SKY_MAX_ELEVATIONS];
-  for (int e = 0; e < n_e; ++e) {
-    const sf_sky_samples *s = &g->samples[e];
-    data[e] = (sf_sky_fit_data){g->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
-                                s->radiance + g->channel, s->n_channels, g->weight[e]};
-  }
-  sf_sky_bezier_gram bezier;
   sf_lsq_problem *p = sf_lsq_problem_new();
-  if (!p || sf_sky_bezier_gram_init(&bezier, g->form, n_e, data, g->bernstein)) {
-    sf_lsq_problem_free(p);
-    return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-  }
+  if (!p) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   int blocks[2] = {sf_lsq_add_block(p, P, SF_BEZIER_POINTS * nc),
                    sf_lsq_add_block(p, Q, SF_BEZIER_POINTS)};
   for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
     for (int i = 0; i < nc; ++i) {
       double lo, hi;
-      sf_sky_coeff_bounds(g->form, SF_SKY_BOUNDS_PHYSICAL, i, &lo, &hi);
+      sf_sky_coeff_bounds(form, SF_SKY_BOUNDS_PHYSICAL, i, &lo, &hi);
       sf_lsq_set_bounds(p, blocks[0], j * nc + i, lo, hi);
     }
-    if (g->form == SF_SKY_FORM_PEREZ) sf_lsq_set_bounds(p, blocks[1], j, 0.0, INFINITY);
+    if (form == SF_SKY_FORM_PEREZ) sf_lsq_set_bounds(p, blocks[1], j, 0.0, INFINITY);
   }
-  if (g->form == SF_SKY_FORM_HOSEK) sf_lsq_set_constant(p, blocks[1]);
-  sf_lsq_add_gram_residuals(p, global_gram, &bezier, 2, blocks);
+  if (form == SF_SKY_FORM_HOSEK) sf_lsq_set_constant(p, blocks[1]);
+  /* the callback only reads it */
+  sf_lsq_add_gram_residuals(p, global_gram, (void *)bezier, 2, blocks);
   double start_cost;
   int rc = -1;
   if (sf_lsq_cost(p, &start_cost) == 0 && isfinite(start_cost))
     rc = sf_lsq_solve(p, lsq, sum) == 0 && isfinite(sum->final_cost) ? SF_OK : -1;
   else snprintf(sum->message, sizeof sum->message, "start not finite");
   sf_lsq_problem_free(p);
-  sf_sky_bezier_gram_free(&bezier);
   return rc;
 }
 
@@ -232,8 +214,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   double *weights = calloc((size_t)n_e * (size_t)nk, sizeof *weights);
   /* per-elevation solutions [e][k][nc + 1] */
   double *solved = calloc((size_t)n_e * (size_t)nk * (size_t)(nc + 1), sizeof *solved);
-  global_ctx g;
-  memset(&g, 0, sizeof g);
+  double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];   /* per elevation */
   int status = (samples && weights && solved) ? SF_OK
                                               : sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
@@ -242,7 +223,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     double x = x0 + (x1 - x0) * e / (n_e - 1);
     double elev = 0.5 * SF_PI * x * x * x;
     rep->elevation_rad[e] = elev;
-    sf_bezier_weights(x, g.bernstein[e]);
+    sf_bezier_weights(x, bernstein[e]);
     status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[e], err);
     rep->n_samples += status == SF_OK ? samples[e].n : 0;
     for (int k = 0; k < nk && status == SF_OK; ++k) {
@@ -319,18 +300,23 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         w[e] = i == nc ? 1.0 / v[e] : 1.0;   /* the scale: relative error */
       }
       double *p = i < nc ? &out->coefficients[k][0][i] : &out->scale[k][0];
-      if (bezier_lsq(n_e, g.bernstein, v, i == nc && v[0] > 0 ? w : NULL, p,
+      if (bezier_lsq(n_e, bernstein, v, i == nc && v[0] > 0 ? w : NULL, p,
                      i < nc ? SF_HOSEK_N_COEFFS : 1) != 0)
         status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: Bezier control points are singular");
     }
     if (status != SF_OK) break;
-    g.form = o->form;
-    g.channel = k;
-    g.n_elevations = n_e;
-    g.samples = samples;
-    double wk[SF_SKY_MAX_ELEVATIONS];
-    for (int e = 0; e < n_e; ++e) wk[e] = weights[e * nk + k];
-    g.weight = wk;
+    /* the channel's samples, prepared once for its four starts */
+    sf_sky_fit_data data[SF_SKY_MAX_ELEVATIONS];
+    for (int e = 0; e < n_e; ++e) {
+      const sf_sky_samples *s = &samples[e];
+      data[e] = (sf_sky_fit_data){o->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
+                                  s->radiance + k, nk, weights[e * nk + k]};
+    }
+    sf_sky_bezier_gram bezier;
+    if (sf_sky_bezier_gram_init(&bezier, o->form, n_e, data, (const double(*)[SF_BEZIER_POINTS])bernstein)) {
+      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+      break;
+    }
     /* Global starts: the curve through the per-elevation fits, and constant
      * curves holding one elevation's coefficients (finite everywhere, where
      * the first can swing far off between the elevations it passes). */
@@ -350,7 +336,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         if (o->form == SF_SKY_FORM_PEREZ) Q[j] = scale_j;
       }
       sf_lsq_summary sum;
-      int rc = global_fit(&g, &o->lsq, P, Q, &sum, err);
+      int rc = global_fit(&bezier, &o->lsq, P, Q, &sum, err);
       if (rc > 0) status = rc;
       if (status != SF_OK) break;
       if (rc == SF_OK && sum.final_cost < best_cost) {
@@ -362,6 +348,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         rep->global_iterations_channel[k] = sum.iterations;
       }
     }
+    sf_sky_bezier_gram_free(&bezier);
     if (status == SF_OK && best_start < 0)
       status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: every elevation fit of channel %d failed", k);
     if (status != SF_OK) break;

@@ -38,11 +38,12 @@
 
 #include "data/sky_lookup.h"
 #include "fit/ceres_shim.h"
+#include "fit/sky_bezier_gram.h"
 #include "models/hosek_dataset.h"
 #include "models/hosek_sky_model.h"
 #include "util/error.h"
 
-#define SF_SKY_MAX_ELEVATIONS 64
+#define SF_SKY_MAX_ELEVATIONS SF_SKY_BEZIER_MAX_ELEVATIONS
 #define SF_SKY_MAX_STARTS 4
 
 typedef struct sf_sky_elevation_options {
