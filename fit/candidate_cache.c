@@ -109,3 +109,13 @@ int sf_copy_file(const char *src, const char *dst, sf_error *err) {
   }
   return sf_atomic_commit(&out, err);
 }
+
+int sf_copy_weights_to_work_dir(const char *src, const char *work_dir, const char *name, char *dst, size_t n,
+                                sf_error *err) {
+  int w = snprintf(dst, n, "%s/%s.json", work_dir, name);
+  if (w < 0 || (size_t)w >= n) {
+    if (n > 0) dst[0] = '\0';
+    return sf_fail(err, SF_ERR_INPUT, "%s: weights path too long (%zu bytes at most)", work_dir, n - 1);
+  }
+  return sf_copy_file(src, dst, err);
+}

@@ -304,13 +304,11 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
       return err->status;
     }
   }
-  char weights[4400] = "";
-  if (path[0] && in->work_dir) {
-    snprintf(weights, sizeof weights, "%s/%s.json", in->work_dir, job->name);
-    if (sf_copy_file(path, weights, err) != SF_OK) {
-      free_mlp(m);
-      return err->status;
-    }
+  char weights[sizeof out->weights_path] = "";
+  if (path[0] && in->work_dir &&
+      sf_copy_weights_to_work_dir(path, in->work_dir, job->name, weights, sizeof weights, err) != SF_OK) {
+    free_mlp(m);
+    return err->status;
   }
   sf_candidate_init(out, job->scattering ? SF_CANDIDATE_SKY_RADIANCE : SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED,
                     job->name, job->scattering ? "Scattering MLP (trained)" : "Transmittance MLP (trained)");

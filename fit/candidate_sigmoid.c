@@ -119,13 +119,11 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
     free(s);
     return err->status;
   }
-  char weights[4400] = "";
-  if (path[0] && in->work_dir) {
-    snprintf(weights, sizeof weights, "%s/sigmoid.json", in->work_dir);
-    if (sf_copy_file(path, weights, err) != SF_OK) {
-      free(s);
-      return err->status;
-    }
+  char weights[sizeof out->weights_path] = "";
+  if (path[0] && in->work_dir &&
+      sf_copy_weights_to_work_dir(path, in->work_dir, "sigmoid", weights, sizeof weights, err) != SF_OK) {
+    free(s);
+    return err->status;
   }
   s->n_constituents = s->model.n_constituents;
   s->n_channels = s->model.n_channels;

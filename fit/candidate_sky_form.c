@@ -190,14 +190,10 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
     free(s);
     return err->status;
   }
-  if (path[0] && in->work_dir) {
-    char copy[4400];
-    snprintf(copy, sizeof copy, "%s/%s.json", in->work_dir, name);
-    if (sf_copy_file(path, copy, err) != SF_OK) {
-      free(s);
-      return err->status;
-    }
-    snprintf(out->weights_path, sizeof out->weights_path, "%s", copy);
+  if (path[0] && in->work_dir &&
+      sf_copy_weights_to_work_dir(path, in->work_dir, name, out->weights_path, sizeof out->weights_path, err) != SF_OK) {
+    free(s);
+    return err->status;
   }
   s->n_channels = s->model.n_channels;
   s->n_coeffs = s->model.n_coeffs;

@@ -1,6 +1,7 @@
 /* The report's measuring pieces against closed forms: error metrics of a
  * known perturbation, the Pareto front of a hand-made set, and the standard
- * views' cameras (centre-pixel directions). */
+ * views' cameras (centre-pixel directions); the fit cache's keys and the
+ * weights copied out of it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -172,6 +173,44 @@ static void cache_keys(void) {
   free(scene);
 }
 
+/* A fitted model's weights copied into the build's weights folder: the
+ * copy and its path, or, when the path does not fit, a clear failure and no
+ * file at a truncated name. */
+static void weights_copied_to_work_dir(void) {
+  char dir[] = "/tmp/skyfit-weights-copy-XXXXXX", src[128], dst[4096], truncated[128];
+  if (!mkdtemp(dir)) { CHECK(0); return; }
+  snprintf(src, sizeof src, "%s/fit.json", dir);
+  FILE *f = fopen(src, "wb");
+  if (!f) { CHECK(0); rmdir(dir); return; }
+  fputs("{\"a\": 1}\n", f);
+  fclose(f);
+  sf_error err = {0};
+  CHECK(sf_copy_weights_to_work_dir(src, dir, "hosek", dst, sizeof dst, &err) == SF_OK);
+  char want[128], text[64] = "";
+  snprintf(want, sizeof want, "%s/hosek.json", dir);
+  CHECK(strcmp(dst, want) == 0);
+  f = fopen(want, "rb");
+  CHECK(f != NULL);
+  if (f) {
+    size_t got = fread(text, 1, sizeof text - 1, f);
+    text[got] = '\0';
+    fclose(f);
+  }
+  CHECK(strcmp(text, "{\"a\": 1}\n") == 0);
+  /* room for "DIR/hos" only */
+  size_t n = strlen(dir) + 5;
+  sf_error err2 = {0};
+  CHECK(sf_copy_weights_to_work_dir(src, dir, "hosek", dst, n, &err2) == SF_ERR_INPUT);
+  printf("too long: %s\n", err2.message);
+  CHECK(strstr(err2.message, "too long") != NULL && strstr(err2.message, dir) != NULL);
+  CHECK(dst[0] == '\0');
+  snprintf(truncated, sizeof truncated, "%s/hos", dir);
+  CHECK(!sf_cache_exists(truncated));
+  remove(want);
+  remove(src);
+  rmdir(dir);
+}
+
 int main(void) {
   metrics_of_known_perturbation();
   pareto();
@@ -179,5 +218,6 @@ int main(void) {
   tonemap();
   metrics_of_a_blown_up_value();
   cache_keys();
+  weights_copied_to_work_dir();
   return check_summary();
 }
