@@ -96,7 +96,8 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     ++n;
   }
   if (n == 0) return SF_OK;
-  char dir_c[SF_REPORT_PATH_LEN], base_c[256], dir_g[SF_REPORT_PATH_LEN], base_g[256];
+  /* Each part as long as the scene's whole path may be: never cut short. */
+  char dir_c[SF_SCENE_PATH_LEN], base_c[SF_SCENE_PATH_LEN], dir_g[SF_SCENE_PATH_LEN], base_g[SF_SCENE_PATH_LEN];
   if (scene->output_c[0]) split_output(scene->output_c, dir_c, sizeof dir_c, base_c, sizeof base_c);
   else { snprintf(dir_c, sizeof dir_c, "%s", o->out_dir); snprintf(base_c, sizeof base_c, "sky"); }
   if (scene->output_glsl[0]) split_output(scene->output_glsl, dir_g, sizeof dir_g, base_g, sizeof base_g);
@@ -111,8 +112,14 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
   if (status != SF_OK) return status;
-  snprintf(res->header_c, sizeof res->header_c, "%s/%s.h", dir_c, base_c);
-  snprintf(res->header_glsl, sizeof res->header_glsl, "%s/%s.glsl", dir_g, base_g);
+  /* The files were written, so their paths fit (sf_atomic_open's bound is
+   * the same length); checked all the same, never cut short in silence. */
+  int len = snprintf(res->header_c, sizeof res->header_c, "%s/%s.h", dir_c, base_c);
+  if (len < 0 || (size_t)len >= sizeof res->header_c)
+    return sf_fail(err, SF_ERR_INPUT, "%s/%s.h: output path too long", dir_c, base_c);
+  len = snprintf(res->header_glsl, sizeof res->header_glsl, "%s/%s.glsl", dir_g, base_g);
+  if (len < 0 || (size_t)len >= sizeof res->header_glsl)
+    return sf_fail(err, SF_ERR_INPUT, "%s/%s.glsl: output path too long", dir_g, base_g);
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     sf_report_selection *s = &rep->selection[q];
     if (!s->asked || s->model < 0 || !rep->models[s->model].candidate->emit) continue;

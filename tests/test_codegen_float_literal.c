@@ -39,8 +39,8 @@ static int check_one(float v, int *shortest_failures) {
   /* shortest: one digit fewer in %g form must not round-trip */
   if (digits > 1) {
     char shorter[40];
-    snprintf(shorter, sizeof shorter, "%.*g", digits - 1, (double)v);
-    if (same_bits(strtof(shorter, NULL), v)) ++*shortest_failures;
+    int len = snprintf(shorter, sizeof shorter, "%.*g", digits - 1, (double)v);   /* at most 8 digits: fits */
+    if (len > 0 && (size_t)len < sizeof shorter && same_bits(strtof(shorter, NULL), v)) ++*shortest_failures;
   }
   return 1;
 }
