@@ -127,8 +127,9 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
     }
   }
   sf_weights_free(&w);
-  snprintf(out->weights_path, sizeof out->weights_path, "%s/spectral4.json", o->work_dir);
-  if (sf_copy_file(path, out->weights_path, err) != SF_OK) return err->status;
+  if (sf_copy_weights_to_work_dir(path, o->work_dir, "spectral4", out->weights_path, sizeof out->weights_path, err) !=
+      SF_OK)
+    return err->status;
   out->present = 1;
   return SF_OK;
 }

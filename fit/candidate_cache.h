@@ -56,8 +56,9 @@ int sf_cache_exists(const char *path);
 int sf_copy_file(const char *src, const char *dst, sf_error *err);
 
 /* Copies the weights file src to WORK_DIR/<name>.json and puts that path
- * in dst (n bytes: a candidate's weights_path). A path longer than n fails
- * with nothing copied, rather than naming a truncated file. */
+ * in dst (n bytes: a candidate's or the report's weights_path). A path
+ * longer than n fails with nothing copied, rather than naming a truncated
+ * file. */
 int sf_copy_weights_to_work_dir(const char *src, const char *work_dir, const char *name, char *dst, size_t n,
                                 sf_error *err);
 

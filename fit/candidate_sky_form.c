@@ -190,8 +190,9 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
     free(s);
     return err->status;
   }
+  char weights[sizeof out->weights_path] = "";
   if (path[0] && in->work_dir &&
-      sf_copy_weights_to_work_dir(path, in->work_dir, name, out->weights_path, sizeof out->weights_path, err) != SF_OK) {
+      sf_copy_weights_to_work_dir(path, in->work_dir, name, weights, sizeof weights, err) != SF_OK) {
     free(s);
     return err->status;
   }
@@ -202,12 +203,10 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
       for (int i = 0; i < s->n_coeffs; ++i) s->cp[k][j][i] = (float)s->model.coefficients[k][j][i];
       s->cp[k][j][s->n_coeffs] = (float)s->model.scale[k][j];
     }
-  char weights_path[sizeof out->weights_path];
-  snprintf(weights_path, sizeof weights_path, "%s", out->weights_path);
   int hosek = form == SF_SKY_FORM_HOSEK;
   sf_candidate_init(out, SF_CANDIDATE_SKY_RADIANCE, SF_ROLE_FITTED, name,
                     hosek ? "Hosek-Wilkie (fitted)" : "Preetham/Perez (fitted)");
-  snprintf(out->weights_path, sizeof out->weights_path, "%s", weights_path);
+  snprintf(out->weights_path, sizeof out->weights_path, "%s", weights);
   snprintf(out->description, sizeof out->description,
            "%s per channel (seed 000 eq. %s), fitted to the reference sky per sun elevation and channel "
            "(Ceres), then across elevations as a quintic Bezier in elevation^(1/3) (Hosek 2012). Ground "
