@@ -44,7 +44,8 @@ int sf_dataset_read_csv(const char *path, int n_in, sf_dataset *d, sf_error *err
 int sf_dataset_split(const sf_dataset *d, double fraction, uint64_t seed, sf_dataset *train,
                      sf_dataset *validation, sf_error *err);
 
-/* A seeded random permutation of 0..n-1 (Fisher-Yates on models/rng.h). */
+/* A seeded random permutation of 0..n-1 (Fisher-Yates on the eight
+ * streams of models/rng_lanes.h, swap k drawing from lane k % 8). */
 void sf_dataset_permutation(int *perm, long n, uint64_t seed, uint64_t key_a, uint64_t key_b);
 
 #endif

@@ -16,6 +16,11 @@ typedef struct sf_rng {
  * zero). Different keys give statistically independent streams. */
 void sf_rng_seed(sf_rng *rng, uint64_t seed, uint64_t key_a, uint64_t key_b);
 
+/* Stream `lane` of the (seed, key_a, key_b) family: lane 0 is sf_rng_seed's
+ * stream, lane l > 0 is seeded from splitmix64's next four outputs after
+ * lane l - 1's (models/rng_lanes.h draws eight lanes at once). */
+void sf_rng_seed_lane(sf_rng *rng, uint64_t seed, uint64_t key_a, uint64_t key_b, unsigned lane);
+
 static inline uint64_t sf_rng_rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
 /* Next 64 random bits (xoshiro256**). */

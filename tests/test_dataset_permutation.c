@@ -1,6 +1,8 @@
 /* fit/dataset.h's seeded permutation (the split and every epoch's shuffle):
- * the same permutation as a plain Fisher-Yates on models/rng.h's stream,
- * whatever the length around its blocks of prefetched partners; every
+ * the same permutation as a plain Fisher-Yates whose swap k draws from
+ * models/rng.h's scalar stream of lane k % 8 (so the eight-lane generator
+ * of models/rng_lanes.h is checked draw by draw), whatever the length
+ * around its blocks of prefetched partners; every
  * index exactly once; and uniform: the 120 orders of 5 items counted over
  * 120000 streams, against the chi-square distribution. */
 #include <stdio.h>
@@ -11,13 +13,14 @@
 #include "models/rng.h"
 #include "tests/check.h"
 
-/* Durstenfeld's shuffle as written in Knuth (TAOCP 3.4.2, Algorithm P). */
+/* Durstenfeld's shuffle as written in Knuth (TAOCP 3.4.2, Algorithm P),
+ * the eight lanes taken in turn. */
 static void reference_shuffle(int *perm, long n, uint64_t seed, uint64_t key_a, uint64_t key_b) {
-  sf_rng rng;
-  sf_rng_seed(&rng, seed, key_a, key_b);
+  sf_rng lane[8];
+  for (unsigned l = 0; l < 8; ++l) sf_rng_seed_lane(&lane[l], seed, key_a, key_b, l);
   for (long i = 0; i < n; ++i) perm[i] = (int)i;
-  for (long i = n - 1; i > 0; --i) {
-    long j = (long)(sf_rng_uniform(&rng) * (double)(i + 1));
+  for (long i = n - 1, k = 0; i > 0; --i, ++k) {
+    long j = (long)(sf_rng_uniform(&lane[k % 8]) * (double)(i + 1));
     if (j > i) j = i;
     int t = perm[i];
     perm[i] = perm[j];
@@ -77,6 +80,26 @@ int main(void) {
   for (int k = 0; k < 120; ++k) chi2 += (counts[k] - expected) * (counts[k] - expected) / expected;
   printf("orders of 5 over %d streams: chi-square %.1f (119 degrees of freedom; bound 200)\n", DRAWS, chi2);
   CHECK(chi2 < 200.0);
+
+  /* Sixteen items take all eight lanes (15 swaps): where each item lands,
+   * 16 x 16 cells over 64000 streams, every row and column a uniform
+   * distribution; chi-square over the 256 cells, 225 degrees of freedom
+   * (rows and columns sum to the stream count): mean 225, sd 21.2; above
+   * 330 has probability below 1e-5. */
+  enum { SPREAD = 64000 };
+  long lands[16][16] = {{0}};
+  for (uint64_t s = 0; s < SPREAD; ++s) {
+    int p[16];
+    sf_dataset_permutation(p, 16, 9, 0x6c616e65ull, s);
+    for (int at = 0; at < 16; ++at) lands[p[at]][at] += 1;
+  }
+  double chi2_lanes = 0.0, per_cell = SPREAD / 16.0;
+  for (int item = 0; item < 16; ++item)
+    for (int at = 0; at < 16; ++at)
+      chi2_lanes += (lands[item][at] - per_cell) * (lands[item][at] - per_cell) / per_cell;
+  printf("where 16 items land over %d streams: chi-square %.1f (225 degrees of freedom; bound 330)\n", SPREAD,
+         chi2_lanes);
+  CHECK(chi2_lanes < 330.0);
 
   free(got);
   free(want);
