@@ -36,12 +36,13 @@ void sf_adam_free(sf_adam *a) {
   a->m = a->v = NULL;
 }
 
-/* Compiled for three instruction sets and chosen at run time (as
- * fit/fit_sky_config.c's residual kernels): a mini-batch epoch takes a step
- * per batch, and the step's divisions and square roots ran two lanes at a
- * time without it (1.2 us of a 25 us scattering batch on 2 threads). Every
- * parameter's update is the same exactly rounded operations on every path
- * (C11 mode: no contraction into fused multiply-adds), hence the same bits. */
+/* A mini-batch epoch takes a step per batch, and the step ran one parameter
+ * at a time (1.2 us of a 25 us scattering batch on 2 threads): vectorised
+ * (CMakeLists.txt compiles this file with -fno-math-errno, so sqrt need not
+ * set errno), and compiled for three instruction sets chosen at run time
+ * as fit/fit_sky_config.c's residual kernels. Every parameter's update is
+ * the same exactly rounded operations on every path (C11 mode: no
+ * contraction into fused multiply-adds), hence the same bits. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 #define ADAM_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
