@@ -2,15 +2,18 @@
  * the same permutation as a plain Fisher-Yates whose swap k draws from
  * models/rng.h's scalar stream of lane k % 8 (so the eight-lane generator
  * of models/rng_lanes.h is checked draw by draw), whatever the length
- * around its blocks of prefetched partners; every
+ * around its blocks of prefetched partners; each build of the lanes'
+ * partners the CPU runs (scalar, AVX2, AVX-512) the same partners; every
  * index exactly once; and uniform: the 120 orders of 5 items counted over
- * 120000 streams, against the chi-square distribution. */
+ * 120000 streams, and where 16 items land, against the chi-square
+ * distribution. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fit/dataset.h"
 #include "models/rng.h"
+#include "models/rng_lanes.h"
 #include "tests/check.h"
 
 /* Durstenfeld's shuffle as written in Knuth (TAOCP 3.4.2, Algorithm P),
@@ -39,7 +42,44 @@ static int lehmer_index(const int *p) {
   return index;
 }
 
+/* Partners for i = top, top - 1, ... (down to 1, or `swaps` of them) in
+ * blocks of `groups` groups from one build, against Durstenfeld's j from
+ * the scalar streams. */
+static int partners_match(sf_rng_lanes_isa isa, long top, long swaps, long groups, uint64_t seed) {
+  sf_rng lane[SF_RNG_LANES];
+  for (unsigned l = 0; l < SF_RNG_LANES; ++l) sf_rng_seed_lane(&lane[l], seed, 1, 2, l);
+  sf_rng_lanes lanes;
+  sf_rng_lanes_seed(&lanes, seed, 1, 2);
+  long block = groups * SF_RNG_LANES, *got = malloc((size_t)block * sizeof(long));
+  int same = got != NULL;
+  for (long at = top, k = 0; same && at > 0 && k < swaps; at -= block) {
+    sf_rng_lanes_partners_isa(isa, &lanes, at, got, groups);
+    for (long b = 0; b < block && at - b > 0 && k < swaps; ++b, ++k) {
+      long i = at - b, j = (long)(sf_rng_uniform(&lane[k % SF_RNG_LANES]) * (double)(i + 1));
+      if (j > i) j = i;
+      same &= got[b] == j;
+    }
+  }
+  free(got);
+  return same;
+}
+
 int main(void) {
+  static const sf_rng_lanes_isa isas[] = {SF_RNG_LANES_SCALAR, SF_RNG_LANES_AVX2, SF_RNG_LANES_AVX512};
+  static const char *const isa_names[] = {"scalar", "avx2", "avx512f+dq"};
+  for (int q = 0; q < 3; ++q) {
+    if (!sf_rng_lanes_isa_available(isas[q])) {
+      printf("partners, %s: skip: not on this CPU or build\n", isa_names[q]);
+      continue;
+    }
+    /* a large top (the products u (i + 1) near 2^31), small ones, and
+     * blocks of 1 and of 5 groups (state carried across calls) */
+    int same = partners_match(isas[q], 2000000000L, 1000000, 5, 3) && partners_match(isas[q], 983039, 983039, 1, 4);
+    for (long top = 1; top <= 40; ++top) same &= partners_match(isas[q], top, top, 1, (uint64_t)top);
+    printf("partners, %s: the scalar streams' draws: %s\n", isa_names[q], same ? "yes" : "no");
+    CHECK(same);
+  }
+
   enum { LARGE = 983040 };
   int *got = malloc(LARGE * sizeof(int)), *want = malloc(LARGE * sizeof(int));
   char *seen = calloc(LARGE, 1);
