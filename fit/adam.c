@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/target_clones.h"
+
 void sf_adam_options_default(sf_adam_options *o) {
   o->lr = 0.01;
   o->beta1 = 0.9;
@@ -40,16 +42,8 @@ void sf_adam_free(sf_adam *a) {
  * at a time (1.2 us of a 25 us scattering batch on 2 threads): vectorised
  * (CMakeLists.txt compiles this file with -fno-math-errno, so sqrt need not
  * set errno), and compiled for three instruction sets chosen at run time
- * as fit/fit_sky_config.c's residual kernels. Every parameter's update is
- * the same exactly rounded operations on every path (C11 mode: no
- * contraction into fused multiply-adds), hence the same bits. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define ADAM_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define ADAM_CLONES
-#endif
-
-ADAM_CLONES
+ * (util/target_clones.h), all with the same bits. */
+SF_X86_CLONES
 void sf_adam_step(sf_adam *a, const sf_adam_options *o, double lr, double *theta, const double *g) {
   a->step += 1;
   /* Bias corrections 1 - beta^t (Algorithm 1). */

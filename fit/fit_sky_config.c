@@ -18,6 +18,7 @@
 #include "fit/rsqrt_lanes.h"
 #include "models/hosek.h"
 #include "models/perez.h"
+#include "util/target_clones.h"
 
 /* Everything about a sample that does not depend on the coefficients,
  * computed once per fit rather than once per residual evaluation: the
@@ -38,14 +39,9 @@ typedef struct sky_fit_view {
 #define TILE 128
 
 /* The residual kernels are compiled for three instruction sets and chosen
- * at run time (as fit/mlp_backward.c: no -march, the binary runs on any
- * x86-64); the helpers are inlined into each clone, which do the same
- * operations per lane, hence the same residuals. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define SKY_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define SKY_CLONES
-#endif
+ * at run time (util/target_clones.h; as fit/mlp_backward.c, the binary runs
+ * on any x86-64); the helpers are inlined into each clone, which do the
+ * same operations per lane, hence the same residuals. */
 
 static void sky_view_free(sky_fit_view *v) { free(v->inv_ct); }
 
@@ -121,7 +117,7 @@ static int padded(int m) { return (m + LANES - 1) / LANES * LANES; }
 
 /* Hosek F (models/hosek.h) and its gradient; columns A..I, the scale R,
  * the residual. */
-static SKY_CLONES void hosek_gram(const sky_fit_view *v, const double *c, double scale,
+static SF_X86_CLONES void hosek_gram(const sky_fit_view *v, const double *c, double scale,
                                   double *sum_squares, double *gram) {
   const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], F = c[5], G = c[6], H = c[7],
                I = c[8], w = v->weight, ws = w * scale, hh = 1.0 + H * H, h2 = 2.0 * H;
@@ -184,7 +180,7 @@ static SKY_CLONES void hosek_gram(const sky_fit_view *v, const double *c, double
 
 /* Perez F (models/perez.h) and its gradient, as hosek_gram: columns A..E,
  * the scale K, the residual. */
-static SKY_CLONES void perez_gram(const sky_fit_view *v, const double *c, double scale,
+static SF_X86_CLONES void perez_gram(const sky_fit_view *v, const double *c, double scale,
                                   double *sum_squares, double *gram) {
   const double A = c[0], B = c[1], C = c[2], D = c[3], E = c[4], w = v->weight, ws = w * scale;
   enum { K = SF_PEREZ_N_COEFFS + 2 };
