@@ -8,7 +8,8 @@
  * Xavier weights, MSE; each figure the fastest of several passes (a shared
  * machine is noisy). The loss printed beside is the pass's sum: the same on
  * every path up to the last bits (shuffled samples are added in another
- * order).
+ * order). Last, the full batch and the shuffled packed rows again with
+ * linear units: the kernel's cost without its exponentials and divisions.
  *   bench_mlp_kernel [SAMPLES [LAYERS]]   (default 967680 4,8,8,9: the
  *                                          scattering set of the tables) */
 #include <stdio.h>
@@ -144,6 +145,18 @@ int main(int argc, char **argv) {
     snprintf(name, sizeof name, "  the same, kernel for %s", isa_names[q]);
     double check = 0.0, ns = ns_per_sample(&b, GRADIENT_SHUFFLED_PACKED_ISA, &check);
     printf("%-40s %12.1f %22.17g\n", name, ns, check);
+  }
+  /* The same network with linear units: the kernel without its
+   * exponentials and divisions, what is left of its cost when they are
+   * free (a floor for any exponential). */
+  sf_mlp_shape linear = shape;
+  linear.hidden = linear.output = SF_ACT_LINEAR;
+  b.shape = &linear;
+  static const enum path linear_paths[] = {GRADIENT_COLUMNS, GRADIENT_SHUFFLED_PACKED};
+  static const char *const linear_names[] = {"linear units, full batch with gradient", "linear units, shuffled packed rows"};
+  for (int q = 0; q < 2; ++q) {
+    double check = 0.0, ns = ns_per_sample(&b, linear_paths[q], &check);
+    printf("%-40s %12.1f %22.17g\n", linear_names[q], ns, check);
   }
   sf_mlp_columns_free(&b.columns);
   sf_mlp_rows_free(&b.rows);
