@@ -73,19 +73,53 @@ static FORCE_INLINE double lane_sum(const double *acc) {
   return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
 }
 
-/* out_r = f(W_r . a + b_r) for the GROUP samples of a group (a: row j at
- * a + j as), the VECS accumulators in registers across the inputs j. */
+_Static_assert(ROWS * VECS <= SF_LANES_EXP_MAX, "forward_rows_f takes the exponentials of ROWS VECS vectors at once");
+
+/* out_r = f(W_r . a + b_r) for rows r = r0..r0+nr-1 of a layer (nr <= ROWS)
+ * and the GROUP samples of a group (a: row j at a + j as), the nr VECS
+ * accumulators in registers across the inputs j. (The unrolled loops over
+ * q and v keep arrays indexed by them in registers.) */
+static FORCE_INLINE void forward_rows_f(sf_mlp_activation f, const double *W, const double *b, int ni, int r0,
+                                        int nr, const double *a, long as, double *restrict out) {
+  sf_lanes z[ROWS * VECS];   /* row r0 + q, vector v at z[q VECS + v] */
+  /* b + w_0 a_0 + w_1 a_1 + ..., added in this order, each term fused */
+  SF_LANES_UNROLL
+  for (int q = 0; q < nr; ++q)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v)
+      z[q * VECS + v] = sf_lanes_fma_scalars(sf_lanes_load(a + v * LANES), W[(long)(r0 + q) * ni], b[r0 + q]);
+  for (int j = 1; j < ni; ++j)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) {
+      sf_lanes aj = sf_lanes_load(a + j * as + v * LANES);
+      SF_LANES_UNROLL
+      for (int q = 0; q < nr; ++q)
+        z[q * VECS + v] = sf_lanes_fma_scalar(aj, W[(long)(r0 + q) * ni + j], z[q * VECS + v]);
+    }
+  if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG) {
+    /* their exponentials side by side (sf_lanes_exp_n) */
+    const sf_lanes one = sf_lanes_set1(1.0);
+    SF_LANES_UNROLL
+    for (int k = 0; k < nr * VECS; ++k) z[k] = sf_lanes_neg(z[k]);
+    sf_lanes_exp_n(z, nr * VECS);
+    SF_LANES_UNROLL
+    for (int k = 0; k < nr * VECS; ++k)
+      if (f == SF_ACT_SIGMOID) z[k] = sf_lanes_div(one, sf_lanes_add(one, z[k]));
+  } else {
+    SF_LANES_UNROLL
+    for (int k = 0; k < nr * VECS; ++k) z[k] = activate(f, z[k]);
+  }
+  SF_LANES_UNROLL
+  for (int q = 0; q < nr; ++q)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) sf_lanes_store(out + (r0 + q) * GROUP + v * LANES, z[q * VECS + v]);
+}
+
 static FORCE_INLINE void forward_layer_f(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
                                          const double *a, long as, double *restrict out) {
-  for (int r = 0; r < no; ++r) {
-    const double *w = W + (long)r * ni;
-    sf_lanes z[VECS];
-    /* b + w_0 a_0 + w_1 a_1 + ..., added in this order, each term fused */
-    for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalars(sf_lanes_load(a + v * LANES), w[0], b[r]);
-    for (int j = 1; j < ni; ++j)
-      for (int v = 0; v < VECS; ++v) z[v] = sf_lanes_fma_scalar(sf_lanes_load(a + j * as + v * LANES), w[j], z[v]);
-    for (int v = 0; v < VECS; ++v) sf_lanes_store(out + r * GROUP + v * LANES, activate(f, z[v]));
-  }
+  int r = 0;
+  for (; r + ROWS <= no; r += ROWS) forward_rows_f(f, W, b, ni, r, ROWS, a, as, out);
+  for (; r < no; ++r) forward_rows_f(f, W, b, ni, r, 1, a, as, out);
 }
 
 static FORCE_INLINE void forward_layer(sf_mlp_activation f, const double *W, const double *b, int ni, int no,
@@ -129,15 +163,23 @@ static FORCE_INLINE void output_delta_f(sf_mlp_activation f, sf_mlp_loss_kind ki
                                         int n_out, const double *pred, const double *target, long ts, sf_lanes *sq,
                                         double *restrict d) {
   const double two_inv_n = 2.0 * (1.0 / n_out);
+  /* summed in registers (summed in *sq, they were a chain of stores and
+   * reloads across the outputs) */
+  sf_lanes sums[VECS];
+  SF_LANES_UNROLL
+  for (int v = 0; v < VECS; ++v) sums[v] = sf_lanes_set1(0.0);
   for (int r = 0; r < n_out; ++r) {
     const double delta = kind == SF_LOSS_MSE ? 0.0 : loss->delta[r];
+    SF_LANES_UNROLL
     for (int v = 0; v < VECS; ++v) {
       sf_lanes p = sf_lanes_load(pred + r * GROUP + v * LANES), de;
       sf_lanes e = residual_lanes(kind, delta, p, sf_lanes_load(target + r * ts + v * LANES), &de);
-      sq[v] = r == 0 ? sf_lanes_mul(e, e) : sf_lanes_add(sq[v], sf_lanes_mul(e, e));
+      sums[v] = sf_lanes_add(sums[v], sf_lanes_mul(e, e));   /* 0 + e^2 is e^2 exactly */
       sf_lanes_store(d + r * GROUP + v * LANES, sf_lanes_mul(sf_lanes_mul(sf_lanes_scale(e, two_inv_n), de), slope(f, p)));
     }
   }
+  SF_LANES_UNROLL
+  for (int v = 0; v < VECS; ++v) sq[v] = sums[v];
 }
 
 static FORCE_INLINE void output_delta_loss(sf_mlp_activation f, const sf_mlp_loss *loss, int n_out,
@@ -165,38 +207,75 @@ static FORCE_INLINE void output_delta(sf_mlp_activation f, const sf_mlp_loss *lo
 /* Gradient lanes of a layer: G_W[r][j] += d_r a_j (fused) and G_b[r] +=
  * d_r, lane by lane: each lane adds its own samples' products, in sample order,
  * straight into its accumulator (no per-group fold), loaded and stored once
- * per group. */
-static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no,
-                                         double *restrict GW, double *restrict Gb) {
-  for (int r = 0; r < no; ++r) {
-    sf_lanes dr[VECS];
-    for (int v = 0; v < VECS; ++v) dr[v] = sf_lanes_load(d + r * GROUP + v * LANES);
-    double *g = GW + (long)r * ni * LANES;
-    for (int j = 0; j < ni; ++j) {
-      sf_lanes acc = sf_lanes_load(g + j * LANES);
-      for (int v = 0; v < VECS; ++v) acc = sf_lanes_fma(dr[v], sf_lanes_load(a + j * as + v * LANES), acc);
-      sf_lanes_store(g + j * LANES, acc);
-    }
-    sf_lanes acc = sf_lanes_load(Gb + r * LANES);
-    for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, dr[v]);
-    sf_lanes_store(Gb + r * LANES, acc);
+ * per group. Rows r0..r0+nr-1 together: each a_j loaded once for them. */
+static FORCE_INLINE void weight_gradient_rows(const double *d, const double *a, long as, int ni, int r0, int nr,
+                                              double *restrict GW, double *restrict Gb) {
+  sf_lanes dr[ROWS][VECS];
+  SF_LANES_UNROLL
+  for (int q = 0; q < nr; ++q)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) dr[q][v] = sf_lanes_load(d + (r0 + q) * GROUP + v * LANES);
+  for (int j = 0; j < ni; ++j) {
+    sf_lanes aj[VECS], acc[ROWS];
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) aj[v] = sf_lanes_load(a + j * as + v * LANES);
+    SF_LANES_UNROLL
+    for (int q = 0; q < nr; ++q) acc[q] = sf_lanes_load(GW + ((long)(r0 + q) * ni + j) * LANES);
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v)
+      SF_LANES_UNROLL
+      for (int q = 0; q < nr; ++q) acc[q] = sf_lanes_fma(dr[q][v], aj[v], acc[q]);
+    SF_LANES_UNROLL
+    for (int q = 0; q < nr; ++q) sf_lanes_store(GW + ((long)(r0 + q) * ni + j) * LANES, acc[q]);
+  }
+  SF_LANES_UNROLL
+  for (int q = 0; q < nr; ++q) {
+    sf_lanes acc = sf_lanes_load(Gb + (r0 + q) * LANES);
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) acc = sf_lanes_add(acc, dr[q][v]);
+    sf_lanes_store(Gb + (r0 + q) * LANES, acc);
   }
 }
 
+static FORCE_INLINE void weight_gradient(const double *d, const double *a, long as, int ni, int no,
+                                         double *restrict GW, double *restrict Gb) {
+  int r = 0;
+  for (; r + ROWS <= no; r += ROWS) weight_gradient_rows(d, a, as, ni, r, ROWS, GW, Gb);
+  for (; r < no; ++r) weight_gradient_rows(d, a, as, ni, r, 1, GW, Gb);
+}
+
 /* dn_j = f'(z_j) sum_r W[r][j] d_r: dLoss/dz of the layer below, the sums
- * in registers across r. */
+ * in registers across r; units j0..j0+nj-1 together, each d_r loaded once
+ * for them. */
+static FORCE_INLINE void propagate_units_f(sf_mlp_activation f, const double *W, const double *d, const double *a,
+                                           int ni, int no, int j0, int nj, double *restrict dn) {
+  sf_lanes acc[ROWS][VECS];
+  SF_LANES_UNROLL
+  for (int v = 0; v < VECS; ++v) {
+    sf_lanes d0 = sf_lanes_load(d + v * LANES);
+    SF_LANES_UNROLL
+    for (int q = 0; q < nj; ++q) acc[q][v] = sf_lanes_scale(d0, W[j0 + q]);
+  }
+  for (int r = 1; r < no; ++r)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v) {
+      sf_lanes dr = sf_lanes_load(d + r * GROUP + v * LANES);
+      SF_LANES_UNROLL
+      for (int q = 0; q < nj; ++q) acc[q][v] = sf_lanes_fma_scalar(dr, W[(long)r * ni + j0 + q], acc[q][v]);
+    }
+  SF_LANES_UNROLL
+  for (int q = 0; q < nj; ++q)
+    SF_LANES_UNROLL
+    for (int v = 0; v < VECS; ++v)
+      sf_lanes_store(dn + (j0 + q) * GROUP + v * LANES,
+                     sf_lanes_mul(acc[q][v], slope(f, sf_lanes_load(a + (j0 + q) * GROUP + v * LANES))));
+}
+
 static FORCE_INLINE void propagate_f(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
                                      int no, double *restrict dn) {
-  for (int j = 0; j < ni; ++j) {
-    sf_lanes acc[VECS];
-    for (int v = 0; v < VECS; ++v) acc[v] = sf_lanes_scale(sf_lanes_load(d + v * LANES), W[j]);
-    for (int r = 1; r < no; ++r)
-      for (int v = 0; v < VECS; ++v)
-        acc[v] = sf_lanes_fma_scalar(sf_lanes_load(d + r * GROUP + v * LANES), W[(long)r * ni + j], acc[v]);
-    for (int v = 0; v < VECS; ++v)
-      sf_lanes_store(dn + j * GROUP + v * LANES,
-                     sf_lanes_mul(acc[v], slope(f, sf_lanes_load(a + j * GROUP + v * LANES))));
-  }
+  int j = 0;
+  for (; j + ROWS <= ni; j += ROWS) propagate_units_f(f, W, d, a, ni, no, j, ROWS, dn);
+  for (; j < ni; ++j) propagate_units_f(f, W, d, a, ni, no, j, 1, dn);
 }
 
 static FORCE_INLINE void propagate(sf_mlp_activation f, const double *W, const double *d, const double *a, int ni,
@@ -226,8 +305,8 @@ static FORCE_INLINE void prefetch_row(const double *x, long xs, const double *y,
 #endif
 }
 
-/* Shuffled rows of the next group, asked for a few at a time while this
- * group computes: asked all at once (64 lines for 32 rows), they exceed the
+/* Shuffled rows of the group PREFETCH_GROUPS ahead, asked for a few at a
+ * time while this group computes: asked all at once (64 lines for 32 rows), they exceed the
  * misses a core keeps in flight, and the prefetch instructions themselves
  * stalled (perf: a third of the kernel's time in a shuffled epoch). */
 typedef struct prefetch_cursor {
@@ -304,10 +383,12 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
   }
   const long chunk = args->chunk > 0 ? args->chunk : end - begin;
   const long prefetch_end = args->prefetch_end > end ? args->prefetch_end : end;
-  /* the first group's rows now, the next group's spread over 2 L steps */
-  prefetch_cursor pc = {begin, begin + GROUP < end ? begin + GROUP : end};
+  /* the first PREFETCH_GROUPS groups' rows now, then each group the rows of
+   * the one PREFETCH_GROUPS ahead, spread over its 2 L steps */
+  const long lead = PREFETCH_GROUPS * GROUP;
+  prefetch_cursor pc = {begin, begin + lead < end ? begin + lead : end};
   const long per_step = (GROUP + 2 * L - 1) / (2 * L);
-  if (index) prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);
+  if (index) prefetch_some(&pc, x, xs, y, ys, index, lead, n_in, n_out);
 #define PREFETCH_STEP() \
   if (index) prefetch_some(&pc, x, xs, y, ys, index, per_step, n_in, n_out)
   const double inv_n = 1.0 / n_out;
@@ -319,7 +400,7 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
     nv = chunk_end - first < GROUP ? (int)(chunk_end - first) : GROUP;
     if (index) {
       prefetch_some(&pc, x, xs, y, ys, index, GROUP, n_in, n_out);   /* what the last group left */
-      pc.stop = first + 2 * GROUP < prefetch_end ? first + 2 * GROUP : prefetch_end;
+      pc.stop = first + lead + GROUP < prefetch_end ? first + lead + GROUP : prefetch_end;
     }
     /* The group's inputs and targets: read in place from columns (padded
      * past the last sample), else gathered. */
@@ -340,7 +421,7 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
                     s->sizes[l + 1], l == 0 ? a0 : g.act[l], l == 0 ? a0_stride : GROUP, g.act[l + 1]);
     }
     double *d = g.delta[0];
-    sf_lanes sq[VECS];
+    sf_lanes sq[VECS] = {0};   /* set by output_delta (GCC cannot tell) */
     output_delta(s->output, loss, n_out, g.act[L], t, t_stride, sq, d);
     /* Padding samples weigh nothing: zero loss and zero delta (which stays
      * zero through the layers below). */

@@ -428,9 +428,19 @@ static const double sf_lanes_exp2_sixteenths[16] = {
     0x1.6a09e667f3bcdp+0, 0x1.7a11473eb0187p+0, 0x1.8ace5422aa0dbp+0, 0x1.9c49182a3f090p+0,
     0x1.ae89f995ad3adp+0, 0x1.c199bdd85529cp+0, 0x1.d5818dcfba487p+0, 0x1.ea4afa2a490dap+0};
 
-/* e^x on every lane by a table of 16 (Tang's method): x clamped to
- * [-708, 709] (NaN passes through), x = (16 m + j) ln2/16 + r with |r| <=
- * ln2/32 (Cody & Waite: ln 2 split so that n ln2_hi/16 is exact), then
+#if defined(__clang__)
+#define SF_LANES_UNROLL _Pragma("clang loop unroll(full)")
+#elif defined(__GNUC__)
+#define SF_LANES_UNROLL _Pragma("GCC unroll 16")
+#else
+#define SF_LANES_UNROLL
+#endif
+
+/* e^x on every lane of the n vectors x[0..n-1] (n <= SF_LANES_EXP_MAX, a
+ * constant where it is called: the loops unroll and the arrays stay in
+ * registers), in place, by a table of 16 (Tang's method): x clamped to [-708, 709] (NaN
+ * passes through), x = (16 m + j) ln2/16 + r with |r| <= ln2/32 (Cody &
+ * Waite: ln 2 split so that n ln2_hi/16 is exact), then
  *   e^x = 2^m 2^(j/16) (1 + (r + r^2 P(r))),  P(r) = sum_{k=2}^{7} r^(k-2)/k!
  * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^(j/16)
  * from the table (AVX-512: one permute of two registers; the others a
@@ -439,33 +449,58 @@ static const double sf_lanes_exp2_sixteenths[16] = {
  * exp (tests/test_mlp_lanes.c). About 20 instructions where the degree-13
  * polynomial of a table-free reduction (|r| <= ln2/2) took 31: the kernel
  * is bound by its exponentials. Every multiply-add is fused where written,
- * so the bits are the same in every representation above. */
-SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
+ * so the bits are the same in every representation above, and for any n.
+ *
+ * Each step is taken on all n vectors before the next: their independent
+ * dependency chains lie side by side in the instruction stream, and the
+ * processor overlaps them without looking far ahead (GCC does not
+ * interleave separately inlined exponentials on x86). Measured on a Zen 5,
+ * training kernel with 8 at a time against one by one: 2,4,3 full batch
+ * 5.2-5.5 -> 4.1-4.4 ns per sample, 2,16,16,3 shuffled 44 -> 35-39. */
+#define SF_LANES_EXP_MAX 8
+SF_LANES_INLINE void sf_lanes_exp_n(sf_lanes *x, int n) {
   /* 1.5 * 2^52 rounds to the nearest integer; 1023 * 16 biases m. */
   const double shift = 6755399441055744.0 + 1023.0 * 16.0;
-  /* max then min: a NaN x is kept by both (the second operand's rule) */
-  sf_lanes c = sf_lanes_min(sf_lanes_set1(709.0), sf_lanes_max(sf_lanes_set1(-708.0), x));
-  /* n = 16 m + j = round(16 c / ln 2); n + 1023 * 16 (>= 25 after the
-   * clamps) in the low bits of shifted: j in bits 0..3, m + 1023 above */
-  sf_lanes shifted = sf_lanes_fma_scalars(c, 16.0 * 1.4426950408889634074, shift);
-  sf_lanes n = sf_lanes_add_scalar(shifted, -shift);
-  /* ln 2 = 6.93147180369123816490e-01 (32 significant bits: n times it
-   * over 16 is exact) + 1.90821492927058770002e-10 */
-  sf_lanes r_hi = sf_lanes_fma_scalar(n, -6.93147180369123816490e-01 / 16.0, c);
-  sf_lanes r = sf_lanes_fma_scalar(n, -1.90821492927058770002e-10 / 16.0, r_hi);
-  sf_lanes r2 = sf_lanes_mul(r, r), r4 = sf_lanes_mul(r2, r2);
-  sf_lanes q0 = sf_lanes_fma_scalars(r, 1.0 / 6.0, 1.0 / 2.0);
-  sf_lanes q1 = sf_lanes_fma_scalars(r, 1.0 / 120.0, 1.0 / 24.0);
-  sf_lanes q2 = sf_lanes_fma_scalars(r, 1.0 / 5040.0, 1.0 / 720.0);
-  sf_lanes P = sf_lanes_fma(q2, r4, sf_lanes_fma(q1, r2, q0));
-  sf_lanes em1 = sf_lanes_fma(r2, P, r);   /* e^r - 1 */
-  sf_lanes t = sf_lanes_lookup16(sf_lanes_exp2_sixteenths, shifted);
-  /* times 2^m, exact: t (1 + em1) = 2^(j/16 + r/ln2) lies in [0.978,
-   * 1.96), below 1 only for j = 0, and the clamps keep m in -1022..1022
-   * with j >= 9 at m = -1022, so the product is a normal number. A product,
-   * not an integer addition to the exponent bits: a NaN x stays NaN
-   * whatever its payload (which reaches shifted, hence the scale). */
-  return sf_lanes_mul(sf_lanes_fma(t, em1, t), sf_lanes_exponent_bits(shifted));
+  sf_lanes shifted[SF_LANES_EXP_MAX], r[SF_LANES_EXP_MAX], r2[SF_LANES_EXP_MAX], P[SF_LANES_EXP_MAX];
+  SF_LANES_UNROLL
+  for (int k = 0; k < n; ++k) {
+    /* max then min: a NaN x is kept by both (the second operand's rule) */
+    sf_lanes c = sf_lanes_min(sf_lanes_set1(709.0), sf_lanes_max(sf_lanes_set1(-708.0), x[k]));
+    /* n = 16 m + j = round(16 c / ln 2); n + 1023 * 16 (>= 25 after the
+     * clamps) in the low bits of shifted: j in bits 0..3, m + 1023 above */
+    shifted[k] = sf_lanes_fma_scalars(c, 16.0 * 1.4426950408889634074, shift);
+    sf_lanes nk = sf_lanes_add_scalar(shifted[k], -shift);
+    /* ln 2 = 6.93147180369123816490e-01 (32 significant bits: n times it
+     * over 16 is exact) + 1.90821492927058770002e-10 */
+    sf_lanes r_hi = sf_lanes_fma_scalar(nk, -6.93147180369123816490e-01 / 16.0, c);
+    r[k] = sf_lanes_fma_scalar(nk, -1.90821492927058770002e-10 / 16.0, r_hi);
+  }
+  SF_LANES_UNROLL
+  for (int k = 0; k < n; ++k) {
+    r2[k] = sf_lanes_mul(r[k], r[k]);
+    sf_lanes r4 = sf_lanes_mul(r2[k], r2[k]);
+    sf_lanes q0 = sf_lanes_fma_scalars(r[k], 1.0 / 6.0, 1.0 / 2.0);
+    sf_lanes q1 = sf_lanes_fma_scalars(r[k], 1.0 / 120.0, 1.0 / 24.0);
+    sf_lanes q2 = sf_lanes_fma_scalars(r[k], 1.0 / 5040.0, 1.0 / 720.0);
+    P[k] = sf_lanes_fma(q2, r4, sf_lanes_fma(q1, r2[k], q0));
+  }
+  SF_LANES_UNROLL
+  for (int k = 0; k < n; ++k) {
+    sf_lanes em1 = sf_lanes_fma(r2[k], P[k], r[k]);   /* e^r - 1 */
+    sf_lanes t = sf_lanes_lookup16(sf_lanes_exp2_sixteenths, shifted[k]);
+    /* times 2^m, exact: t (1 + em1) = 2^(j/16 + r/ln2) lies in [0.978,
+     * 1.96), below 1 only for j = 0, and the clamps keep m in -1022..1022
+     * with j >= 9 at m = -1022, so the product is a normal number. A
+     * product, not an integer addition to the exponent bits: a NaN x stays
+     * NaN whatever its payload (which reaches shifted, hence the scale). */
+    x[k] = sf_lanes_mul(sf_lanes_fma(t, em1, t), sf_lanes_exponent_bits(shifted[k]));
+  }
+}
+
+/* e^x on every lane (sf_lanes_exp_n of one vector). */
+SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
+  sf_lanes_exp_n(&x, 1);
+  return x;
 }
 
 #endif

@@ -2,8 +2,9 @@
  * against libm's exp, in units in the last place, over the whole clamped
  * range, near 0 and at tiny arguments, every lane of a vector at once; the
  * clamps and NaN passing through; its table against 2^(j/16) computed
- * independently; and the lane operations the kernel uses (select, abs,
- * scale, max, min, table lookup) against their scalar definitions. This
+ * independently; several vectors at once against one at a time; and the
+ * lane operations the kernel uses (select, abs, scale, max, min, table
+ * lookup) against their scalar definitions. This
  * file is compiled without instruction-set flags (the generic
  * representation); the AVX2 and AVX-512 builds give the same bits
  * (tests/test_mlp_gradient.c, kernel against kernel). */
@@ -117,5 +118,38 @@ int main(void) {
   for (int k = 0; k < SF_LANES; ++k) lookup_ok &= looked[k] == sf_lanes_exp2_sixteenths[idx_bits[k] & 15];
   printf("lookup16 reads table[bits & 15] on 8 lanes: %s\n", lookup_ok ? "yes" : "no");
   CHECK(lookup_ok);
+
+  /* Several vectors at once (sf_lanes_exp_n, as the kernel's layers take
+   * them): each the bits of its own sf_lanes_exp, whatever n and whatever
+   * its neighbours hold (a step reading another vector's values fails). */
+  int batch_ok = 1;
+  for (int n = 1; n <= SF_LANES_EXP_MAX; ++n) {
+    sf_lanes xs[SF_LANES_EXP_MAX];
+    double in[SF_LANES_EXP_MAX][SF_LANES];
+    for (int v = 0; v < n; ++v) {
+      for (int k = 0; k < SF_LANES; ++k) in[v][k] = -750.0 + 1459.0 * (double)((v * 37 + k * 11 + n * 5) % 64) / 63.0;
+      in[v][v % SF_LANES] = v % 2 ? NAN : -1e-300;
+      xs[v] = sf_lanes_load(in[v]);
+    }
+    /* n a constant in each call, as in the kernel */
+    switch (n) {
+      case 1: sf_lanes_exp_n(xs, 1); break;
+      case 2: sf_lanes_exp_n(xs, 2); break;
+      case 3: sf_lanes_exp_n(xs, 3); break;
+      case 4: sf_lanes_exp_n(xs, 4); break;
+      case 5: sf_lanes_exp_n(xs, 5); break;
+      case 6: sf_lanes_exp_n(xs, 6); break;
+      case 7: sf_lanes_exp_n(xs, 7); break;
+      default: sf_lanes_exp_n(xs, 8); break;
+    }
+    for (int v = 0; v < n; ++v) {
+      double got[SF_LANES], want[SF_LANES];
+      sf_lanes_store(got, xs[v]);
+      sf_lanes_store(want, sf_lanes_exp(sf_lanes_load(in[v])));
+      batch_ok &= memcmp(got, want, sizeof got) == 0;
+    }
+  }
+  printf("exp of 1..%d vectors at once: the bits of one at a time: %s\n", SF_LANES_EXP_MAX, batch_ok ? "yes" : "no");
+  CHECK(batch_ok);
   return check_summary();
 }
