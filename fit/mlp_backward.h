@@ -14,12 +14,14 @@
  *
  * Speed. Samples go through the whole network a group of 32 at a time, as
  * 4 vectors of 8 lanes (fit/mlp_lanes.h: one AVX-512 register, two AVX2 or
- * four SSE2 ones), layer by layer, with every accumulator in registers: a
- * unit's weighted sum across its inputs, a delta's sum across the units
+ * four SSE2 ones), layer by layer, two units at a time with AVX-512 (each
+ * input vector loaded once for both), with every accumulator in registers:
+ * a unit's weighted sum across its inputs, a delta's sum across the units
  * above, and a gradient entry's 8 lanes, loaded and stored once per group
  * (gradient lanes are accumulated directly, G[p][lane] += d * a, with no
- * per-block fold). The 4 vectors are independent dependency chains through
- * the exponentials (table-driven, fit/mlp_lanes.h) and divisions.
+ * per-block fold). The vectors are independent dependency chains through
+ * the exponentials (table-driven, fit/mlp_lanes.h; those of a pass
+ * evaluated side by side) and divisions.
  * Summation order, fixed by the samples alone: sample begin + 8 m + k of a
  * call is added to lane k in the order of m (its loss and its gradient
  * products), and the 8 lanes are added in a fixed tree at the end. So the
