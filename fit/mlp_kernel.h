@@ -32,10 +32,11 @@
 /* Rows of a layer computed together (ROWS VECS accumulator chains, each
  * input vector loaded once for them; in propagation, ROWS units of the
  * layer below): two where AVX-512's 32 registers hold them, one on AVX2's
- * 16 (each of its lanes two registers). Measured on a Zen 5 with the
- * interleaved exponentials below: 4,8,8,9 full batch 33 -> 28 ns per
- * sample. Any ROWS gives the same sums: the order of each lane's
- * operations does not change. */
+ * 16 (each of its lanes two registers). Measured on a Zen 5, one core,
+ * with the output sums in registers too: 4,8,8,9 full batch 33.3-33.9 ->
+ * 29.4-30.5 ns per sample (then 26.5-27.8 with the exponentials side by
+ * side, fit/mlp_lanes.h). Any ROWS gives the same sums: the order of each
+ * lane's operations does not change. */
 #if defined(__AVX512F__)
 #define ROWS 2
 #else

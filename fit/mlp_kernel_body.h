@@ -97,7 +97,8 @@ static FORCE_INLINE void forward_rows_f(sf_mlp_activation f, const double *W, co
         z[q * VECS + v] = sf_lanes_fma_scalar(aj, W[(long)(r0 + q) * ni + j], z[q * VECS + v]);
     }
   if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG) {
-    /* their exponentials side by side (sf_lanes_exp_n) */
+    /* activate()'s sigmoid and exp(-z), the same operations, with the
+     * exponentials side by side (sf_lanes_exp_n) */
     const sf_lanes one = sf_lanes_set1(1.0);
     SF_LANES_UNROLL
     for (int k = 0; k < nr * VECS; ++k) z[k] = sf_lanes_neg(z[k]);
@@ -306,9 +307,10 @@ static FORCE_INLINE void prefetch_row(const double *x, long xs, const double *y,
 }
 
 /* Shuffled rows of the group PREFETCH_GROUPS ahead, asked for a few at a
- * time while this group computes: asked all at once (64 lines for 32 rows), they exceed the
- * misses a core keeps in flight, and the prefetch instructions themselves
- * stalled (perf: a third of the kernel's time in a shuffled epoch). */
+ * time while this group computes: asked all at once (64 lines for 32
+ * rows), they exceed the misses a core keeps in flight, and the prefetch
+ * instructions themselves stalled (perf: a third of the kernel's time in a
+ * shuffled epoch). */
 typedef struct prefetch_cursor {
   long next, stop;   /* samples next..stop-1 are still to be asked for */
 } prefetch_cursor;

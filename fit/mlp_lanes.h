@@ -438,9 +438,9 @@ static const double sf_lanes_exp2_sixteenths[16] = {
 
 /* e^x on every lane of the n vectors x[0..n-1] (n <= SF_LANES_EXP_MAX, a
  * constant where it is called: the loops unroll and the arrays stay in
- * registers), in place, by a table of 16 (Tang's method): x clamped to [-708, 709] (NaN
- * passes through), x = (16 m + j) ln2/16 + r with |r| <= ln2/32 (Cody &
- * Waite: ln 2 split so that n ln2_hi/16 is exact), then
+ * registers), in place, by a table of 16 (Tang's method): x clamped to
+ * [-708, 709] (NaN passes through), x = (16 m + j) ln2/16 + r with |r| <=
+ * ln2/32 (Cody & Waite: ln 2 split so that n ln2_hi/16 is exact), then
  *   e^x = 2^m 2^(j/16) (1 + (r + r^2 P(r))),  P(r) = sum_{k=2}^{7} r^(k-2)/k!
  * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^(j/16)
  * from the table (AVX-512: one permute of two registers; the others a

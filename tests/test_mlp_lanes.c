@@ -4,10 +4,10 @@
  * clamps and NaN passing through; its table against 2^(j/16) computed
  * independently; several vectors at once against one at a time; and the
  * lane operations the kernel uses (select, abs, scale, max, min, table
- * lookup) against their scalar definitions. This
- * file is compiled without instruction-set flags (the generic
- * representation); the AVX2 and AVX-512 builds give the same bits
- * (tests/test_mlp_gradient.c, kernel against kernel). */
+ * lookup) against their scalar definitions. This file is compiled without
+ * instruction-set flags (the generic representation); the AVX2 and AVX-512
+ * builds give the same bits (tests/test_mlp_gradient.c, kernel against
+ * kernel). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
