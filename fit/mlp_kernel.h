@@ -42,10 +42,10 @@
 #else
 #define ROWS 1
 #endif
-/* Groups of shuffled rows asked for ahead of the one computing. Measured on
- * a Zen 5 (4,8,8,9, 983,040 shuffled packed rows, 186 ns to memory): one
- * group ahead 30.5-31.4 ns per sample, two 27.7-28.0, three 28.2-28.8. */
-#define PREFETCH_GROUPS 2
+/* Groups of shuffled rows asked for ahead of the one computing
+ * (SF_MLP_PREFETCH_AHEAD, fit/mlp_backward.h). */
+#define PREFETCH_GROUPS (SF_MLP_PREFETCH_AHEAD / GROUP)
+_Static_assert(SF_MLP_PREFETCH_AHEAD % GROUP == 0, "SF_MLP_PREFETCH_AHEAD is whole groups");
 
 /* Where a workspace's arrays lie in ws->mem, each a multiple of LANES
  * doubles (so 64-byte aligned): act[l] (sizes[l] x GROUP, l = 0..L: the

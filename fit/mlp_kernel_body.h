@@ -29,23 +29,32 @@
 #define FORCE_INLINE inline
 #endif
 
-/* f(z) on the lanes (sf_mlp_activate's formulas; tanh through libm). */
-static FORCE_INLINE sf_lanes activate(sf_mlp_activation f, sf_lanes z) {
+/* z[k] = f(z[k]) on the lanes of the n vectors of a pass (sf_mlp_activate's
+ * formulas; tanh through libm), their exponentials side by side
+ * (sf_lanes_exp_n). n a constant where it is called. */
+static FORCE_INLINE void activate_n(sf_mlp_activation f, sf_lanes *z, int n) {
   const sf_lanes zero = sf_lanes_set1(0.0), one = sf_lanes_set1(1.0);
-  switch (f) {
-    case SF_ACT_SIGMOID: return sf_lanes_div(one, sf_lanes_add(one, sf_lanes_exp(sf_lanes_neg(z))));
-    case SF_ACT_TANH: {
+  SF_LANES_UNROLL
+  for (int k = 0; k < n; ++k) {
+    if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG || f == SF_ACT_EXP_NEG_EXP) z[k] = sf_lanes_neg(z[k]);
+    if (f == SF_ACT_TANH) {
       double v[LANES];
-      sf_lanes_store(v, z);
-      for (int k = 0; k < LANES; ++k) v[k] = tanh(v[k]);
-      return sf_lanes_load(v);
+      sf_lanes_store(v, z[k]);
+      for (int i = 0; i < LANES; ++i) v[i] = tanh(v[i]);
+      z[k] = sf_lanes_load(v);
     }
-    case SF_ACT_RELU: return sf_lanes_select(sf_lanes_gt(z, zero), z, zero);
-    case SF_ACT_LINEAR: return z;
-    case SF_ACT_EXP_NEG: return sf_lanes_exp(sf_lanes_neg(z));
-    case SF_ACT_EXP_NEG_EXP: return sf_lanes_exp(sf_lanes_neg(sf_lanes_exp(sf_lanes_neg(z))));
+    if (f == SF_ACT_RELU) z[k] = sf_lanes_select(sf_lanes_gt(z[k], zero), z[k], zero);
   }
-  return z;
+  if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG || f == SF_ACT_EXP_NEG_EXP) sf_lanes_exp_n(z, n);
+  if (f == SF_ACT_EXP_NEG_EXP) {
+    SF_LANES_UNROLL
+    for (int k = 0; k < n; ++k) z[k] = sf_lanes_neg(z[k]);
+    sf_lanes_exp_n(z, n);
+  }
+  if (f == SF_ACT_SIGMOID) {
+    SF_LANES_UNROLL
+    for (int k = 0; k < n; ++k) z[k] = sf_lanes_div(one, sf_lanes_add(one, z[k]));
+  }
 }
 
 /* f'(z) from a = f(z), on the lanes. */
@@ -96,20 +105,7 @@ static FORCE_INLINE void forward_rows_f(sf_mlp_activation f, const double *W, co
       for (int q = 0; q < nr; ++q)
         z[q * VECS + v] = sf_lanes_fma_scalar(aj, W[(long)(r0 + q) * ni + j], z[q * VECS + v]);
     }
-  if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG) {
-    /* activate()'s sigmoid and exp(-z), the same operations, with the
-     * exponentials side by side (sf_lanes_exp_n) */
-    const sf_lanes one = sf_lanes_set1(1.0);
-    SF_LANES_UNROLL
-    for (int k = 0; k < nr * VECS; ++k) z[k] = sf_lanes_neg(z[k]);
-    sf_lanes_exp_n(z, nr * VECS);
-    SF_LANES_UNROLL
-    for (int k = 0; k < nr * VECS; ++k)
-      if (f == SF_ACT_SIGMOID) z[k] = sf_lanes_div(one, sf_lanes_add(one, z[k]));
-  } else {
-    SF_LANES_UNROLL
-    for (int k = 0; k < nr * VECS; ++k) z[k] = activate(f, z[k]);
-  }
+  activate_n(f, z, nr * VECS);
   SF_LANES_UNROLL
   for (int q = 0; q < nr; ++q)
     SF_LANES_UNROLL

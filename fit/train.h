@@ -29,10 +29,9 @@
 #include "models/mlp.h"
 
 #define SF_TRAIN_CHUNK 256
-/* Shuffled samples of the next pass whose rows a pass asks for early: the
- * kernel's first two groups of 32, as far ahead as it asks within a pass
- * (fit/mlp_kernel.h). */
-#define SF_TRAIN_PREFETCH 64
+/* Shuffled samples of the next pass whose rows a pass asks for early: as
+ * far ahead as the kernel asks within a pass. */
+#define SF_TRAIN_PREFETCH SF_MLP_PREFETCH_AHEAD
 /* A batch is always split among threads when samples x parameters reaches
  * this. Below, splitting may cost more than it saves: measured on a shared
  * 2-core machine, a batch of 1024 samples of the 193-parameter scattering
