@@ -4,11 +4,13 @@
  * a mini-batch epoch reads them, from separate x and y and from the packed
  * rows training uses, then that last path on each build of the kernel the
  * CPU can run (fit/mlp_kernel.h: the one the CPU picks and those other
- * CPUs would get, with the same sums). Random inputs in [-1, 1] and targets in [0.05, 1.05],
- * Xavier weights, MSE; each figure the fastest of several passes (a shared
- * machine is noisy). The loss printed beside is the pass's sum: the same on
- * every path up to the last bits (shuffled samples are added in another
- * order). Last, the full batch and the shuffled packed rows again with
+ * CPUs would get, with the same sums; AVX-512F+Newton is AVX-512 with half
+ * the sigmoids' divisions by multiply-adds, what Intel CPUs get). Random
+ * inputs in [-1, 1] and targets in [0.05, 1.05], Xavier weights, MSE;
+ * each figure the fastest of several passes (a shared machine is noisy).
+ * The loss printed beside is the pass's sum: the same on every path up to
+ * the last bits (shuffled samples are added in another order). Last, the
+ * full batch and the shuffled packed rows again with
  * linear units: the kernel's cost without its exponentials and divisions.
  *   bench_mlp_kernel [SAMPLES [LAYERS]]   (default 967680 4,8,8,9: the
  *                                          scattering set of the tables) */
@@ -125,20 +127,24 @@ int main(int argc, char **argv) {
   b.y = y;
   b.order = order;
   b.n = n;
-  const char *isa = sf_mlp_isa_available(SF_MLP_ISA_AVX512)     ? "AVX-512F"
-                    : sf_mlp_isa_available(SF_MLP_ISA_AVX2_FMA) ? "AVX2+FMA"
-                                                                : "baseline x86-64";
+  /* The training path on each build of the kernel this CPU can run (the
+   * CPU picks one, sf_mlp_isa_auto; the others are what other CPUs would
+   * get). */
+  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512,
+                                    SF_MLP_ISA_AVX512_NEWTON};
+  static const char *const isa_names[] = {"baseline x86-64", "AVX2+FMA", "AVX-512F",
+                                          "AVX-512F+Newton"};
+  const sf_mlp_isa picked = sf_mlp_isa_auto();
+  const char *isa = isa_names[0];
+  for (int q = 0; q < 4; ++q)
+    if (isas[q] == picked) isa = isa_names[q];
   printf("training kernel, %s network (%d parameters), %ld samples, one core, kernel for %s\n", layers, np, n, isa);
   printf("%-40s %12s %22s\n", "path", "ns/sample", "loss sum");
   for (int p = 0; p < N_PATHS; ++p) {
     double check = 0.0, ns = ns_per_sample(&b, (enum path)p, &check);
     printf("%-40s %12.1f %22.17g\n", path_names[p], ns, check);
   }
-  /* The training path on each build of the kernel this CPU can run (the
-   * CPU picks the widest; the others are what other CPUs would get). */
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512};
-  static const char *const isa_names[] = {"baseline x86-64", "AVX2+FMA", "AVX-512F"};
-  for (int q = 0; q < 3; ++q) {
+  for (int q = 0; q < 4; ++q) {
     if (!sf_mlp_isa_available(isas[q])) continue;
     b.isa = isas[q];
     char name[64];

@@ -63,19 +63,39 @@ int sf_mlp_isa_available(sf_mlp_isa isa) {
     case SF_MLP_ISA_BASELINE: return 1;
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)
     case SF_MLP_ISA_AVX2_FMA: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    case SF_MLP_ISA_AVX512: return __builtin_cpu_supports("avx512f");
+    case SF_MLP_ISA_AVX512:
+    case SF_MLP_ISA_AVX512_NEWTON: return __builtin_cpu_supports("avx512f");
 #endif
     default: return 0;
   }
 }
 
+sf_mlp_isa sf_mlp_isa_auto(void) {
+  if (sf_mlp_isa_available(SF_MLP_ISA_AVX512)) {
+#if defined(SKYFIT_MLP_KERNEL_DISPATCH)
+    if (__builtin_cpu_is("intel")) return SF_MLP_ISA_AVX512_NEWTON;
+#endif
+    return SF_MLP_ISA_AVX512;
+  }
+  return sf_mlp_isa_available(SF_MLP_ISA_AVX2_FMA) ? SF_MLP_ISA_AVX2_FMA : SF_MLP_ISA_BASELINE;
+}
+
+int sf_mlp_reciprocals_newton(const double *d, double *out, long n) {
+#if defined(SKYFIT_MLP_KERNEL_DISPATCH)
+  if (sf_mlp_isa_available(SF_MLP_ISA_AVX512_NEWTON)) {
+    sf_mlp_reciprocals_avx512(d, out, n);
+    return 1;
+  }
+#endif
+  (void)d, (void)out, (void)n;
+  return 0;
+}
+
 static double loss_groups_isa(sf_mlp_isa isa, const sf_mlp_kernel_args *a) {
-  if (isa == SF_MLP_ISA_AUTO)
-    isa = sf_mlp_isa_available(SF_MLP_ISA_AVX512)     ? SF_MLP_ISA_AVX512
-          : sf_mlp_isa_available(SF_MLP_ISA_AVX2_FMA) ? SF_MLP_ISA_AVX2_FMA
-                                                      : SF_MLP_ISA_BASELINE;
+  if (isa == SF_MLP_ISA_AUTO) isa = sf_mlp_isa_auto();
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)
   if (isa == SF_MLP_ISA_AVX512) return sf_mlp_kernel_avx512(a);
+  if (isa == SF_MLP_ISA_AVX512_NEWTON) return sf_mlp_kernel_avx512_newton(a);
   if (isa == SF_MLP_ISA_AVX2_FMA) return sf_mlp_kernel_avx2(a);
 #endif
   return sf_mlp_kernel_baseline(a);

@@ -21,7 +21,8 @@
  * (gradient lanes are accumulated directly, G[p][lane] += d * a, with no
  * per-block fold). The vectors are independent dependency chains through
  * the exponentials (table-driven, fit/mlp_lanes.h; those of a pass
- * evaluated side by side) and divisions.
+ * evaluated side by side) and divisions (on Intel half of a sigmoid
+ * pass's by multiply-adds, fit/mlp_lanes_reciprocal.h: the same bits).
  * Summation order, fixed by the samples alone: sample begin + 8 m + k of a
  * call is added to lane k in the order of m (its loss and its gradient
  * products), and the 8 lanes are added in a fixed tree at the end. So the
@@ -140,11 +141,29 @@ double sf_mlp_loss_range(const sf_mlp_shape *shape, const double *params, const 
                          double *grad);
 
 /* The instruction sets the kernel is compiled for (x86-64 with GCC or
- * Clang: fit/mlp_kernel.h; the baseline elsewhere). AUTO: the widest the
- * CPU offers, what every function above runs. */
-typedef enum sf_mlp_isa { SF_MLP_ISA_AUTO = 0, SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512 } sf_mlp_isa;
+ * Clang: fit/mlp_kernel.h; the baseline elsewhere). AVX512_NEWTON is
+ * AVX-512 with half of each sigmoid layer's divisions done by multiply-adds
+ * (fit/mlp_lanes_reciprocal.h: the same bits), for Intel's divider. AUTO:
+ * the widest the CPU offers, what every function above runs: on an Intel
+ * CPU with AVX-512, AVX512_NEWTON (measured on a Xeon, one core: 2,4,3 full
+ * batch with gradient 7.8 -> 7.3 ns per sample, 4,8,8,9 shuffled 46.7-48.2
+ * -> 43.0); on others AVX512 (AMD's Zen 4 and 5 divide 8 lanes in 8.6 and 3.8
+ * cycles, and their multiply-add ports are the kernel's bound). */
+typedef enum sf_mlp_isa {
+  SF_MLP_ISA_AUTO = 0,
+  SF_MLP_ISA_BASELINE,
+  SF_MLP_ISA_AVX2_FMA,
+  SF_MLP_ISA_AVX512,
+  SF_MLP_ISA_AVX512_NEWTON
+} sf_mlp_isa;
 /* Whether this build and this CPU can run isa. */
 int sf_mlp_isa_available(sf_mlp_isa isa);
+/* What AUTO runs on this CPU. */
+sf_mlp_isa sf_mlp_isa_auto(void);
+/* out[i] = 1 / d[i], i < n (1 <= d[i] <= 2^1020), by AVX512_NEWTON's
+ * multiply-adds (tests: the bits of the division); 0, writing nothing,
+ * where AVX512_NEWTON is not available, else 1. */
+int sf_mlp_reciprocals_newton(const double *d, double *out, long n);
 /* sf_mlp_loss_range on the kernel compiled for isa (tests: the same bits on
  * each); NAN if it is not available. */
 double sf_mlp_loss_range_isa(sf_mlp_isa isa, const sf_mlp_shape *shape, const double *params,

@@ -5,8 +5,10 @@
  * each in its own file with its own compiler flags (CMakeLists.txt):
  * fit/mlp_kernel_avx512.c (-mavx512f), fit/mlp_kernel_avx2.c (-mavx2
  * -mfma) and fit/mlp_kernel_baseline.c (no flags: any x86-64, any other
- * CPU). fit/mlp_backward.c picks one at run time: the binary runs on any
- * x86-64 without -march. A whole file per instruction set, not a function
+ * CPU), and fit/mlp_kernel_avx512_newton.c, AVX-512 with half the
+ * sigmoids' divisions by multiply-adds (Intel's slow divider).
+ * fit/mlp_backward.c picks one at run time: the binary runs on any x86-64
+ * without -march. A whole file per instruction set, not a function
  * attribute, because fit/mlp_lanes.h chooses its representation of 8 lanes
  * by the flags it is compiled with (AVX2: two 4-lane registers, through
  * intrinsics; GCC's generic 8-lane vectors became scalar compares and stack
@@ -140,6 +142,9 @@ double sf_mlp_kernel_baseline(const sf_mlp_kernel_args *a);
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)
 double sf_mlp_kernel_avx2(const sf_mlp_kernel_args *a);
 double sf_mlp_kernel_avx512(const sf_mlp_kernel_args *a);
+double sf_mlp_kernel_avx512_newton(const sf_mlp_kernel_args *a);
+/* sf_mlp_reciprocals_newton's work (fit/mlp_kernel_avx512_newton.c). */
+void sf_mlp_reciprocals_avx512(const double *d, double *out, long n);
 #endif
 
 #endif

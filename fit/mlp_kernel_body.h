@@ -22,12 +22,43 @@
 
 #include "fit/mlp_kernel.h"
 #include "fit/mlp_lanes.h"
+#if defined(SF_MLP_SIGMOID_NEWTON)
+#include "fit/mlp_lanes_reciprocal.h"
+#endif
 
 #if defined(__GNUC__)
 #define FORCE_INLINE __attribute__((always_inline)) inline
 #else
 #define FORCE_INLINE inline
 #endif
+
+/* The sigmoid's e^-z is capped at e^700 (z < -700 gives 1 / (1 + e^700) =
+ * 9.9e-305 for anything smaller, where e^-708's cap gave down to 1.2e-308,
+ * a subnormal 1/d): its denominators stay in sf_lanes_reciprocal_n's
+ * domain, the same cap on every build. */
+#define SIGMOID_EXP_CAP 700.0
+
+/* d[k] = 1 / d[k] for the n vectors of a pass (1 <= d <= 1 + e^700). With
+ * SF_MLP_SIGMOID_NEWTON (fit/mlp_kernel_avx512_newton.c) the even vectors
+ * by multiply-adds (fit/mlp_lanes_reciprocal.h), the odd ones by the
+ * divider, which works beside the multiply-add ports: the same bits as
+ * dividing all. */
+static FORCE_INLINE void reciprocals_n(sf_lanes *d, int n) {
+  const sf_lanes one = sf_lanes_set1(1.0);
+#if defined(SF_MLP_SIGMOID_NEWTON)
+  sf_lanes even[SF_LANES_EXP_MAX];
+  SF_LANES_UNROLL
+  for (int k = 0; 2 * k < n; ++k) even[k] = d[2 * k];
+  sf_lanes_reciprocal_n(even, (n + 1) / 2);
+  SF_LANES_UNROLL
+  for (int k = 0; 2 * k < n; ++k) d[2 * k] = even[k];
+  SF_LANES_UNROLL
+  for (int k = 1; k < n; k += 2) d[k] = sf_lanes_div(one, d[k]);
+#else
+  SF_LANES_UNROLL
+  for (int k = 0; k < n; ++k) d[k] = sf_lanes_div(one, d[k]);
+#endif
+}
 
 /* z[k] = f(z[k]) on the lanes of the n vectors of a pass (sf_mlp_activate's
  * formulas; tanh through libm), their exponentials side by side
@@ -45,7 +76,8 @@ static FORCE_INLINE void activate_n(sf_mlp_activation f, sf_lanes *z, int n) {
     }
     if (f == SF_ACT_RELU) z[k] = sf_lanes_select(sf_lanes_gt(z[k], zero), z[k], zero);
   }
-  if (f == SF_ACT_SIGMOID || f == SF_ACT_EXP_NEG || f == SF_ACT_EXP_NEG_EXP) sf_lanes_exp_n(z, n);
+  if (f == SF_ACT_SIGMOID) sf_lanes_exp_n_capped(z, n, SIGMOID_EXP_CAP);
+  if (f == SF_ACT_EXP_NEG || f == SF_ACT_EXP_NEG_EXP) sf_lanes_exp_n(z, n);
   if (f == SF_ACT_EXP_NEG_EXP) {
     SF_LANES_UNROLL
     for (int k = 0; k < n; ++k) z[k] = sf_lanes_neg(z[k]);
@@ -53,7 +85,8 @@ static FORCE_INLINE void activate_n(sf_mlp_activation f, sf_lanes *z, int n) {
   }
   if (f == SF_ACT_SIGMOID) {
     SF_LANES_UNROLL
-    for (int k = 0; k < n; ++k) z[k] = sf_lanes_div(one, sf_lanes_add(one, z[k]));
+    for (int k = 0; k < n; ++k) z[k] = sf_lanes_add(one, z[k]);
+    reciprocals_n(z, n);
   }
 }
 

@@ -456,16 +456,20 @@ static const double sf_lanes_exp2_sixteenths[16] = {
  * processor overlaps them without looking far ahead (GCC does not
  * interleave separately inlined exponentials on x86). Measured on a Zen 5,
  * training kernel with 8 at a time against one by one: 2,4,3 full batch
- * 5.2-5.5 -> 4.1-4.4 ns per sample, 2,16,16,3 shuffled 44 -> 35-39. */
+ * 5.2-5.5 -> 4.1-4.4 ns per sample, 2,16,16,3 shuffled 44 -> 35-39.
+ *
+ * sf_lanes_exp_n_capped clamps x to [-708, cap] instead (cap <= 709, a
+ * constant where it is called): the sigmoid's e^-z stays below 2^1010
+ * there (fit/mlp_lanes_reciprocal.h). */
 #define SF_LANES_EXP_MAX 8
-SF_LANES_INLINE void sf_lanes_exp_n(sf_lanes *x, int n) {
+SF_LANES_INLINE void sf_lanes_exp_n_capped(sf_lanes *x, int n, double cap) {
   /* 1.5 * 2^52 rounds to the nearest integer; 1023 * 16 biases m. */
   const double shift = 6755399441055744.0 + 1023.0 * 16.0;
   sf_lanes shifted[SF_LANES_EXP_MAX], r[SF_LANES_EXP_MAX], r2[SF_LANES_EXP_MAX], P[SF_LANES_EXP_MAX];
   SF_LANES_UNROLL
   for (int k = 0; k < n; ++k) {
     /* max then min: a NaN x is kept by both (the second operand's rule) */
-    sf_lanes c = sf_lanes_min(sf_lanes_set1(709.0), sf_lanes_max(sf_lanes_set1(-708.0), x[k]));
+    sf_lanes c = sf_lanes_min(sf_lanes_set1(cap), sf_lanes_max(sf_lanes_set1(-708.0), x[k]));
     /* n = 16 m + j = round(16 c / ln 2); n + 1023 * 16 (>= 25 after the
      * clamps) in the low bits of shifted: j in bits 0..3, m + 1023 above */
     shifted[k] = sf_lanes_fma_scalars(c, 16.0 * 1.4426950408889634074, shift);
@@ -496,6 +500,8 @@ SF_LANES_INLINE void sf_lanes_exp_n(sf_lanes *x, int n) {
     x[k] = sf_lanes_mul(sf_lanes_fma(t, em1, t), sf_lanes_exponent_bits(shifted[k]));
   }
 }
+
+SF_LANES_INLINE void sf_lanes_exp_n(sf_lanes *x, int n) { sf_lanes_exp_n_capped(x, n, 709.0); }
 
 /* e^x on every lane (sf_lanes_exp_n of one vector). */
 SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {

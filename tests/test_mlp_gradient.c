@@ -172,9 +172,10 @@ static void many_samples(void) {
   printf("packed rows: loss and gradient bit for bit those of x and y rows: %s\n", same ? "yes" : "no");
   CHECK(same);
   /* and on each instruction set's kernel (each its own gather transposes) */
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512};
-  static const char *const isa_names[] = {"baseline", "avx2+fma", "avx512f"};
-  for (int q = 0; q < 3; ++q) {
+  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512,
+                                    SF_MLP_ISA_AVX512_NEWTON};
+  static const char *const isa_names[] = {"baseline", "avx2+fma", "avx512f", "avx512f+newton"};
+  for (int q = 0; q < 4; ++q) {
     if (!sf_mlp_isa_available(isas[q])) {
       printf("packed rows: skip %s: not on this CPU or build\n", isa_names[q]);
       continue;
@@ -200,8 +201,8 @@ static void many_samples(void) {
  * (several groups and a partial one), on each instruction set: the same
  * bits as the baseline kernel (fit/mlp_backward.h). */
 static void same_bits_on_every_isa(void) {
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512};
-  static const char *const isa_names[] = {"avx2+fma", "avx512f"};
+  static const sf_mlp_isa isas[] = {SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512, SF_MLP_ISA_AVX512_NEWTON};
+  static const char *const isa_names[] = {"avx2+fma", "avx512f", "avx512f+newton"};
   enum { N = 300 };
   double x[N * 4], y[N * 9], delta[9];
   int index[N];
@@ -211,7 +212,7 @@ static void same_bits_on_every_isa(void) {
   for (int k = 0; k < N * 9; ++k) y[k] = 0.05 + sf_rng_uniform(&rng);
   for (int k = 0; k < 9; ++k) delta[k] = 0.01;
   for (int k = 0; k < N; ++k) index[k] = (int)((k * 7919L) % N);
-  for (int q = 0; q < 2; ++q) {
+  for (int q = 0; q < 3; ++q) {
     if (!sf_mlp_isa_available(isas[q])) {
       printf("skip %s: not on this CPU or build\n", isa_names[q]);
       continue;
