@@ -32,10 +32,10 @@
 #define FORCE_INLINE inline
 #endif
 
-/* The sigmoid's e^-z is capped at e^700 (z < -700 gives 1 / (1 + e^700) =
- * 9.9e-305 for anything smaller, where e^-708's cap gave down to 1.2e-308,
- * a subnormal 1/d): its denominators stay in sf_lanes_reciprocal_n's
- * domain, the same cap on every build. */
+/* The sigmoid's e^-z is capped at e^700: any z < -700 gives 1 / (1 +
+ * e^700) = 9.9e-305 (the exponential's own cap, e^709, gave down to
+ * 1.2e-308, a subnormal 1/d). Its denominators stay in
+ * sf_lanes_reciprocal_n's domain; the same cap on every build. */
 #define SIGMOID_EXP_CAP 700.0
 
 /* d[k] = 1 / d[k] for the n vectors of a pass (1 <= d <= 1 + e^700). With
