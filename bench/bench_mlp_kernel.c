@@ -127,28 +127,21 @@ int main(int argc, char **argv) {
   b.y = y;
   b.order = order;
   b.n = n;
-  /* The training path on each build of the kernel this CPU can run (the
-   * CPU picks one, sf_mlp_isa_auto; the others are what other CPUs would
-   * get). */
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512,
-                                    SF_MLP_ISA_AVX512_NEWTON};
-  static const char *const isa_names[] = {"baseline x86-64", "AVX2+FMA", "AVX-512F",
-                                          "AVX-512F+Newton"};
-  const sf_mlp_isa picked = sf_mlp_isa_auto();
-  const char *isa = isa_names[0];
-  for (int q = 0; q < 4; ++q)
-    if (isas[q] == picked) isa = isa_names[q];
-  printf("training kernel, %s network (%d parameters), %ld samples, one core, kernel for %s\n", layers, np, n, isa);
+  printf("training kernel, %s network (%d parameters), %ld samples, one core, kernel for %s\n", layers, np, n,
+         sf_mlp_isa_name(sf_mlp_isa_auto()));
   printf("%-40s %12s %22s\n", "path", "ns/sample", "loss sum");
   for (int p = 0; p < N_PATHS; ++p) {
     double check = 0.0, ns = ns_per_sample(&b, (enum path)p, &check);
     printf("%-40s %12.1f %22.17g\n", path_names[p], ns, check);
   }
-  for (int q = 0; q < 4; ++q) {
-    if (!sf_mlp_isa_available(isas[q])) continue;
-    b.isa = isas[q];
+  /* The training path on each build of the kernel this CPU can run (the
+   * CPU picks one, sf_mlp_isa_auto; the others are what other CPUs would
+   * get). */
+  for (int q = SF_MLP_ISA_BASELINE; q < SF_MLP_ISA_COUNT; ++q) {
+    if (!sf_mlp_isa_available((sf_mlp_isa)q)) continue;
+    b.isa = (sf_mlp_isa)q;
     char name[64];
-    snprintf(name, sizeof name, "  the same, kernel for %s", isa_names[q]);
+    snprintf(name, sizeof name, "  the same, kernel for %s", sf_mlp_isa_name((sf_mlp_isa)q));
     double check = 0.0, ns = ns_per_sample(&b, GRADIENT_SHUFFLED_PACKED_ISA, &check);
     printf("%-40s %12.1f %22.17g\n", name, ns, check);
   }

@@ -70,6 +70,12 @@ int sf_mlp_isa_available(sf_mlp_isa isa) {
   }
 }
 
+const char *sf_mlp_isa_name(sf_mlp_isa isa) {
+  static const char *const names[SF_MLP_ISA_COUNT] = {"auto", "baseline x86-64", "AVX2+FMA", "AVX-512F",
+                                                      "AVX-512F+Newton"};
+  return (unsigned)isa < SF_MLP_ISA_COUNT ? names[isa] : "?";
+}
+
 sf_mlp_isa sf_mlp_isa_auto(void) {
   if (sf_mlp_isa_available(SF_MLP_ISA_AVX512)) {
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)

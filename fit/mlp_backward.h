@@ -154,8 +154,11 @@ typedef enum sf_mlp_isa {
   SF_MLP_ISA_BASELINE,
   SF_MLP_ISA_AVX2_FMA,
   SF_MLP_ISA_AVX512,
-  SF_MLP_ISA_AVX512_NEWTON
+  SF_MLP_ISA_AVX512_NEWTON,
+  SF_MLP_ISA_COUNT   /* not a build: BASELINE..COUNT-1 are every build */
 } sf_mlp_isa;
+/* "baseline x86-64", "AVX2+FMA", "AVX-512F", "AVX-512F+Newton" ("auto"). */
+const char *sf_mlp_isa_name(sf_mlp_isa isa);
 /* Whether this build and this CPU can run isa. */
 int sf_mlp_isa_available(sf_mlp_isa isa);
 /* What AUTO runs on this CPU. */

@@ -172,18 +172,16 @@ static void many_samples(void) {
   printf("packed rows: loss and gradient bit for bit those of x and y rows: %s\n", same ? "yes" : "no");
   CHECK(same);
   /* and on each instruction set's kernel (each its own gather transposes) */
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_BASELINE, SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512,
-                                    SF_MLP_ISA_AVX512_NEWTON};
-  static const char *const isa_names[] = {"baseline", "avx2+fma", "avx512f", "avx512f+newton"};
-  for (int q = 0; q < 4; ++q) {
-    if (!sf_mlp_isa_available(isas[q])) {
-      printf("packed rows: skip %s: not on this CPU or build\n", isa_names[q]);
+  for (int q = SF_MLP_ISA_BASELINE; q < SF_MLP_ISA_COUNT; ++q) {
+    const sf_mlp_isa isa = (sf_mlp_isa)q;
+    if (!sf_mlp_isa_available(isa)) {
+      printf("packed rows: skip %s: not on this CPU or build\n", sf_mlp_isa_name(isa));
       continue;
     }
     memset(g_rows, 0, sizeof(double) * np);
-    got_rows = sf_mlp_loss_rows_isa(isas[q], &s, p, &loss, &rows, index, BEGIN, END, g_rows);
+    got_rows = sf_mlp_loss_rows_isa(isa, &s, p, &loss, &rows, index, BEGIN, END, g_rows);
     same = memcmp(&got_rows, &got, sizeof got) == 0 && memcmp(g_rows, g, sizeof(double) * np) == 0;
-    printf("packed rows, %s kernel: bit for bit: %s\n", isa_names[q], same ? "yes" : "no");
+    printf("packed rows, %s kernel: bit for bit: %s\n", sf_mlp_isa_name(isa), same ? "yes" : "no");
     CHECK(same);
   }
   chunked_passes(&s, p, &loss, x, y, &rows, index, N, BEGIN, END, &ws);
@@ -201,8 +199,6 @@ static void many_samples(void) {
  * (several groups and a partial one), on each instruction set: the same
  * bits as the baseline kernel (fit/mlp_backward.h). */
 static void same_bits_on_every_isa(void) {
-  static const sf_mlp_isa isas[] = {SF_MLP_ISA_AVX2_FMA, SF_MLP_ISA_AVX512, SF_MLP_ISA_AVX512_NEWTON};
-  static const char *const isa_names[] = {"avx2+fma", "avx512f", "avx512f+newton"};
   enum { N = 300 };
   double x[N * 4], y[N * 9], delta[9];
   int index[N];
@@ -212,9 +208,12 @@ static void same_bits_on_every_isa(void) {
   for (int k = 0; k < N * 9; ++k) y[k] = 0.05 + sf_rng_uniform(&rng);
   for (int k = 0; k < 9; ++k) delta[k] = 0.01;
   for (int k = 0; k < N; ++k) index[k] = (int)((k * 7919L) % N);
-  for (int q = 0; q < 3; ++q) {
-    if (!sf_mlp_isa_available(isas[q])) {
-      printf("skip %s: not on this CPU or build\n", isa_names[q]);
+  /* every build but the baseline itself */
+  for (int q = SF_MLP_ISA_BASELINE + 1; q < SF_MLP_ISA_COUNT; ++q) {
+    const sf_mlp_isa isa = (sf_mlp_isa)q;
+    const char *name = sf_mlp_isa_name(isa);
+    if (!sf_mlp_isa_available(isa)) {
+      printf("skip %s: not on this CPU or build\n", name);
       continue;
     }
     int cases = 0, same = 0;
@@ -232,12 +231,12 @@ static void same_bits_on_every_isa(void) {
           for (int k = 0; k < 193; ++k) p[k] = 2.0 * sf_rng_uniform(&rng) - 1.0;
           sf_mlp_loss loss = {(sf_mlp_loss_kind)kind, delta};
           double l_base = sf_mlp_loss_range_isa(SF_MLP_ISA_BASELINE, &s, p, &loss, x, y, index, 3, N - 2, g_base);
-          double l_isa = sf_mlp_loss_range_isa(isas[q], &s, p, &loss, x, y, index, 3, N - 2, g_isa);
+          double l_isa = sf_mlp_loss_range_isa(isa, &s, p, &loss, x, y, index, 3, N - 2, g_isa);
           cases += 1;
           same += memcmp(&l_base, &l_isa, sizeof l_base) == 0 && memcmp(g_base, g_isa, sizeof g_base) == 0 &&
                   isfinite(l_base);
         }
-    printf("%s kernel: loss and gradient bit for bit the baseline's in %d of %d networks\n", isa_names[q], same,
+    printf("%s kernel: loss and gradient bit for bit the baseline's in %d of %d networks\n", name, same,
            cases);
     CHECK(same == cases);
     /* Saturated units: weights up to 300 put the exponentials' arguments
@@ -254,10 +253,10 @@ static void same_bits_on_every_isa(void) {
       for (int k = 0; k < 193; ++k) p[k] = 300.0 * (2.0 * sf_rng_uniform(&rng) - 1.0);
       sf_mlp_loss loss = {SF_LOSS_REL, delta};
       double l_base = sf_mlp_loss_range_isa(SF_MLP_ISA_BASELINE, &s, p, &loss, x, y, index, 3, N - 2, g_base);
-      double l_isa = sf_mlp_loss_range_isa(isas[q], &s, p, &loss, x, y, index, 3, N - 2, g_isa);
+      double l_isa = sf_mlp_loss_range_isa(isa, &s, p, &loss, x, y, index, 3, N - 2, g_isa);
       saturated_same += memcmp(&l_base, &l_isa, sizeof l_base) == 0 && memcmp(g_base, g_isa, sizeof g_base) == 0;
     }
-    printf("%s kernel, saturated units: bit for bit the baseline's in %d of 4 networks\n", isa_names[q], saturated_same);
+    printf("%s kernel, saturated units: bit for bit the baseline's in %d of 4 networks\n", name, saturated_same);
     CHECK(saturated_same == 4);
   }
 }
