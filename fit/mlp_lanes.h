@@ -90,6 +90,16 @@ SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
   return sf_lanes_fma(a, sf_lanes_set1(w), sf_lanes_set1(u));
 }
+/* c - a * w and u - a * w rounded once, w and u on every lane */
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
+  const __m256d wv = _mm256_set1_pd(w);
+  sf_lanes r;
+  SF_LANES_HALVES(r, _mm256_fnmadd_pd(a.lo, wv, c.lo), _mm256_fnmadd_pd(a.hi, wv, c.hi));
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
+  return sf_lanes_fnma_scalar(a, w, sf_lanes_set1(u));
+}
 /* ordered, non-signalling: false where either side is NaN, as a < b */
 #define SF_LANES_COMPARE(name, predicate)                                                     \
   SF_LANES_INLINE sf_lanes_mask name(sf_lanes a, sf_lanes b) {                               \
@@ -124,22 +134,26 @@ SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
   SF_LANES_HALVES(r, _mm256_min_pd(a.lo, b.lo), _mm256_min_pd(a.hi, b.hi));
   return r;
 }
-/* table[i & 15], i the bits of idx, lane by lane (four-lane gathers) */
-SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+/* The lanes whose bits are table[i & 15], i the bits of idx, lane by lane
+ * (four-lane gathers) */
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16_bits(const uint64_t table[16], sf_lanes idx) {
   const __m256i low4 = _mm256_set1_epi64x(15);
+  const long long *t = (const long long *)table;
   sf_lanes r;
-  SF_LANES_HALVES(r, _mm256_i64gather_pd(table, _mm256_and_si256(_mm256_castpd_si256(idx.lo), low4), 8),
-                  _mm256_i64gather_pd(table, _mm256_and_si256(_mm256_castpd_si256(idx.hi), low4), 8));
+  SF_LANES_HALVES(r,
+                  _mm256_castsi256_pd(_mm256_i64gather_epi64(t, _mm256_and_si256(_mm256_castpd_si256(idx.lo), low4), 8)),
+                  _mm256_castsi256_pd(_mm256_i64gather_epi64(t, _mm256_and_si256(_mm256_castpd_si256(idx.hi), low4), 8)));
   return r;
 }
-/* The double whose bits are (i >> 4) << 52, i the bits of nb: 2^(e - 1023)
- * for a biased exponent e = 1..2046 in bits 4..15 of nb. */
-SF_LANES_INLINE __m256d sf_lanes_exponent_bits4(__m256d nb) {
-  return _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_srli_epi64(_mm256_castpd_si256(nb), 4), 52));
+/* The double whose bits are bits(a) + (bits(b) << 48), mod 2^64, lane by
+ * lane. */
+SF_LANES_INLINE __m256d sf_lanes_bits_add_shl48_4(__m256d a, __m256d b) {
+  return _mm256_castsi256_pd(
+      _mm256_add_epi64(_mm256_castpd_si256(a), _mm256_slli_epi64(_mm256_castpd_si256(b), 48)));
 }
-SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
+SF_LANES_INLINE sf_lanes sf_lanes_bits_add_shl48(sf_lanes a, sf_lanes b) {
   sf_lanes r;
-  SF_LANES_HALVES(r, sf_lanes_exponent_bits4(nb.lo), sf_lanes_exponent_bits4(nb.hi));
+  SF_LANES_HALVES(r, sf_lanes_bits_add_shl48_4(a.lo, b.lo), sf_lanes_bits_add_shl48_4(a.hi, b.hi));
   return r;
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) {
@@ -220,6 +234,18 @@ SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
   for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, u);
   return r;
 }
+/* c - a * w and u - a * w rounded once, w and u on every lane (-a is
+ * exact: one negated multiply-add instruction) */
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, c[k]);
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, u);
+  return r;
+}
 SF_LANES_INLINE sf_lanes_mask sf_lanes_lt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a < b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_gt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a > b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_eq(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a == b); }
@@ -250,22 +276,21 @@ SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
   return r;
 #endif
 }
-/* table[i & 15], i the bits of idx, lane by lane (AVX-512: one two-register
- * permute, the table in registers) */
-SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+/* The lanes whose bits are table[i & 15], i the bits of idx, lane by lane
+ * (AVX-512: one two-register permute, the table in registers) */
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16_bits(const uint64_t table[16], sf_lanes idx) {
 #if defined(__AVX512F__)
-  return (sf_lanes)_mm512_permutex2var_pd(_mm512_loadu_pd(table), _mm512_castpd_si512((__m512d)idx),
-                                          _mm512_loadu_pd(table + 8));
+  return (sf_lanes)_mm512_permutex2var_epi64(_mm512_loadu_si512(table), (__m512i)idx, _mm512_loadu_si512(table + 8));
 #else
-  sf_lanes r;
+  sf_lanes_bits r;
   for (int k = 0; k < SF_LANES; ++k) r[k] = table[((sf_lanes_bits)idx)[k] & 15];
-  return r;
+  return (sf_lanes)r;
 #endif
 }
-/* The double whose bits are (i >> 4) << 52, i the bits of nb: 2^(e - 1023)
- * for a biased exponent e = 1..2046 in bits 4..15 of nb. */
-SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
-  return (sf_lanes)(((sf_lanes_bits)nb >> 4) << 52);
+/* The double whose bits are bits(a) + (bits(b) << 48), mod 2^64, lane by
+ * lane. */
+SF_LANES_INLINE sf_lanes sf_lanes_bits_add_shl48(sf_lanes a, sf_lanes b) {
+  return (sf_lanes)((sf_lanes_bits)a + ((sf_lanes_bits)b << 48));
 }
 SF_LANES_INLINE double sf_lanes_get(sf_lanes a, int k) { return a[k]; }
 /* Lanes i0..i7 of the 16 lanes of a then b (constants). */
@@ -356,6 +381,16 @@ SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
   for (int k = 0; k < SF_LANES; ++k) r.v[k] = fma(a.v[k], w, u);
   return r;
 }
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r.v[k] = fma(-a.v[k], w, c.v[k]);
+  return r;
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r.v[k] = fma(-a.v[k], w, u);
+  return r;
+}
 #define SF_LANES_COMPARE(name, op)                                                \
   SF_LANES_INLINE sf_lanes_mask name(sf_lanes a, sf_lanes b) {                   \
     sf_lanes_mask r;                                                              \
@@ -391,21 +426,22 @@ SF_LANES_INLINE sf_lanes sf_lanes_min(sf_lanes a, sf_lanes b) {
   for (int k = 0; k < SF_LANES; ++k) r.v[k] = a.v[k] < b.v[k] ? a.v[k] : b.v[k];
   return r;
 }
-SF_LANES_INLINE sf_lanes sf_lanes_lookup16(const double table[16], sf_lanes idx) {
+SF_LANES_INLINE sf_lanes sf_lanes_lookup16_bits(const uint64_t table[16], sf_lanes idx) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) {
     uint64_t u;
     memcpy(&u, &idx.v[k], sizeof u);
-    r.v[k] = table[u & 15];
+    memcpy(&r.v[k], &table[u & 15], sizeof u);
   }
   return r;
 }
-SF_LANES_INLINE sf_lanes sf_lanes_exponent_bits(sf_lanes nb) {
+SF_LANES_INLINE sf_lanes sf_lanes_bits_add_shl48(sf_lanes a, sf_lanes b) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) {
-    uint64_t u;
-    memcpy(&u, &nb.v[k], sizeof u);
-    u = (u >> 4) << 52;
+    uint64_t u, v;
+    memcpy(&u, &a.v[k], sizeof u);
+    memcpy(&v, &b.v[k], sizeof v);
+    u += v << 48;
     memcpy(&r.v[k], &u, sizeof u);
   }
   return r;
@@ -421,12 +457,17 @@ SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
 }
 #endif
 
-/* 2^(j/16), j = 0..15, correctly rounded */
-static const double sf_lanes_exp2_sixteenths[16] = {
-    0x1.0000000000000p+0, 0x1.0b5586cf9890fp+0, 0x1.172b83c7d517bp+0, 0x1.2387a6e756238p+0,
-    0x1.306fe0a31b715p+0, 0x1.3dea64c123422p+0, 0x1.4bfdad5362a27p+0, 0x1.5ab07dd485429p+0,
-    0x1.6a09e667f3bcdp+0, 0x1.7a11473eb0187p+0, 0x1.8ace5422aa0dbp+0, 0x1.9c49182a3f090p+0,
-    0x1.ae89f995ad3adp+0, 0x1.c199bdd85529cp+0, 0x1.d5818dcfba487p+0, 0x1.ea4afa2a490dap+0};
+/* The exponential's table: entry j holds the bits of 2^(j/16) (correctly
+ * rounded) less j << 48 and 1023 << 52, mod 2^64. Adding to it the low 16
+ * bits of 16 (m + 1023) + j, shifted up by 48 (sf_lanes_bits_add_shl48),
+ * gives the bits of 2^(j/16) with m added to its exponent: 2^m 2^(j/16)
+ * in two integer operations, the table lookup's index being those same
+ * bits. (As doubles the entries are meaningless: NaNs and negatives.) */
+static const uint64_t sf_lanes_exp2_sixteenths_bits[16] = {
+    0x0000000000000000u, 0xffffb5586cf9890fu, 0xffff72b83c7d517bu, 0xffff387a6e756238u,
+    0xffff06fe0a31b715u, 0xfffedea64c123422u, 0xfffebfdad5362a27u, 0xfffeab07dd485429u,
+    0xfffea09e667f3bcdu, 0xfffea11473eb0187u, 0xfffeace5422aa0dbu, 0xfffec49182a3f090u,
+    0xfffee89f995ad3adu, 0xffff199bdd85529cu, 0xffff5818dcfba487u, 0xffffa4afa2a490dau};
 
 #if defined(__clang__)
 #define SF_LANES_UNROLL _Pragma("clang loop unroll(full)")
@@ -442,11 +483,11 @@ static const double sf_lanes_exp2_sixteenths[16] = {
  * [-708, 709] (NaN passes through), x = (16 m + j) ln2/16 + r with |r| <=
  * ln2/32 (Cody & Waite: ln 2 split so that n ln2_hi/16 is exact), then
  *   e^x = 2^m 2^(j/16) (1 + (r + r^2 P(r))),  P(r) = sum_{k=2}^{7} r^(k-2)/k!
- * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^(j/16)
- * from the table (AVX-512: one permute of two registers; the others a
- * gather or a load per lane) and 2^m made from its exponent bits. The
+ * P by Estrin's scheme (a dependency chain of 3 multiply-adds), 2^m
+ * 2^(j/16) by an integer addition to an entry of the table (AVX-512: one
+ * permute of two registers; the others a gather or a load per lane). The
  * truncated term r^8/8! is below 1.2e-18; the whole within 1 ulp of libm's
- * exp (tests/test_mlp_lanes.c). About 20 instructions where the degree-13
+ * exp (tests/test_mlp_lanes.c). About 18 instructions where the degree-13
  * polynomial of a table-free reduction (|r| <= ln2/2) took 31: the kernel
  * is bound by its exponentials. Every multiply-add is fused where written,
  * so the bits are the same in every representation above, and for any n.
@@ -491,13 +532,16 @@ SF_LANES_INLINE void sf_lanes_exp_n_capped(sf_lanes *x, int n, double cap) {
   SF_LANES_UNROLL
   for (int k = 0; k < n; ++k) {
     sf_lanes em1 = sf_lanes_fma(r2[k], P[k], r[k]);   /* e^r - 1 */
-    sf_lanes t = sf_lanes_lookup16(sf_lanes_exp2_sixteenths, shifted[k]);
-    /* times 2^m, exact: t (1 + em1) = 2^(j/16 + r/ln2) lies in [0.978,
-     * 1.96), below 1 only for j = 0, and the clamps keep m in -1022..1022
-     * with j >= 9 at m = -1022, so the product is a normal number. A
-     * product, not an integer addition to the exponent bits: a NaN x stays
-     * NaN whatever its payload (which reaches shifted, hence the scale). */
-    x[k] = sf_lanes_mul(sf_lanes_fma(t, em1, t), sf_lanes_exponent_bits(shifted[k]));
+    /* t = 2^m 2^(j/16), exact: the clamps keep m in -1022..1022, so its
+     * exponent 1023 + m in 1..2045. t (1 + em1) = 2^m 2^(j/16 + r/ln2),
+     * 2^(j/16 + r/ln2) in [0.978, 1.96), below 1 only for j = 0, and j >= 9
+     * at m = -1022: a normal number, so rounding it once is 2^m times the
+     * rounding of 2^(j/16) (1 + em1) (the same bits as scaling after the
+     * multiply-add, one operation fewer). A NaN x makes em1 NaN, hence
+     * x[k], whatever t its payload made. */
+    sf_lanes entry = sf_lanes_lookup16_bits(sf_lanes_exp2_sixteenths_bits, shifted[k]);
+    sf_lanes t = sf_lanes_bits_add_shl48(entry, shifted[k]);
+    x[k] = sf_lanes_fma(t, em1, t);
   }
 }
 

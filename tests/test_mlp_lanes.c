@@ -3,8 +3,8 @@
  * range, near 0 and at tiny arguments, every lane of a vector at once; the
  * clamps and NaN passing through; its table against 2^(j/16) computed
  * independently; several vectors at once against one at a time; and the
- * lane operations the kernel uses (select, abs, scale, max, min, table
- * lookup) against their scalar definitions. This file is compiled without
+ * lane operations the kernel uses (select, abs, scale, max, min, negated
+ * multiply-adds, table lookup) against their scalar definitions. This file is compiled without
  * instruction-set flags (the generic representation); the AVX2 and AVX-512
  * builds give the same bits (tests/test_mlp_gradient.c, kernel against
  * kernel). */
@@ -88,6 +88,26 @@ int main(void) {
   printf("select, abs, scale, add_scalar match their scalar definitions on 8 lanes: %s\n", ops_ok ? "yes" : "no");
   CHECK(ops_ok);
 
+  /* The negated multiply-adds: c - a w rounded once; and what the kernel's
+   * forward pass relies on, u - a w = -(a w + (-u)) exactly (up to a
+   * zero's sign), on lanes that round up, down, to even, cancel to zero
+   * and overflow. */
+  double c[SF_LANES] = {1.0, 0x1p-53, -0.0, 7.25 * -7.0, 1e-300, -1e300, 0.1, 3.0};
+  double fn[SF_LANES], fns[SF_LANES];
+  int fnma_ok = 1;
+  const double ws[] = {0.1, -1.0 / 3.0, 1.0, 1e300, -0.0};
+  for (int m = 0; m < 5; ++m) {
+    sf_lanes_store(fn, sf_lanes_fnma_scalar(va, ws[m], sf_lanes_load(c)));
+    for (int k = 0; k < SF_LANES; ++k) {
+      sf_lanes_store(fns, sf_lanes_fnma_scalars(va, ws[m], c[k]));
+      double want = fma(-a[k], ws[m], c[k]), negated = -fma(a[k], ws[m], -c[k]);
+      fnma_ok &= memcmp(&fn[k], &want, sizeof want) == 0 && memcmp(&fns[k], &want, sizeof want) == 0;
+      fnma_ok &= fn[k] == negated || (isnan(fn[k]) && isnan(negated));
+    }
+  }
+  printf("fnma_scalar(s): c - a w rounded once, the negation of a w - c: %s\n", fnma_ok ? "yes" : "no");
+  CHECK(fnma_ok);
+
   /* max and min: a > b ? a : b, a < b ? a : b, so b where either is NaN
    * (the x86 rule the clamps of sf_lanes_exp rely on to keep a NaN). */
   double p[SF_LANES] = {1.0, NAN, -0.0, 0.0, 3.0, -INFINITY, 2.0, NAN};
@@ -103,20 +123,42 @@ int main(void) {
   printf("max, min: the x86 rule on zeros, NaN and equal lanes: %s\n", minmax_ok ? "yes" : "no");
   CHECK(minmax_ok);
 
-  /* The table: 2^(j/16) correctly rounded, against libm's long double
-   * exp2 (64-bit significand: 11 bits beyond double's) rounded to double. */
+  /* The table: entry j plus j << 48 and 1023 << 52 is the bits of 2^(j/16)
+   * correctly rounded, against libm's long double exp2 (64-bit
+   * significand: 11 bits beyond double's) rounded to double; and adding m
+   * << 52 more scales it by 2^m, as sf_lanes_bits_add_shl48 of the low
+   * bits 16 (m + 1023) + j does, for m at the ends of the clamped range
+   * and between. */
   int table_ok = 1;
-  for (int j = 0; j < 16; ++j) table_ok &= sf_lanes_exp2_sixteenths[j] == (double)exp2l(j / 16.0L);
-  printf("exponential's table: 2^(j/16) for j = 0..15: %s\n", table_ok ? "yes" : "no");
+  static const int ms[] = {-1022, -1021, -500, -1, 0, 1, 700, 1022};
+  for (int j = 0; j < 16; ++j) {
+    uint64_t bits = sf_lanes_exp2_sixteenths_bits[j] + ((uint64_t)j << 48) + ((uint64_t)1023 << 52);
+    double entry;
+    memcpy(&entry, &bits, sizeof entry);
+    table_ok &= entry == (double)exp2l(j / 16.0L);
+    double low[SF_LANES], t[SF_LANES];
+    for (int k = 0; k < SF_LANES; ++k) {
+      /* the low bits as sf_lanes_exp's shifted holds them: 1.5 2^52 + n */
+      double shifted = 6755399441055744.0 + (double)(16 * (ms[k] + 1023) + j);
+      uint64_t table_bits = sf_lanes_exp2_sixteenths_bits[j];
+      memcpy(&low[k], &shifted, sizeof shifted);
+      memcpy(&t[k], &table_bits, sizeof t[k]);
+    }
+    double scaled[SF_LANES];
+    sf_lanes_store(scaled, sf_lanes_bits_add_shl48(sf_lanes_load(t), sf_lanes_load(low)));
+    for (int k = 0; k < SF_LANES; ++k) table_ok &= scaled[k] == ldexp(entry, ms[k]);
+  }
+  printf("exponential's table: 2^(j/16) for j = 0..15, times 2^m by the added bits: %s\n", table_ok ? "yes" : "no");
   CHECK(table_ok);
   /* lookup by the low 4 bits of each lane's bits, the rest ignored */
   uint64_t idx_bits[SF_LANES] = {0, 15, 16 + 3, 0xfff0u + 9, UINT64_MAX, 7, 0x4338000000000000u + 12, 1};
   double idx[SF_LANES], looked[SF_LANES];
   memcpy(idx, idx_bits, sizeof idx);
-  sf_lanes_store(looked, sf_lanes_lookup16(sf_lanes_exp2_sixteenths, sf_lanes_load(idx)));
+  sf_lanes_store(looked, sf_lanes_lookup16_bits(sf_lanes_exp2_sixteenths_bits, sf_lanes_load(idx)));
   int lookup_ok = 1;
-  for (int k = 0; k < SF_LANES; ++k) lookup_ok &= looked[k] == sf_lanes_exp2_sixteenths[idx_bits[k] & 15];
-  printf("lookup16 reads table[bits & 15] on 8 lanes: %s\n", lookup_ok ? "yes" : "no");
+  for (int k = 0; k < SF_LANES; ++k)
+    lookup_ok &= memcmp(&looked[k], &sf_lanes_exp2_sixteenths_bits[idx_bits[k] & 15], sizeof(double)) == 0;
+  printf("lookup16_bits reads table[bits & 15] on 8 lanes: %s\n", lookup_ok ? "yes" : "no");
   CHECK(lookup_ok);
 
   /* Several vectors at once (sf_lanes_exp_n, as the kernel's layers take
