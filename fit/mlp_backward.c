@@ -97,6 +97,18 @@ int sf_mlp_reciprocals_newton(const double *d, double *out, long n) {
   return 0;
 }
 
+int sf_mlp_exp_isa(sf_mlp_isa isa, const double *x, double *out, long n, double cap) {
+  if (isa == SF_MLP_ISA_AUTO) isa = sf_mlp_isa_auto();
+  if (!sf_mlp_isa_available(isa)) return 0;
+#if defined(SKYFIT_MLP_KERNEL_DISPATCH)
+  if (isa == SF_MLP_ISA_AVX512) sf_mlp_kernel_avx512_exp(x, out, n, cap);
+  if (isa == SF_MLP_ISA_AVX512_NEWTON) sf_mlp_kernel_avx512_newton_exp(x, out, n, cap);
+  if (isa == SF_MLP_ISA_AVX2_FMA) sf_mlp_kernel_avx2_exp(x, out, n, cap);
+#endif
+  if (isa == SF_MLP_ISA_BASELINE) sf_mlp_kernel_baseline_exp(x, out, n, cap);
+  return 1;
+}
+
 static double loss_groups_isa(sf_mlp_isa isa, const sf_mlp_kernel_args *a) {
   if (isa == SF_MLP_ISA_AUTO) isa = sf_mlp_isa_auto();
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)

@@ -167,6 +167,11 @@ sf_mlp_isa sf_mlp_isa_auto(void);
  * multiply-adds (tests: the bits of the division); 0, writing nothing,
  * where AVX512_NEWTON is not available, else 1. */
 int sf_mlp_reciprocals_newton(const double *d, double *out, long n);
+/* out[i] = e^x[i], i < n, x clamped to [-708, cap] (cap <= 709), by the
+ * exponential of the kernel compiled for isa (fit/mlp_lanes.h's
+ * sf_lanes_exp_n_capped; tests: the same bits on every build); 0, writing
+ * nothing, where isa is not available, else 1. */
+int sf_mlp_exp_isa(sf_mlp_isa isa, const double *x, double *out, long n, double cap);
 /* sf_mlp_loss_range on the kernel compiled for isa (tests: the same bits on
  * each); NAN if it is not available. */
 double sf_mlp_loss_range_isa(sf_mlp_isa isa, const sf_mlp_shape *shape, const double *params,

@@ -139,10 +139,15 @@ typedef struct sf_mlp_kernel_args {
 } sf_mlp_kernel_args;
 
 double sf_mlp_kernel_baseline(const sf_mlp_kernel_args *a);
+/* Each build's exponential (sf_mlp_exp_isa's work, fit/mlp_kernel_body.h). */
+void sf_mlp_kernel_baseline_exp(const double *x, double *out, long n, double cap);
 #if defined(SKYFIT_MLP_KERNEL_DISPATCH)
 double sf_mlp_kernel_avx2(const sf_mlp_kernel_args *a);
 double sf_mlp_kernel_avx512(const sf_mlp_kernel_args *a);
 double sf_mlp_kernel_avx512_newton(const sf_mlp_kernel_args *a);
+void sf_mlp_kernel_avx2_exp(const double *x, double *out, long n, double cap);
+void sf_mlp_kernel_avx512_exp(const double *x, double *out, long n, double cap);
+void sf_mlp_kernel_avx512_newton_exp(const double *x, double *out, long n, double cap);
 /* sf_mlp_reciprocals_newton's work (fit/mlp_kernel_avx512_newton.c). */
 void sf_mlp_reciprocals_avx512(const double *d, double *out, long n);
 #endif

@@ -533,3 +533,13 @@ double SF_MLP_KERNEL_NAME(const sf_mlp_kernel_args *args) {
   return total_loss;
 }
 
+/* e^x[i] -> out[i], i < n, x clamped to [-708, cap], by this build's lanes:
+ * the kernel's exponential, for tests/test_mlp_exp_builds.c through
+ * sf_mlp_exp_isa. */
+#define EXP_NAME_PASTE(kernel) kernel##_exp
+#define EXP_NAME(kernel) EXP_NAME_PASTE(kernel)
+void EXP_NAME(SF_MLP_KERNEL_NAME)(const double *x, double *out, long n, double cap) {
+  sf_lanes_exp_array(x, out, n, cap);
+}
+#undef EXP_NAME
+#undef EXP_NAME_PASTE

@@ -15,7 +15,8 @@
  * results are bit for bit the same in every representation.
  *
  * sf_lanes_exp (below) is the kernel's exponential: table-driven, within 1
- * ulp of libm, the same bits in every representation. */
+ * ulp of libm, the same bits in every representation
+ * (tests/test_mlp_exp_builds.c). */
 #ifndef SKYFIT_FIT_MLP_LANES_H
 #define SKYFIT_FIT_MLP_LANES_H
 
@@ -551,6 +552,20 @@ SF_LANES_INLINE void sf_lanes_exp_n(sf_lanes *x, int n) { sf_lanes_exp_n_capped(
 SF_LANES_INLINE sf_lanes sf_lanes_exp(sf_lanes x) {
   sf_lanes_exp_n(&x, 1);
   return x;
+}
+
+/* out[i] = e^x[i], i < n, x clamped to [-708, cap] (sf_lanes_exp_n_capped),
+ * a vector at a time: the exponential of whichever representation the
+ * caller is compiled for (tests/test_mlp_exp_builds.c compares them). */
+SF_LANES_INLINE void sf_lanes_exp_array(const double *x, double *out, long n, double cap) {
+  for (long i = 0; i < n; i += SF_LANES) {
+    double v[SF_LANES];
+    for (int k = 0; k < SF_LANES; ++k) v[k] = i + k < n ? x[i + k] : 0.0;
+    sf_lanes e = sf_lanes_load(v);
+    sf_lanes_exp_n_capped(&e, 1, cap);
+    sf_lanes_store(v, e);
+    for (int k = 0; k < SF_LANES && i + k < n; ++k) out[i + k] = v[k];
+  }
 }
 
 #endif

@@ -6,8 +6,9 @@
  * lane operations the kernel uses (select, abs, scale, max, min, negated
  * multiply-adds, table lookup) against their scalar definitions. This file is compiled without
  * instruction-set flags (the generic representation); the AVX2 and AVX-512
- * builds give the same bits (tests/test_mlp_gradient.c, kernel against
- * kernel). */
+ * builds give the same bits (tests/test_mlp_exp_builds.c, the exponential
+ * of each build against the portable one; tests/test_mlp_gradient.c,
+ * kernel against kernel). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
