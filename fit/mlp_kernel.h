@@ -1,4 +1,4 @@
-/* The training kernel's inside (fit/mlp_backward.h), shared by its three
+/* The training kernel's inside (fit/mlp_backward.h), shared by its four
  * builds and their caller; no other file includes this.
  *
  * The kernel (fit/mlp_kernel_body.h) is compiled once per instruction set,

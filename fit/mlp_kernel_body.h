@@ -1,9 +1,11 @@
 /* The training kernel (fit/mlp_kernel.h): included once by each of
- * fit/mlp_kernel_{avx512,avx2,baseline}.c, which name it (SF_MLP_KERNEL_NAME)
- * and are compiled with their instruction set's flags. The operations per
- * lane are the same in all three: multiply-adds fused where the code says
- * so (sf_lanes_fma: an instruction with AVX-512F or FMA, libm's correctly
- * rounded fma on the baseline) and nowhere else, hence the same results. */
+ * fit/mlp_kernel_{avx512,avx512_newton,avx2,baseline}.c, which name it
+ * (SF_MLP_KERNEL_NAME) and are compiled with their instruction set's flags.
+ * The operations per lane are the same in all four (the Newton build's
+ * reciprocals round as the division does): multiply-adds fused where the
+ * code says so (sf_lanes_fma: an instruction with AVX-512F or FMA, libm's
+ * correctly rounded fma on the baseline) and nowhere else, hence the same
+ * results. */
 #ifndef SF_MLP_KERNEL_NAME
 #error "define SF_MLP_KERNEL_NAME before including fit/mlp_kernel_body.h"
 #endif
