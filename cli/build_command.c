@@ -12,6 +12,8 @@
 #include "fit/output_norm.h"
 #include "models/scene_file.h"
 
+#define MIB (1024LL * 1024)
+
 static void usage(FILE *out, const char *command, int emit) {
   fprintf(out,
           "usage: %s [SCENE.json] [--out DIR] [options]\n"
@@ -44,6 +46,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       situation's (default %g), or none\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
+          "  --cache-limit N      after a successful run, keep DIR/cache under N MiB (default %lld),\n"
+          "                       removing the tables, fits and timings unused the longest (never\n"
+          "                       this run's); none: no limit\n"
           "  --quiet              no progress or notes\n"
           "  --help               this text\n",
           command,
@@ -51,7 +56,8 @@ static void usage(FILE *out, const char *command, int emit) {
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
                : "builds\nthe candidates, ",
-          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW);
+          SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
+          SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
 }
 
 static void print_note(void *ctx, const char *message) {
@@ -150,6 +156,18 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         fprintf(stderr, "%s: --mlp-normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
         return 2;
       }
+    } else if (!strcmp(a, "--cache-limit") && v) {
+      ++i;
+      char *end;
+      long mib = strtol(v, &end, 10);
+      if (strcmp(v, "none") == 0) {
+        o.cache_limit_bytes = -1;
+      } else if (*v == '\0' || *end != '\0' || mib < 0 || mib > (1L << 30)) {
+        fprintf(stderr, "%s: --cache-limit: expected a size in MiB (0..%ld) or none, got '%s'\n", command, 1L << 30, v);
+        return 2;
+      } else {
+        o.cache_limit_bytes = mib * MIB;
+      }
     } else if (!strcmp(a, "--threads") && v) {
       if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
       o.report.run.n_threads = (int)n;
@@ -212,6 +230,11 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     else
       printf("%s: %s: no model available\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q));
   }
+  if (res.cache.removed > 0)
+    printf("%s: cache: removed %d entries unused the longest (%.1f MiB); %d kept (%.1f MiB, limit %lld MiB)\n",
+           command, res.cache.removed, (double)res.cache.removed_bytes / MIB, res.cache.entries - res.cache.removed,
+           (double)(res.cache.bytes - res.cache.removed_bytes) / MIB, o.cache_limit_bytes / MIB);
+  if (res.cache_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.cache_problem);
   if (res.header_c[0]) printf("%s: headers: %s %s\n", command, res.header_c, res.header_glsl);
   else if (emit) printf("%s: headers: none emitted (see the report)\n", command);
   printf("%s: report: %s\n", command, res.report_html);

@@ -17,6 +17,7 @@
 #include "models/color_space.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
+#include "util/cache_prune.h"
 #include "util/exr_image.h"
 #include "util/make_folders.h"
 #include "util/png_write.h"
@@ -171,6 +172,7 @@ static int cost_cache_read(const char *path, sf_cost *out) {
   out->repetitions = (int)v[3];
   out->n_points = (size_t)v[4];
   out->precision_bits = (int)v[5];
+  sf_cache_entry_used(path);
   return 1;
 }
 

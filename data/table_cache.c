@@ -1,6 +1,5 @@
 #include "data/table_cache.h"
 
-#include "util/make_folders.h"
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -8,6 +7,8 @@
 
 #include "data/hash64.h"
 #include "data/table_exr.h"
+#include "util/cache_prune.h"
+#include "util/make_folders.h"
 
 /* Bump when the key's recipe changes, so old files are simply not found. */
 #define CACHE_KEY_RECIPE "skyfit-table-key 1"
@@ -108,6 +109,7 @@ int sf_table_cache_load(const char *dir, const sf_table_desc *desc, size_t max_b
     sf_table_free(out);
     return 0;
   }
+  sf_cache_entry_used(path);
   return 1;
 }
 

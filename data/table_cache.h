@@ -36,7 +36,9 @@ int sf_table_cache_path(const char *dir, const char *quantity, const char *key, 
 
 /* Looks for the table described by desc (desc->content_hash is the key).
  * Returns 1 and fills *out if a valid file exists whose stored description
- * (quantity, parameterization, axes, channels, hash) equals desc. Returns 0
+ * (quantity, parameterization, axes, channels, hash) equals desc, and marks
+ * that file used now (util/cache_prune.h: a build's cache removes the
+ * entries unused the longest first). Returns 0
  * with *out empty otherwise; if a file was there but is unusable (damaged,
  * or holds another table) `problem` gets SF_ERR_INPUT and the message
  * "cache file PATH is corrupt: ..."; if there is simply none, `problem` is

@@ -22,6 +22,7 @@ void sf_build_options_default(sf_build_options *o) {
   sf_table_set_options_default(&o->tables);
   sf_report_options_default(&o->report);
   o->emit = 1;
+  o->cache_limit_bytes = SF_CACHE_LIMIT_DEFAULT_BYTES;
   /* the sky network brightness-normalised (fit/output_norm.h): lower view
    * errors in every seed measured, dawn several times lower (README) */
   o->mlp_scattering_normalise = 1;
@@ -158,9 +159,23 @@ void sf_build_table_options(const sf_scene *scene, const sf_scene_domain *domain
   out->transmittance_only = !(scene->quantities & SF_QUANTITY_SKY_RADIANCE);
 }
 
+/* OUT/cache under o->cache_limit_bytes, this run's entries kept: those it
+ * wrote or hit since run_start, less a second (file times come from a
+ * coarser clock than clock_gettime's). A failure is reported, not fatal. */
+static void prune_cache(const char *cache, const sf_build_options *o, struct timespec run_start,
+                        sf_build_result *res) {
+  struct timespec used_since = run_start;
+  used_since.tv_sec -= 1;
+  sf_error problem = {0};
+  if (sf_cache_prune(cache, o->cache_limit_bytes, used_since, &res->cache, &problem) != SF_OK)
+    snprintf(res->cache_problem, sizeof res->cache_problem, "%s", problem.message);
+}
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
   double t_start = sf_wall_seconds(), c_start = sf_cpu_seconds();
+  struct timespec run_start;
+  clock_gettime(CLOCK_REALTIME, &run_start);
   sf_scene_domain domain;
   if (sf_scene_get_domain(scene, &domain, err) != SF_OK) return err->status;
   char cache[SF_REPORT_PATH_LEN + 16], work[SF_REPORT_PATH_LEN + 16];
@@ -242,6 +257,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
       res->meets_budget[q] = s->meets_budget;
       snprintf(res->chosen[q], sizeof res->chosen[q], "%s", s->model >= 0 ? rep.models[s->model].candidate->name : "");
     }
+    prune_cache(cache, o, run_start, res);
   }
   sf_report_free(&rep);
   sf_candidate_list_free(&list);

@@ -11,6 +11,7 @@
 #include "codegen/report.h"
 #include "data/table_set.h"
 #include "fit/candidate_registry.h"
+#include "util/cache_prune.h"
 
 typedef struct sf_build_options {
   const char *out_dir;
@@ -24,6 +25,9 @@ typedef struct sf_build_options {
   double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (default
                                             SF_OUTPUT_NORM_CAP_BELOW); INFINITY: none */
   int emit;                          /* write the headers (default 1) */
+  long long cache_limit_bytes;       /* OUT/cache kept under it after a successful run,
+                                        least recently used entries removed first
+                                        (util/cache_prune.h); < 0: no limit */
   sf_candidate_note_fn note;         /* messages for the user; may be NULL */
   void *note_ctx;
 } sf_build_options;
@@ -39,6 +43,8 @@ typedef struct sf_build_result {
   int meets_budget[SF_CANDIDATE_N_QUANTITIES];
   int asked[SF_CANDIDATE_N_QUANTITIES];
   char header_c[SF_REPORT_PATH_LEN], header_glsl[SF_REPORT_PATH_LEN];
+  sf_cache_prune_result cache;       /* OUT/cache's entries and what the limit removed */
+  char cache_problem[1024];          /* an entry that could not be removed (the build still succeeds) */
 } sf_build_result;
 
 /* The table options a build uses for a scene: base with cache_dir and the

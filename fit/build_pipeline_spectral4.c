@@ -9,6 +9,7 @@
 #include "fit/spectral4_run.h"
 #include "models/atmosphere_file.h"
 #include "models/weights_file.h"
+#include "util/cache_prune.h"
 
 static const char *const method_names[SF_REPORT_COLOR_METHODS] = {"spectral4", "rgb_680_550_440", "uniform4"};
 static const char *const atm_names[2] = {"without_aerosols", "with_aerosols"};
@@ -112,6 +113,7 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
     }
   }
   out->from_cache = loaded;
+  if (loaded) sf_cache_entry_used(path);
   if (!loaded) {
     sf_spectral4_report *rep = calloc(1, sizeof *rep);
     if (!rep) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");

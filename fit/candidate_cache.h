@@ -9,7 +9,9 @@
  * way under CACHE/costs/ by codegen/report_evaluate.c, so that a rerun's
  * report is byte-identical. A freshly fitted model is evaluated as loaded
  * back from its weights file, so a fresh run and a cached one compute
- * with the same numbers. */
+ * with the same numbers. A hit marks its file used (sf_cache_entry_used):
+ * the build keeps its cache under a size limit, removing the entries unused
+ * the longest first (util/cache_prune.h). */
 #ifndef SKYFIT_FIT_CANDIDATE_CACHE_H
 #define SKYFIT_FIT_CANDIDATE_CACHE_H
 

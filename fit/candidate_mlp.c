@@ -28,6 +28,7 @@
 #include "fit/train.h"
 #include "fit/train_losses_json.h"
 #include "models/mlp_sky.h"
+#include "util/cache_prune.h"
 
 static void mlp_t_eval(const void *ctx, const double *in, double *out) {
   sf_mlp_transmittance(ctx, in[0], in[1], out);
@@ -280,6 +281,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
     loaded = sf_mlp_sky_load(path, m, &lerr) == SF_OK;
+    if (loaded) sf_cache_entry_used(path);
     if (!loaded) {
       sf_mlp_sky_free(m);
       memset(m, 0, sizeof *m);

@@ -10,6 +10,7 @@
 #include "fit/candidate_cache.h"
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sigmoid.h"
+#include "util/cache_prune.h"
 
 typedef struct sigmoid_ctx {
   sf_sigmoid_model model;
@@ -107,6 +108,7 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
     loaded = sf_sigmoid_model_load(path, &s->model, NULL, &lerr) == SF_OK;
+    if (loaded) sf_cache_entry_used(path);
     if (!loaded && in->note) {
       char text[1200];
       snprintf(text, sizeof text, "sigmoid: cached fit unusable, refitting: %s", lerr.message);

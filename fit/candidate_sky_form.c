@@ -20,6 +20,7 @@
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sky_elevation.h"
 #include "models/hosek_dataset.h"
+#include "util/cache_prune.h"
 #include "util/constants.h"
 
 typedef struct sky_form_ctx {
@@ -178,6 +179,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
     loaded = sf_elevation_sky_load(path, form, &s->model, NULL, &lerr) == SF_OK;
+    if (loaded) sf_cache_entry_used(path);
     if (!loaded && in->note) {
       char text[1200];
       snprintf(text, sizeof text, "%s: cached fit unusable, refitting: %s", name, lerr.message);

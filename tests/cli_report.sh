@@ -61,11 +61,27 @@ for w in sigmoid mlp-transmittance preetham hosek mlp-scattering; do
 done
 
 # A second run with nothing changed reuses the cache: tables, fits and
-# timings; the report is byte-identical.
+# timings; the report is byte-identical. It runs with --cache-limit 0
+# (util/cache_prune.h): entries it did not use go (two planted, a day old),
+# every one it used stays (made an hour old first: a hit marks them used),
+# and files not named as entries stay.
 cp "$tmp/out/metrics.json" "$tmp/metrics-first.json"
 cp "$tmp/out/report.md" "$tmp/report-first.md"
+entries() { (cd "$tmp/out/cache" && ls *-????????????????.exr fits/*-????????????????.json costs/*-????????????????.json) | sort; }
+entries > "$tmp/entries-first"
+echo "cache after the first run: $(wc -l < "$tmp/entries-first") entries"
+(cd "$tmp/out/cache" && touch -d '1 hour ago' $(cat "$tmp/entries-first"))
+echo stale > "$tmp/out/cache/single_rayleigh-0123456789abcdef.exr"
+echo stale > "$tmp/out/cache/fits/hosek-0123456789abcdef.json"
+echo keep > "$tmp/out/cache/notes.txt"
+touch -d '1 day ago' "$tmp/out/cache/single_rayleigh-0123456789abcdef.exr" "$tmp/out/cache/fits/hosek-0123456789abcdef.json" \
+  "$tmp/out/cache/notes.txt"
 start=$(date +%s.%N)
-"$bin" build "${small[@]}" --out "$tmp/out" > "$tmp/stdout2" 2> "$tmp/stderr2" || { echo "FAIL rerun"; cat "$tmp/stderr2"; fail=1; }
+"$bin" build "${small[@]}" --cache-limit 0 --out "$tmp/out" > "$tmp/stdout2" 2> "$tmp/stderr2" || { echo "FAIL rerun"; cat "$tmp/stderr2"; fail=1; }
+grep "cache: removed" "$tmp/stdout2"
+grep -q "cache: removed 2 entries" "$tmp/stdout2" || { echo "FAIL the rerun did not remove the 2 stale entries"; fail=1; }
+entries | cmp -s - "$tmp/entries-first" || { echo "FAIL the rerun's cache entries are not the first run's"; entries | diff "$tmp/entries-first" - | head -5; fail=1; }
+[ -f "$tmp/out/cache/notes.txt" ] || { echo "FAIL a file not named as an entry was removed"; fail=1; }
 end=$(date +%s.%N)
 echo "rerun: $(head -1 "$tmp/stdout2") (wall $(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.2f", b - a}') s)"
 grep -q "tables 5/5 from the cache" "$tmp/stdout2" || { echo "FAIL rerun did not take the tables from the cache"; fail=1; }
@@ -172,6 +188,13 @@ for s in missing quantity empty; do
   rc=$?
   echo "$s scene: exit $rc: $(head -1 "$tmp/err")"
   [ $rc -eq 2 ] && [ -s "$tmp/err" ] && [ ! -e "$tmp/bad-$s/report.html" ] || { echo "FAIL $s scene"; fail=1; }
+done
+for limit in -1 1.5 lots; do
+  "$bin" build --cache-limit "$limit" --out "$tmp/bad-limit" --quiet > /dev/null 2> "$tmp/err"
+  rc=$?
+  echo "--cache-limit $limit: exit $rc: $(head -1 "$tmp/err")"
+  [ $rc -eq 2 ] && grep -q -- "--cache-limit" "$tmp/err" && [ ! -e "$tmp/bad-limit" ] ||
+    { echo "FAIL --cache-limit $limit should exit 2 naming the option and write nothing"; fail=1; }
 done
 
 # An impossible budget is not an error: the best available, said so.

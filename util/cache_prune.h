@@ -1,0 +1,49 @@
+/* A build's cache folder (OUT/cache of `skyfit build` and `skyfit report`)
+ * kept under a size limit, least recently used entries removed first.
+ *
+ * Why: every entry's key names what made it, so entries that can no longer
+ * be hit stay behind: tables of each atmosphere tried (tens of MB each, the
+ * mission being to retrain for new atmospheres), and fits and timings of
+ * every rebuilt skyfit executable (fit/candidate_cache.h keys them on its
+ * size and modification time). Nothing else ever removes them.
+ *
+ * An entry is a file named "<name>-<16 hex digits>.<ext>" (the keys of
+ * data/table_cache.h and fit/candidate_cache.h): tables, .exr, in the folder
+ * itself; fits and timings, .json, in its fits/ and costs/ folders. No other
+ * file is looked at or removed. Its last use is its modification time: a
+ * cache hit marks the entry used (sf_cache_entry_used), a miss writes it
+ * anew. */
+#ifndef SKYFIT_UTIL_CACHE_PRUNE_H
+#define SKYFIT_UTIL_CACHE_PRUNE_H
+
+#include <time.h>
+
+#include "util/error.h"
+
+/* The default limit of a build's cache: 2 GiB, about sixty atmospheres'
+ * tables at the build's default resolution (34 MB each). */
+#define SF_CACHE_LIMIT_DEFAULT_BYTES (2048LL * 1024 * 1024)
+
+/* Marks the cache entry at path used now (its modification time), so that
+ * pruning keeps it before those unused longer. Silent: an entry that
+ * cannot be marked is only removed sooner. */
+void sf_cache_entry_used(const char *path);
+
+typedef struct sf_cache_prune_result {
+  int entries;                  /* entries found */
+  long long bytes;              /* their sizes, before pruning */
+  int removed;                  /* entries removed */
+  long long removed_bytes;
+} sf_cache_prune_result;
+
+/* Removes entries of cache_dir, the least recently used first (equal times:
+ * in name order), until their sizes add up to limit_bytes at most; entries
+ * used at or after used_since (this run's) are never removed, even over the
+ * limit. limit_bytes < 0: no limit, nothing removed. A missing cache_dir
+ * holds no entries. An entry that cannot be removed is skipped and the
+ * first such failure reported (SF_ERR_INPUT, naming the file) after the
+ * others were tried; *res counts what was removed. */
+int sf_cache_prune(const char *cache_dir, long long limit_bytes, struct timespec used_since,
+                   sf_cache_prune_result *res, sf_error *err);
+
+#endif
