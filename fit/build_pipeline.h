@@ -2,7 +2,8 @@
  * tables (cached in OUT/cache) -> every applicable candidate
  * (fit/candidate_registry.h) -> metrics and views (codegen/report.h) ->
  * selection per quantity -> GLSL and C for the selection
- * (codegen/codegen_file.h) -> report.html, report.md, metrics.json.
+ * (codegen/codegen_file.h) -> report.html, report.md, metrics.json ->
+ * OUT/cache pruned to its size limit (util/cache_prune.h).
  * An impossible budget is not an error: the best available model is
  * emitted and the report says it misses the budget. */
 #ifndef SKYFIT_FIT_BUILD_PIPELINE_H
