@@ -4,8 +4,8 @@
  * The kernel (fit/mlp_kernel_body.h) is compiled once per instruction set,
  * each in its own file with its own compiler flags (CMakeLists.txt):
  * fit/mlp_kernel_avx512.c (-mavx512f), fit/mlp_kernel_avx2.c (-mavx2
- * -mfma) and fit/mlp_kernel_baseline.c (no flags: any x86-64, any other
- * CPU), and fit/mlp_kernel_avx512_newton.c, AVX-512 with half the
+ * -mfma) and fit/mlp_kernel_baseline.c (no flags: any x86-64, its
+ * multiply-adds by fit/mlp_lanes_fma.h; any other CPU), and fit/mlp_kernel_avx512_newton.c, AVX-512 with half the
  * sigmoids' divisions by multiply-adds (Intel's slow divider).
  * fit/mlp_backward.c picks one at run time: the binary runs on any x86-64
  * without -march. A whole file per instruction set, not a function
@@ -28,8 +28,15 @@
  * exponentials and divisions keep the floating-point units busy, and each
  * gradient lane is loaded and stored once per group. Vector v of a group
  * holds the group's samples LANES v .. LANES v + LANES - 1, added to the
- * lanes in the order of v: the same sums as one vector at a time. */
+ * lanes in the order of v: the same sums as one vector at a time. A build
+ * may take fewer (SF_MLP_KERNEL_VECS, fit/mlp_kernel_baseline.c): the
+ * workspace, laid out by the caller for 4, holds its smaller group. */
+#if defined(SF_MLP_KERNEL_VECS)
+#define VECS SF_MLP_KERNEL_VECS
+#else
 #define VECS 4
+#endif
+_Static_assert(VECS >= 1 && VECS <= 4, "a group of at most 4 vectors: the workspace is laid out for 4");
 #define GROUP (VECS * LANES)
 /* Rows of a layer computed together (ROWS VECS accumulator chains, each
  * input vector loaded once for them; in propagation, ROWS units of the

@@ -3,9 +3,9 @@
  * (SF_MLP_KERNEL_NAME) and are compiled with their instruction set's flags.
  * The operations per lane are the same in all four (the Newton build's
  * reciprocals round as the division does): multiply-adds fused where the
- * code says so (sf_lanes_fma: an instruction with AVX-512F or FMA, libm's
- * correctly rounded fma on the baseline) and nowhere else, hence the same
- * results. */
+ * code says so (sf_lanes_fma: an instruction with AVX-512F or FMA; on the
+ * x86-64 baseline exact arithmetic with the correctly rounded result,
+ * fit/mlp_lanes_fma.h) and nowhere else, hence the same results. */
 #ifndef SF_MLP_KERNEL_NAME
 #error "define SF_MLP_KERNEL_NAME before including fit/mlp_kernel_body.h"
 #endif

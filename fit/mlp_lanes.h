@@ -193,6 +193,12 @@ SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
+/* x86 without a multiply-add instruction: exact arithmetic instead of
+ * libm's fma (sf_lanes_fma below). */
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(__FMA__) && !defined(__AVX512F__)
+#define SF_LANES_FMA_EMULATED 1
+#include "fit/mlp_lanes_fma.h"
+#endif
 typedef double sf_lanes __attribute__((vector_size(64)));
 typedef int64_t sf_lanes_mask __attribute__((vector_size(64)));   /* -1 or 0 per lane */
 typedef uint64_t sf_lanes_bits __attribute__((vector_size(64)));
@@ -216,37 +222,38 @@ SF_LANES_INLINE sf_lanes sf_lanes_mul(sf_lanes a, sf_lanes b) { return a * b; }
 SF_LANES_INLINE sf_lanes sf_lanes_div(sf_lanes a, sf_lanes b) { return a / b; }
 SF_LANES_INLINE sf_lanes sf_lanes_neg(sf_lanes a) { return -a; }
 /* a * b + c rounded once (IEEE fused multiply-add), lane by lane: one
- * instruction in a function compiled for AVX-512F or FMA, libm's fma
- * (correctly rounded: the same bits) elsewhere. */
-SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) {
+ * instruction in a function compiled for AVX-512F or FMA (and on CPUs
+ * whose base instruction set has it, e.g. AArch64); on the x86-64 baseline
+ * by exact arithmetic (fit/mlp_lanes_fma.h), not libm's fma, whose generic
+ * version costs 247 ns a call: the same bits either way. */
+#if defined(SF_LANES_FMA_EMULATED)
+#define SF_LANES_FMA(a, b, c) sf_fma_lanes_emulated(a, b, c)
+#else
+#define SF_LANES_FMA(a, b, c) sf_lanes_fma_each(a, b, c)
+SF_LANES_INLINE sf_lanes sf_lanes_fma_each(sf_lanes a, sf_lanes b, sf_lanes c) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], b[k], c[k]);
   return r;
 }
+#endif
+SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) { return SF_LANES_FMA(a, b, c); }
 /* a * w + c rounded once, w on every lane */
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
-  sf_lanes r;
-  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, c[k]);
-  return r;
+  return SF_LANES_FMA(a, sf_lanes_set1(w), c);
 }
 /* a * w + u rounded once, w and u on every lane */
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
-  sf_lanes r;
-  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, u);
-  return r;
+  return SF_LANES_FMA(a, sf_lanes_set1(w), sf_lanes_set1(u));
 }
 /* c - a * w and u - a * w rounded once, w and u on every lane (-a is
  * exact: one negated multiply-add instruction) */
 SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
-  sf_lanes r;
-  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, c[k]);
-  return r;
+  return SF_LANES_FMA(-a, sf_lanes_set1(w), c);
 }
 SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
-  sf_lanes r;
-  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, u);
-  return r;
+  return SF_LANES_FMA(-a, sf_lanes_set1(w), sf_lanes_set1(u));
 }
+#undef SF_LANES_FMA
 SF_LANES_INLINE sf_lanes_mask sf_lanes_lt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a < b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_gt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a > b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_eq(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a == b); }

@@ -26,12 +26,7 @@
 #include "fit/mlp_lanes.h"
 #include "models/rng.h"
 #include "tests/check.h"
-
-static uint64_t to_bits(double d) {
-  uint64_t u;
-  memcpy(&u, &d, sizeof u);
-  return u;
-}
+#include "tests/double_bits.h"
 
 /* Values of x[0..n-1] whose e^x on the build isa differs from the portable
  * one (NaN: in being NaN), at both caps; prints the first. */

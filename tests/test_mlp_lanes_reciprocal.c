@@ -22,18 +22,7 @@
 #include "fit/mlp_backward.h"
 #include "models/rng.h"
 #include "tests/check.h"
-
-static double from_bits(uint64_t u) {
-  double d;
-  memcpy(&d, &u, sizeof d);
-  return d;
-}
-
-static uint64_t to_bits(double d) {
-  uint64_t u;
-  memcpy(&u, &d, sizeof u);
-  return u;
-}
+#include "tests/double_bits.h"
 
 /* Values of d[0..n-1] whose Newton reciprocal differs from 1.0 / d in any
  * bit; prints the first. */
