@@ -1,7 +1,7 @@
 /* The training kernel for any CPU: compiled without instruction-set flags
  * (on x86-64: SSE2, multiply-adds by exact arithmetic, fit/mlp_lanes_fma.h).
  * fit/mlp_kernel.h. */
-#if defined(__x86_64__) || defined(__i386__)
+#if defined(__SSE2__)
 /* One vector at a time: each of the 8 lanes' vectors takes 4 of SSE2's 16
  * registers, and 4 vectors at once spilled (the same sums either way):
  * 2,4,3 full batch 818 -> 609 ns per sample, 4,8,8,9 4348 -> 3205 on an

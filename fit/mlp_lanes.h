@@ -193,9 +193,9 @@ SF_LANES_INLINE void sf_lanes_transpose8(sf_lanes v[8]) {
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
-/* x86 without a multiply-add instruction: exact arithmetic instead of
- * libm's fma (sf_lanes_fma below). */
-#if (defined(__x86_64__) || defined(__i386__)) && !defined(__FMA__) && !defined(__AVX512F__)
+/* x86 (SSE2, as every x86-64) without a multiply-add instruction: exact
+ * arithmetic instead of libm's fma (sf_lanes_fma below). */
+#if defined(__SSE2__) && !defined(__FMA__) && !defined(__AVX512F__)
 #define SF_LANES_FMA_EMULATED 1
 #include "fit/mlp_lanes_fma.h"
 #endif

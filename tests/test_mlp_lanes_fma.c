@@ -23,7 +23,7 @@
 #include "tests/check.h"
 #include "tests/double_bits.h"
 
-#if defined(__x86_64__) || defined(__i386__)
+#if defined(__SSE2__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #include "fit/mlp_lanes_fma.h"
 
@@ -173,7 +173,7 @@ int main(void) {
 }
 #else
 int main(void) {
-  printf("not x86: the multiply-add is an instruction, nothing emulated\n");
+  printf("no SSE2 (not x86): the multiply-add is an instruction, nothing emulated\n");
   return 0;
 }
 #endif
