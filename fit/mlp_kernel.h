@@ -5,8 +5,9 @@
  * each in its own file with its own compiler flags (CMakeLists.txt):
  * fit/mlp_kernel_avx512.c (-mavx512f), fit/mlp_kernel_avx2.c (-mavx2
  * -mfma) and fit/mlp_kernel_baseline.c (no flags: any x86-64, its
- * multiply-adds by fit/mlp_lanes_fma.h; any other CPU), and fit/mlp_kernel_avx512_newton.c, AVX-512 with half the
- * sigmoids' divisions by multiply-adds (Intel's slow divider).
+ * multiply-adds by fit/mlp_lanes_fma.h; any other CPU), and
+ * fit/mlp_kernel_avx512_newton.c, AVX-512 with half the sigmoids'
+ * divisions by multiply-adds (Intel's slow divider).
  * fit/mlp_backward.c picks one at run time: the binary runs on any x86-64
  * without -march. A whole file per instruction set, not a function
  * attribute, because fit/mlp_lanes.h chooses its representation of 8 lanes

@@ -225,35 +225,50 @@ SF_LANES_INLINE sf_lanes sf_lanes_neg(sf_lanes a) { return -a; }
  * instruction in a function compiled for AVX-512F or FMA (and on CPUs
  * whose base instruction set has it, e.g. AArch64); on the x86-64 baseline
  * by exact arithmetic (fit/mlp_lanes_fma.h), not libm's fma, whose generic
- * version costs 247 ns a call: the same bits either way. */
+ * version costs 247 ns a call: the same bits either way. The scalar forms
+ * below: w (and u) on every lane; fnma: c - a * w and u - a * w rounded
+ * once (-a is exact: one negated multiply-add instruction). */
 #if defined(SF_LANES_FMA_EMULATED)
-#define SF_LANES_FMA(a, b, c) sf_fma_lanes_emulated(a, b, c)
+SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) { return sf_fma_lanes_emulated(a, b, c); }
+SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
+  return sf_fma_lanes_emulated(a, sf_lanes_set1(w), c);
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
+  return sf_fma_lanes_emulated(a, sf_lanes_set1(w), sf_lanes_set1(u));
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
+  return sf_fma_lanes_emulated(-a, sf_lanes_set1(w), c);
+}
+SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
+  return sf_fma_lanes_emulated(-a, sf_lanes_set1(w), sf_lanes_set1(u));
+}
 #else
-#define SF_LANES_FMA(a, b, c) sf_lanes_fma_each(a, b, c)
-SF_LANES_INLINE sf_lanes sf_lanes_fma_each(sf_lanes a, sf_lanes b, sf_lanes c) {
+SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], b[k], c[k]);
   return r;
 }
-#endif
-SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) { return SF_LANES_FMA(a, b, c); }
-/* a * w + c rounded once, w on every lane */
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
-  return SF_LANES_FMA(a, sf_lanes_set1(w), c);
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, c[k]);
+  return r;
 }
-/* a * w + u rounded once, w and u on every lane */
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalars(sf_lanes a, double w, double u) {
-  return SF_LANES_FMA(a, sf_lanes_set1(w), sf_lanes_set1(u));
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, u);
+  return r;
 }
-/* c - a * w and u - a * w rounded once, w and u on every lane (-a is
- * exact: one negated multiply-add instruction) */
 SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalar(sf_lanes a, double w, sf_lanes c) {
-  return SF_LANES_FMA(-a, sf_lanes_set1(w), c);
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, c[k]);
+  return r;
 }
 SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
-  return SF_LANES_FMA(-a, sf_lanes_set1(w), sf_lanes_set1(u));
+  sf_lanes r;
+  for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(-a[k], w, u);
+  return r;
 }
-#undef SF_LANES_FMA
+#endif
 SF_LANES_INLINE sf_lanes_mask sf_lanes_lt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a < b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_gt(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a > b); }
 SF_LANES_INLINE sf_lanes_mask sf_lanes_eq(sf_lanes a, sf_lanes b) { return (sf_lanes_mask)(a == b); }
