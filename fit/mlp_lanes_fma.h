@@ -43,7 +43,14 @@
 
 typedef double sf_fma_lanes __attribute__((vector_size(64)));
 
+/* Inlined, except under AddressSanitizer: its instrumentation of the
+ * baseline kernel with every multiply-add inlined took GCC 110 s to
+ * compile (23 s with libm calls); a call costs only speed there. */
+#if defined(__SANITIZE_ADDRESS__)
+#define SF_FMA_INLINE static __attribute__((noinline, unused))
+#else
 #define SF_FMA_INLINE static inline __attribute__((always_inline))
+#endif
 
 /* Two lanes of sf_fma_lanes_emulated, in SSE2 instructions (GCC's generic
  * 8-lane vectors turned each comparison into scalar compares and
