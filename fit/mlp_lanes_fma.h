@@ -43,10 +43,12 @@
 
 typedef double sf_fma_lanes __attribute__((vector_size(64)));
 
-/* Inlined, except under AddressSanitizer: its instrumentation of the
+/* Inlined, except under AddressSanitizer (its instrumentation of the
  * baseline kernel with every multiply-add inlined took GCC 110 s to
- * compile (23 s with libm calls); a call costs only speed there. */
-#if defined(__SANITIZE_ADDRESS__)
+ * compile, 23 s with libm calls) and where the includer asks for calls
+ * (SF_FMA_LANES_CALLED: tests/test_mlp_lanes.c, whose unrolled loops took
+ * 330 s at -O3 inlined): a call costs only speed there. */
+#if defined(__SANITIZE_ADDRESS__) || defined(SF_FMA_LANES_CALLED)
 #define SF_FMA_INLINE static __attribute__((noinline, unused))
 #else
 #define SF_FMA_INLINE static inline __attribute__((always_inline))
