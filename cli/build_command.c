@@ -44,6 +44,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       the dawn views several times better (README)\n"
           "  --mlp-normalise-cap C  that brightness capped C (natural log) below the brightest\n"
           "                       situation's (default %g), or none\n"
+          "  --mlp-restarts N     networks trained per quantity at most (default %d; 1 with --quick):\n"
+          "                       while no model meets the budget, the seed's next restart is trained\n"
+          "                       (named mlp-*-2, -3, ...), measured and the selection made again\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --cache-limit N      after a successful run, keep DIR/cache under N MiB (default %lld),\n"
@@ -57,7 +60,7 @@ static void usage(FILE *out, const char *command, int emit) {
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
                : "builds\nthe candidates, ",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
-          SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
+          SF_BUILD_MLP_RESTARTS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
 }
 
 static void print_note(void *ctx, const char *message) {
@@ -141,6 +144,9 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     } else if (!strcmp(a, "--mlp-samples") && v) {
       if (parse_count(command, a, argv[++i], 0, 1000000000L, &n)) return 2;
       o.mlp_scattering_samples = n == 0 ? -1 : n;
+    } else if (!strcmp(a, "--mlp-restarts") && v) {
+      if (parse_count(command, a, argv[++i], 1, 100, &n)) return 2;
+      o.mlp_restarts = (int)n;
     } else if (!strcmp(a, "--mlp-normalise") && v) {
       ++i;
       if (strcmp(v, "none") != 0 && strcmp(v, "brightness") != 0) {

@@ -1,7 +1,8 @@
 /* `skyfit build` as a library function (SPEC §5, §11): scene -> reference
  * tables (cached in OUT/cache) -> every applicable candidate
  * (fit/candidate_registry.h) -> metrics and views (codegen/report.h) ->
- * selection per quantity -> GLSL and C for the selection
+ * selection per quantity (while none meets its budget, the next restart of
+ * the seed's network for it, measured and selected again) -> GLSL and C for the selection
  * (codegen/codegen_file.h) -> report.html, report.md, metrics.json ->
  * OUT/cache pruned to its size limit (util/cache_prune.h).
  * An impossible budget is not an error: the best available model is
@@ -25,6 +26,9 @@ typedef struct sf_build_options {
   int mlp_scattering_normalise;      /* 1 (default): the sky network brightness-normalised (fit/output_norm.h) */
   double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (default
                                             SF_OUTPUT_NORM_CAP_BELOW); INFINITY: none */
+  int mlp_restarts;                  /* networks trained per quantity at most: while no model meets
+                                        the budget, the seed's next restart (0: SF_BUILD_MLP_RESTARTS,
+                                        1 with quick) */
   int emit;                          /* write the headers (default 1) */
   long long cache_limit_bytes;       /* OUT/cache kept under it after a successful run,
                                         least recently used entries removed first

@@ -11,6 +11,9 @@
 #define SF_BUILD_MLP_TRANSMITTANCE_EPOCHS 50
 #define SF_BUILD_MLP_SCATTERING_EPOCHS 60
 #define SF_BUILD_MLP_SCATTERING_SAMPLES 0L   /* every grid point in the domain */
+/* Networks per quantity at most: while no model meets the scene's budget,
+ * the build trains the seed's next restart (fit/build_pipeline.h). */
+#define SF_BUILD_MLP_RESTARTS 3
 
 /* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */
 int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len);

@@ -81,7 +81,7 @@ int sf_candidate_applies_mlp_scattering(const sf_candidate_inputs *in, char *why
 
 typedef struct mlp_job {
   int scattering;
-  const char *name;
+  char name[48];             /* "mlp-transmittance", or "mlp-transmittance-2" for restart 1 */
   sf_train_options train;
   long max_samples;          /* training samples kept, <= 0: all */
   int polish_iterations;     /* Levenberg-Marquardt steps after Adam (fit/mlp_lm.h) */
@@ -233,6 +233,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     if (job->scattering) cJSON_AddStringToObject(training, "split", model->horizon_split ? "horizon" : "none");
     if (job->scattering) cJSON_AddStringToObject(training, "normalise", norm.active ? "brightness" : "none");
     cJSON_AddNumberToObject(training, "seed", (double)job->train.seed);
+    if (job->train.first_restart > 0) cJSON_AddNumberToObject(training, "restart", job->train.first_restart);
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
     cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
     cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(job->train.loss));
@@ -264,6 +265,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   sf_cache_key_add_number(&key, "lr_decay", job->train.adam.lr_decay_per_epoch);
   sf_cache_key_add_number(&key, "polish", job->polish_iterations);
   sf_cache_key_add_number(&key, "polish_samples", (double)job->polish_samples);
+  if (job->train.first_restart > 0) sf_cache_key_add_number(&key, "restart", job->train.first_restart);
   if (!job->scattering) sf_cache_key_add_number(&key, "input_map", SF_MLP_INPUTS_BRUNETON);
   else {
     sf_cache_key_add_number(&key, "split_min_samples", SF_MLP_SPLIT_MIN_SAMPLES);   /* horizon split */
@@ -312,8 +314,11 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     free_mlp(m);
     return err->status;
   }
+  char label[64], restart[32] = "";
+  if (job->train.first_restart > 0) snprintf(restart, sizeof restart, ", restart %d", job->train.first_restart + 1);
+  snprintf(label, sizeof label, "%s MLP (trained%s)", job->scattering ? "Scattering" : "Transmittance", restart);
   sf_candidate_init(out, job->scattering ? SF_CANDIDATE_SKY_RADIANCE : SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED,
-                    job->name, job->scattering ? "Scattering MLP (trained)" : "Transmittance MLP (trained)");
+                    job->name, label);
   snprintf(out->weights_path, sizeof out->weights_path, "%s", weights);
   char shape[64] = "";
   for (int l = 0; l <= m->net.shape.n_layers; ++l) {
@@ -334,6 +339,11 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
              "Network %s on Bruneton's inputs (x_r, x_mu), sigmoid hidden units, exp(-exp(-z)) output (seed 000 eq. 41) = transmittance to the top (seed 000 §9.6.1); rays to the "
              "ground from two reversed rays (eq. 43); %d epochs of Adam on the transmittance table's grid.",
              shape, job->train.epochs);
+  if (job->train.first_restart > 0) {
+    size_t len = strlen(out->description);
+    snprintf(out->description + len, sizeof out->description - len, " Restart %d of the seed (those before missed the budget).",
+             job->train.first_restart + 1);
+  }
   out->n_channels = m->n_channels;
   /* weights and biases, and a brightness's coefficients and cap; the
    * constants also hold the input normalisation and the edge slopes derived
@@ -374,11 +384,18 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   return SF_OK;
 }
 
+/* Restart r > 0 of the seed: a candidate of its own, "<name>-<r + 1>". */
+static void name_job(mlp_job *job, const char *name, int restart) {
+  job->train.first_restart = restart > 0 ? restart : 0;
+  if (restart > 0) snprintf(job->name, sizeof job->name, "%s-%d", name, restart + 1);
+  else snprintf(job->name, sizeof job->name, "%s", name);
+}
+
 int sf_candidate_make_mlp_transmittance(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err) {
   mlp_job job;
   memset(&job, 0, sizeof job);
-  job.name = "mlp-transmittance";
   sf_train_options_default(&job.train);
+  name_job(&job, "mlp-transmittance", in->restart);
   job.train.loss = SF_LOSS_MSE;
   job.train.batch = 256;
   job.train.adam.lr_decay_per_epoch = 0.995;
@@ -395,8 +412,8 @@ int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate
   mlp_job job;
   memset(&job, 0, sizeof job);
   job.scattering = 1;
-  job.name = "mlp-scattering";
   sf_train_options_default(&job.train);
+  name_job(&job, "mlp-scattering", in->restart);
   /* MSE, not the relative loss: the relative loss left the validation
    * RMSE about 5x higher (bench/mlp_accuracy.sh). */
   job.train.loss = SF_LOSS_MSE;

@@ -8,13 +8,13 @@
 
 /* One line per fitted model (fit/candidate_fitted.h). */
 static const sf_candidate_factory factories[] = {
-    {"sigmoid", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_sigmoid, sf_candidate_make_sigmoid},
+    {"sigmoid", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_sigmoid, sf_candidate_make_sigmoid, 0},
     {"mlp-transmittance", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_mlp_transmittance,
-     sf_candidate_make_mlp_transmittance},
-    {"preetham", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_preetham, sf_candidate_make_preetham},
-    {"hosek", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_hosek, sf_candidate_make_hosek},
+     sf_candidate_make_mlp_transmittance, 1},
+    {"preetham", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_preetham, sf_candidate_make_preetham, 0},
+    {"hosek", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_hosek, sf_candidate_make_hosek, 0},
     {"mlp-scattering", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_mlp_scattering,
-     sf_candidate_make_mlp_scattering},
+     sf_candidate_make_mlp_scattering, 1},
 };
 
 int sf_candidate_factories(const sf_candidate_factory **out) {
@@ -32,6 +32,36 @@ static void say(sf_candidate_note_fn note, void *ctx, const char *fmt, const cha
   char text[1200];
   snprintf(text, sizeof text, fmt, a, b);
   note(ctx, text);
+}
+
+/* Every registered factory of quantity q that applies (only the
+ * restartable ones if restartable_only), made and added to list. */
+static int make_fitted(const sf_candidate_inputs *in, sf_candidate_quantity q, int restartable_only,
+                       sf_candidate_list *list, int *n_added, sf_candidate_note_fn note, void *note_ctx,
+                       sf_error *err) {
+  const sf_candidate_factory *f;
+  int n = sf_candidate_factories(&f);
+  for (int i = 0; i < n; ++i) {
+    if (f[i].quantity != q || (restartable_only && !f[i].restartable)) continue;
+    char why[512] = "";
+    if (f[i].applies && !f[i].applies(in, why, sizeof why)) {
+      if (!restartable_only) say(note, note_ctx, "%s: not fitted: %s", f[i].name, why);   /* said once */
+      continue;
+    }
+    sf_candidate c;
+    sf_error ferr = {0};
+    if (f[i].make(in, &c, &ferr) != SF_OK) {
+      if (ferr.status != SF_ERR_INPUT) {
+        *err = ferr;
+        return err->status;
+      }
+      say(note, note_ctx, "%s: fit failed, skipped: %s", f[i].name, ferr.message);
+      continue;
+    }
+    if (add(list, &c, err) != SF_OK) return err->status;
+    if (n_added) ++*n_added;
+  }
+  return SF_OK;
 }
 
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
@@ -63,29 +93,16 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
     if (sf_candidate_table_sky_radiance(in->sky, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
       return err->status;
   }
-  const sf_candidate_factory *f;
-  int n = sf_candidate_factories(&f);
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     if (q == SF_CANDIDATE_SKY_RADIANCE && !want_radiance) continue;
     if (q == SF_CANDIDATE_TRANSMITTANCE && !want_transmittance) continue;
-    for (int i = 0; i < n; ++i) {
-      if ((int)f[i].quantity != q) continue;
-      char why[512] = "";
-      if (f[i].applies && !f[i].applies(in, why, sizeof why)) {
-        say(note, note_ctx, "%s: not fitted: %s", f[i].name, why);
-        continue;
-      }
-      sf_error ferr = {0};
-      if (f[i].make(in, &c, &ferr) != SF_OK) {
-        if (ferr.status != SF_ERR_INPUT) {
-          *err = ferr;
-          return err->status;
-        }
-        say(note, note_ctx, "%s: fit failed, skipped: %s", f[i].name, ferr.message);
-        continue;
-      }
-      if (add(list, &c, err) != SF_OK) return err->status;
-    }
+    if (make_fitted(in, (sf_candidate_quantity)q, 0, list, NULL, note, note_ctx, err) != SF_OK) return err->status;
   }
   return SF_OK;
+}
+
+int sf_candidates_make_restart(const sf_candidate_inputs *in, sf_candidate_quantity q, sf_candidate_list *list,
+                               int *n_added, sf_candidate_note_fn note, void *note_ctx, sf_error *err) {
+  *n_added = 0;
+  return make_fitted(in, q, 1, list, n_added, note, note_ctx, err);
 }

@@ -36,6 +36,8 @@ typedef struct sf_candidate_inputs {
   const char *cache_dir;             /* the build's cache (fit/candidate_cache.h); NULL: none */
   int orders;                        /* scattering orders of the tables */
   uint64_t seed;
+  int restart;                       /* seeded fits: which restart of the seed (0: the first; a
+                                        later one after the first missed the budget) */
   int quick;                         /* smaller fits (tests) */
   int mlp_transmittance_epochs;      /* 0: the build's default (fit/candidate_fitted.h) */
   int mlp_scattering_epochs;         /* 0: the build's default */
@@ -53,6 +55,9 @@ typedef struct sf_candidate_factory {
   /* 1 if the model applies to in->scene; else 0 and a reason in why. */
   int (*applies)(const sf_candidate_inputs *in, char *why, size_t why_len);
   int (*make)(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+  /* 1: a seeded fit (a network), whose restart in->restart > 0 is another
+   * fit of the same data, named "<name>-<restart + 1>". */
+  int restartable;
 } sf_candidate_factory;
 
 int sf_candidate_factories(const sf_candidate_factory **out);
@@ -67,5 +72,11 @@ typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
  * factory of a quantity the scene asks for that applies. */
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err);
+
+/* Restart in->restart (> 0) of every restartable factory of quantity q
+ * that applies, added to list; *n_added counts them. A fit that fails on
+ * its input is noted and skipped, as in sf_candidates_make_all. */
+int sf_candidates_make_restart(const sf_candidate_inputs *in, sf_candidate_quantity q, sf_candidate_list *list,
+                               int *n_added, sf_candidate_note_fn note, void *note_ctx, sf_error *err);
 
 #endif

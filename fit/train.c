@@ -1,5 +1,6 @@
 #include "fit/train.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -174,6 +175,7 @@ static uint64_t run_fingerprint(const sf_dataset *train, const sf_dataset *val, 
   h = sf_fnv1a64(h, &o->epochs, sizeof o->epochs);
   h = sf_fnv1a64(h, &o->batch, sizeof o->batch);
   h = sf_fnv1a64(h, &o->restarts, sizeof o->restarts);
+  if (o->first_restart) h = sf_fnv1a64(h, &o->first_restart, sizeof o->first_restart);
   h = sf_fnv1a64(h, &o->patience, sizeof o->patience);
   h = sf_fnv1a64(h, &o->seed, sizeof o->seed);
   const sf_dataset *sets[2] = {train, val};
@@ -270,6 +272,9 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
                    train->n_in, train->n_out, s->sizes[0], s->sizes[s->n_layers]);
   if (train->n <= 0) return sf_fail(err, SF_ERR_INPUT, "no training samples");
   if (o->epochs < 1 || o->restarts < 1) return sf_fail(err, SF_ERR_INPUT, "epochs and restarts must be >= 1");
+  if (o->first_restart < 0 || o->first_restart > INT_MAX - o->restarts)
+    return sf_fail(err, SF_ERR_INPUT, "the first restart must be >= 0 and leave room for %d restart(s)", o->restarts);
+  const int end_restart = o->first_restart + o->restarts;
   int has_val = val && val->n > 0;
   int np = sf_mlp_param_count(s);
   long batch = o->batch > 0 && o->batch < train->n ? o->batch : train->n;
@@ -316,7 +321,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   uint64_t fingerprint = o->checkpoint_path ? run_fingerprint(train, val, o) : 0;
 
   st.best_loss = INFINITY;
-  st.best_restart = 0;
+  st.best_restart = o->first_restart;
   if (o->resume) {
     if (!o->checkpoint_path) {
       status = sf_fail(err, SF_ERR_INPUT, "--resume: no checkpoint file");
@@ -324,7 +329,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     }
     if ((status = read_checkpoint(o->checkpoint_path, fingerprint, &st, np, err)) != SF_OK) goto done;
   } else {
-    st.restart = 0;
+    st.restart = o->first_restart;
     start_restart(&st, o, np);
   }
 
@@ -336,7 +341,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
 
   double t_start = sf_wall_seconds();
   clock_t cpu_start = clock();
-  while (st.restart < o->restarts) {
+  while (st.restart < end_restart) {
     int stop_restart = 0;
     while (st.epoch < o->epochs && !stop_restart) {
       if ((o->interrupt && *o->interrupt) || (o->stop_after_epochs > 0 && epochs_this_call >= o->stop_after_epochs)) {
@@ -393,7 +398,9 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
         memcpy(st.restart_best, st.params, (size_t)np * sizeof(double));
       }
       if (!isfinite(epoch_loss)) stop_restart = 1;   /* diverged: this restart is over */
-      if (o->progress) o->progress(o->progress_ctx, st.restart, o->restarts, st.epoch, o->epochs, epoch_loss, val_loss);
+      if (o->progress)
+        o->progress(o->progress_ctx, st.restart - o->first_restart, o->restarts, st.epoch, o->epochs, epoch_loss,
+                    val_loss);
     }
     if (st.best_restart_loss < st.best_loss) {
       st.best_loss = st.best_restart_loss;
@@ -402,7 +409,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
       memcpy(st.overall_best, st.restart_best, (size_t)np * sizeof(double));
     }
     st.restart += 1;
-    if (st.restart < o->restarts) start_restart(&st, o, np);
+    if (st.restart < end_restart) start_restart(&st, o, np);
   }
   if (!isfinite(st.best_loss)) {
     status = sf_fail(err, SF_ERR_INTERNAL, "training diverged in every restart (try a smaller --lr)");

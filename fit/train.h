@@ -57,6 +57,10 @@ typedef struct sf_train_options {
   int epochs;               /* per restart */
   long batch;               /* samples per step; 0 = the whole training set */
   int restarts;             /* >= 1; the one with the lowest validation loss is kept */
+  int first_restart;        /* >= 0: the restarts run are first_restart .. first_restart +
+                               restarts - 1 (each its own streams, so restart r is the same
+                               network whichever call trains it; skyfit build's restart after a
+                               missed budget); default 0 */
   int patience;             /* epochs without a better validation loss before stopping; 0 = never */
   uint64_t seed;
   int n_threads;            /* <= 0: OpenMP's default */
@@ -64,7 +68,8 @@ typedef struct sf_train_options {
                                parameters is split among the threads; a smaller training batch is
                                split if that measured faster, a smaller validation set runs on one
                                thread; 0: always split; default SF_TRAIN_PARALLEL_WORK */
-  const double *init_params;   /* optional initial network of restart 0 (n_params values) */
+  const double *init_params;   /* optional initial network of restart 0 (n_params values; only
+                                  when first_restart is 0) */
   const char *checkpoint_path; /* NULL: no checkpoints */
   int resume;               /* continue from checkpoint_path */
   int keep_final_checkpoint;   /* at the end, the finished state to checkpoint_path instead of
