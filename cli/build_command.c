@@ -241,6 +241,10 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
            command, res.cache.removed, (double)res.cache.removed_bytes / MIB, res.cache.entries - res.cache.removed,
            (double)(res.cache.bytes - res.cache.removed_bytes) / MIB, o.cache_limit_bytes / MIB);
   if (res.cache_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.cache_problem);
+  if (res.weights_removed > 0)
+    printf("%s: weights: removed %d file(s) an earlier run left for models this run did not fit\n", command,
+           res.weights_removed);
+  if (res.weights_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.weights_problem);
   if (res.header_c[0]) printf("%s: headers: %s %s\n", command, res.header_c, res.header_glsl);
   else if (emit) printf("%s: headers: none emitted (see the report)\n", command);
   printf("%s: report: %s\n", command, res.report_html);

@@ -9,6 +9,7 @@
 #include "codegen/codegen_file.h"
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
+#include "fit/build_stale_weights.h"
 #include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
 #include "models/weights_file.h"
@@ -179,6 +180,25 @@ static void prune_cache(const char *cache, const sf_build_options *o, struct tim
     snprintf(res->cache_problem, sizeof res->cache_problem, "%s", problem.message);
 }
 
+/* Weights files an earlier run left in OUT/weights for models this run
+ * did not fit (fit/build_stale_weights.h). A failure is reported, not fatal. */
+static void remove_stale_weights(const char *work, const sf_candidate_list *list, const sf_report_spectral4 *s4,
+                                 sf_build_result *res) {
+  const char **written = calloc((size_t)list->count + 1, sizeof *written);
+  if (!written) {
+    snprintf(res->weights_problem, sizeof res->weights_problem, "out of memory listing the weights files");
+    return;
+  }
+  int n = 0;
+  for (int i = 0; i < list->count; ++i)
+    if (list->items[i].weights_path[0]) written[n++] = list->items[i].weights_path;
+  if (s4->present && s4->weights_path[0]) written[n++] = s4->weights_path;
+  sf_error problem = {0};
+  if (sf_build_remove_stale_weights(work, written, n, &res->weights_removed, &problem) != SF_OK)
+    snprintf(res->weights_problem, sizeof res->weights_problem, "%s", problem.message);
+  free(written);
+}
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
   double t_start = sf_wall_seconds(), c_start = sf_cpu_seconds();
@@ -298,6 +318,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
       snprintf(res->chosen[q], sizeof res->chosen[q], "%s", s->model >= 0 ? rep.models[s->model].candidate->name : "");
     }
     prune_cache(cache, o, run_start, res);
+    remove_stale_weights(work, &list, &rep.spectral4, res);
   }
   sf_report_free(&rep);
   sf_candidate_list_free(&list);

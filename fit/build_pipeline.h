@@ -4,7 +4,9 @@
  * selection per quantity (while none meets its budget, the next restart of
  * the seed's network for it, measured and selected again) -> GLSL and C for the selection
  * (codegen/codegen_file.h) -> report.html, report.md, metrics.json ->
- * OUT/cache pruned to its size limit (util/cache_prune.h).
+ * OUT/cache pruned to its size limit (util/cache_prune.h) -> earlier runs'
+ * weights files of models this run did not fit removed from OUT/weights
+ * (fit/build_stale_weights.h).
  * An impossible budget is not an error: the best available model is
  * emitted and the report says it misses the budget. */
 #ifndef SKYFIT_FIT_BUILD_PIPELINE_H
@@ -50,6 +52,9 @@ typedef struct sf_build_result {
   char header_c[SF_REPORT_PATH_LEN], header_glsl[SF_REPORT_PATH_LEN];
   sf_cache_prune_result cache;       /* OUT/cache's entries and what the limit removed */
   char cache_problem[1024];          /* an entry that could not be removed (the build still succeeds) */
+  int weights_removed;               /* OUT/weights files of models this run did not fit, removed
+                                        (fit/build_stale_weights.h) */
+  char weights_problem[1024];        /* one that could not be removed (the build still succeeds) */
 } sf_build_result;
 
 /* The table options a build uses for a scene: base with cache_dir and the

@@ -235,6 +235,21 @@ assert len(set(rmse)) == 3, rmse
 assert "trained restart 3 of the seed's network (mlp-transmittance-3)" in doc["notes"], doc["notes"]
 print("restarts: RMSE " + ", ".join(f"{n} {r:.4g}" for n, r in zip(nets, rmse)) + f"; chose {sel['model']}")
 PY
+# The next run there (one network) removes the restarts' weights files the
+# last one left (fit/build_stale_weights.h), and nothing else.
+echo '{}' > "$tmp/tight/weights/notes.json"
+"$bin" build "$tmp/tight.json" "${small[@]}" --no-views --out "$tmp/tight" > "$tmp/tight1.out" 2>&1
+rc=$?
+"$bin" build "$tmp/tight.json" "${small[@]}" --no-views --out "$tmp/tight" > "$tmp/tight2.out" 2>&1
+rc2=$?
+grep "weights: removed" "$tmp/tight1.out"
+echo "left in weights/: $(ls "$tmp/tight/weights" | tr '\n' ' ')"
+[ $rc -eq 0 ] && [ $rc2 -eq 0 ] && grep -q "weights: removed 2 file(s)" "$tmp/tight1.out" &&
+  ! grep -q "weights: removed" "$tmp/tight2.out" &&
+  [ ! -e "$tmp/tight/weights/mlp-transmittance-2.json" ] && [ ! -e "$tmp/tight/weights/mlp-transmittance-3.json" ] &&
+  [ -s "$tmp/tight/weights/mlp-transmittance.json" ] && [ -s "$tmp/tight/weights/sigmoid.json" ] &&
+  [ -s "$tmp/tight/weights/notes.json" ] ||
+  { echo "FAIL stale restart weights not removed, or too much removed"; cat "$tmp/tight1.out"; fail=1; }
 "$bin" build "$tmp/tight.json" --mlp-restarts 0 --out "$tmp/bad-restarts" --quiet > /dev/null 2> "$tmp/err"
 rc=$?
 echo "--mlp-restarts 0: exit $rc: $(head -1 "$tmp/err")"
