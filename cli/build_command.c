@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/progress_bar.h"
 #include "fit/build_pipeline.h"
@@ -163,17 +164,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         return 2;
       }
     } else if (!strcmp(a, "--cache-limit") && v) {
-      ++i;
-      char *end;
-      long mib = strtol(v, &end, 10);
-      if (strcmp(v, "none") == 0) {
-        o.cache_limit_bytes = -1;
-      } else if (*v == '\0' || *end != '\0' || mib < 0 || mib > (1L << 30)) {
-        fprintf(stderr, "%s: --cache-limit: expected a size in MiB (0..%ld) or none, got '%s'\n", command, 1L << 30, v);
-        return 2;
-      } else {
-        o.cache_limit_bytes = mib * MIB;
-      }
+      if (sf_cli_parse_cache_limit(command, argv[++i], &o.cache_limit_bytes)) return 2;
     } else if (!strcmp(a, "--threads") && v) {
       if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
       o.report.run.n_threads = (int)n;
@@ -236,10 +227,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     else
       printf("%s: %s: no model available\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q));
   }
-  if (res.cache.removed > 0)
-    printf("%s: cache: removed %d entries unused the longest (%.1f MiB); %d kept (%.1f MiB, limit %lld MiB)\n",
-           command, res.cache.removed, (double)res.cache.removed_bytes / MIB, res.cache.entries - res.cache.removed,
-           (double)(res.cache.bytes - res.cache.removed_bytes) / MIB, o.cache_limit_bytes / MIB);
+  sf_cli_print_cache_pruned(command, &res.cache, o.cache_limit_bytes);
   if (res.cache_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.cache_problem);
   if (res.weights_removed > 0)
     printf("%s: weights: removed %d file(s) an earlier run left for models this run did not fit\n", command,

@@ -4,9 +4,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <cjson/cJSON.h>
 
+#include "cli/cache_limit_option.h"
 #include "cli/fit_commands.h"
 #include "cli/progress_bar.h"
 #include "fit/spectral4_run.h"
@@ -36,12 +38,16 @@ static void usage(FILE *out) {
           "  --scene S.json          scene (SPEC §5): atmosphere, viewers, view, sun range\n"
           "  --atmosphere A.json     atmosphere (with the built-in scene)\n"
           "  --cache DIR             reference-table cache (default: skyfit-cache beside W.json)\n"
+          "  --cache-limit N         after a successful run, keep the cache under N MiB (default %lld),\n"
+          "                          removing the tables unused the longest (never this run's); none:\n"
+          "                          no limit\n"
           "  --resolution T,S        reference tables MUxH,HxMUxMU_SxNU (default 128x32,16x64x16x8)\n"
           "  --orders N              highest scattering order (default 12, stopping once an order\n"
           "                          adds < 1e-4 of the sky)\n"
           "  --threads N             worker threads (default: all cores); results do not depend on it\n"
           "  --quiet                 no progress, notes or summary\n"
-          "  --help                  this text\n");
+          "  --help                  this text\n",
+          SF_CACHE_LIMIT_DEFAULT_BYTES / (1024LL * 1024));
 }
 
 static void print_summary(const sf_spectral4_report *r, const char *out) {
@@ -65,9 +71,25 @@ static void print_summary(const sf_spectral4_report *r, const char *out) {
   printf("wrote %s\n", out);
 }
 
+/* The cache under limit_bytes after a successful run, this run's tables
+ * kept: those it wrote or hit since run_start, less a second (file times
+ * come from a coarser clock). Without it the default cache beside W.json
+ * would keep every atmosphere's spectral tables ever fitted. A failure is
+ * a warning: the weights are written. */
+static void prune_cache(const char *cache_dir, long long limit_bytes, struct timespec run_start, int quiet) {
+  struct timespec used_since = run_start;
+  used_since.tv_sec -= 1;
+  sf_cache_prune_result res;
+  sf_error problem = {0};
+  if (sf_cache_prune(cache_dir, limit_bytes, used_since, &res, &problem) != SF_OK)
+    fprintf(stderr, "%s: warning: %s\n", COMMAND, problem.message);
+  if (!quiet) sf_cli_print_cache_pruned(COMMAND, &res, limit_bytes);
+}
+
 int sf_cmd_fit_spectral4(int argc, char **argv) {
   const char *out = NULL, *scene_path = NULL, *atm_path = NULL, *cache = NULL;
   int quiet = 0;
+  long long cache_limit_bytes = SF_CACHE_LIMIT_DEFAULT_BYTES;
   sf_spectral4_run_options opt;
   sf_spectral4_run_options_default(&opt);
   sf_error err = {0};
@@ -90,6 +112,8 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
       atm_path = argv[++i];
     } else if (strcmp(a, "--cache") == 0) {
       cache = argv[++i];
+    } else if (strcmp(a, "--cache-limit") == 0) {
+      if (sf_cli_parse_cache_limit(COMMAND, argv[++i], &cache_limit_bytes)) return 2;
     } else if (strcmp(a, "--resolution") == 0) {
       if (sf_table_resolution_parse(argv[++i], &opt.res, &err) ||
           sf_table_resolution_check(&opt.res, SF_PARAM_BRUNETON, &err)) {
@@ -155,11 +179,14 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
     opt.note_ctx = &bar;
   }
   cJSON *doc = NULL;
+  struct timespec run_start;
+  clock_gettime(CLOCK_REALTIME, &run_start);
   if (status == SF_OK) status = sf_spectral4_run(scene, &opt, rep, &doc, &err);
   sf_progress_bar_finish(&bar);
   if (status == SF_OK) status = sf_weights_write(doc, out, &err);
   cJSON_Delete(doc);
   if (status == SF_OK && !quiet) print_summary(rep, out);
+  if (status == SF_OK) prune_cache(cache_dir, cache_limit_bytes, run_start, quiet);
   if (status != SF_OK) fprintf(stderr, "%s: %s\n", COMMAND, err.message);
   free(scene);
   free(rep);

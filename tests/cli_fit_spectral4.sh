@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# skyfit fit spectral4: help, and every input error exits 2 with a message
-# naming the problem and writes nothing.
+# skyfit fit spectral4: help, every input error exits 2 with a message
+# naming the problem and writes nothing, and its cache kept under --cache-limit.
 set -euo pipefail
 
 BIN="${SKYFIT_BIN:?SKYFIT_BIN must name the skyfit binary}"
@@ -49,6 +49,38 @@ cat >"$TMP/narrow.json" <<'JSON'
                    "phase": {"kind": "rayleigh"}, "density": [{"exp_term": 1, "exp_scale_per_km": -0.125}]}]}
 JSON
 expect_error "spectral atmosphere too narrow" "needs coefficients over 360-830 nm" --atmosphere "$TMP/narrow.json" --out "$TMP/w.json" --cache "$TMP/cache"
+
+expect_error "bad cache limit" "--cache-limit: expected a size in MiB" --cache-limit 12x --out "$TMP/w.json"
+
+# The default cache beside W.json is kept under --cache-limit after a
+# successful run (util/cache_prune.h): entries unused the longest go first,
+# this run's tables and files not named as entries stay. Small tables, two
+# scattering orders: a few seconds a run.
+small=(--resolution 32x8,8x16x8x4 --orders 2 --threads 2)
+mkdir -p "$TMP/fit/skyfit-cache"
+stale="$TMP/fit/skyfit-cache/transmittance-0123456789abcdef.exr"
+head -c 100000 /dev/zero >"$stale"
+touch -d "2020-01-01" "$stale"
+echo "mine" >"$TMP/fit/skyfit-cache/notes.txt"
+"$BIN" fit spectral4 "${small[@]}" --out "$TMP/fit/w.json" --cache-limit 0 >"$TMP/out" 2>"$TMP/err" || true
+own=$(find "$TMP/fit/skyfit-cache" -name '*.exr' ! -name 'transmittance-0123456789abcdef.exr' | wc -l)
+if [[ -s $TMP/fit/w.json && ! -e $stale && -e $TMP/fit/skyfit-cache/notes.txt && $own -ge 5 ]] &&
+   grep -q "cache: removed 1 entries unused the longest" "$TMP/out"; then
+  pass "--cache-limit 0: the stale entry removed, this run's $own tables and notes.txt kept"
+else
+  fail "--cache-limit 0: w.json $([[ -s $TMP/fit/w.json ]] && echo written || echo missing), stale $([[ -e $stale ]] && echo kept || echo removed), $own own tables; $(cat "$TMP/out" "$TMP/err" | tail -3)"
+fi
+"$BIN" fit spectral4 "${small[@]}" --out "$TMP/fit/w2.json" --cache-limit 0 >"$TMP/out" 2>"$TMP/err" || true
+own2=$(find "$TMP/fit/skyfit-cache" -name '*.exr' | wc -l)
+if grep -q "reference .* (cached)" "$TMP/out" && ! grep -q "cache: removed" "$TMP/out" && [[ $own2 -eq $own ]]; then
+  pass "a second run hits the cache and removes nothing ($own2 tables)"
+else
+  fail "second run: $own2 tables (want $own); $(cat "$TMP/out" "$TMP/err" | tail -3)"
+fi
+head -c 100000 /dev/zero >"$stale"
+touch -d "2020-01-01" "$stale"
+"$BIN" fit spectral4 "${small[@]}" --out "$TMP/fit/w3.json" --cache-limit none >"$TMP/out" 2>"$TMP/err" || true
+if [[ -s $TMP/fit/w3.json && -e $stale ]]; then pass "--cache-limit none keeps every entry"; else fail "--cache-limit none: $(tail -3 "$TMP/err")"; fi
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

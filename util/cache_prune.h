@@ -1,5 +1,7 @@
-/* A build's cache folder (OUT/cache of `skyfit build` and `skyfit report`)
- * kept under a size limit, least recently used entries removed first.
+/* A cache folder (OUT/cache of `skyfit build` and `skyfit report`; the
+ * spectral tables' cache of `skyfit fit spectral4`, by default
+ * skyfit-cache beside W.json) kept under a size limit, least recently used
+ * entries removed first.
  *
  * Why: every entry's key names what made it, so entries that can no longer
  * be hit stay behind: tables of each atmosphere tried (tens of MB each, the
