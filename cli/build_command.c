@@ -47,7 +47,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       situation's (default %g), or none\n"
           "  --mlp-restarts N     networks trained per quantity at most (default %d; 1 with --quick):\n"
           "                       while no model meets the budget, the seed's next restart is trained\n"
-          "                       (named mlp-*-2, -3, ...), measured and the selection made again\n"
+          "                       (named mlp-*-2, -3, ...), measured and the selection made again;\n"
+          "                       by default only while the networks miss it by %gx at most (the\n"
+          "                       seeds' spread), given explicitly whatever the miss\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --cache-limit N      after a successful run, keep DIR/cache under N MiB (default %lld),\n"
@@ -61,7 +63,7 @@ static void usage(FILE *out, const char *command, int emit) {
           emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
                : "builds\nthe candidates, ",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
-          SF_BUILD_MLP_RESTARTS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
+          SF_BUILD_MLP_RESTARTS, SF_BUILD_RESTART_MAX_MISS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
 }
 
 static void print_note(void *ctx, const char *message) {

@@ -2,7 +2,9 @@
  * tables (cached in OUT/cache) -> every applicable candidate
  * (fit/candidate_registry.h) -> metrics and views (codegen/report.h) ->
  * selection per quantity (while none meets its budget, the next restart of
- * the seed's network for it, measured and selected again) -> GLSL and C for the selection
+ * the seed's network for it, measured and selected again; by default not
+ * where the networks miss it by more than SF_BUILD_RESTART_MAX_MISS) -> GLSL
+ * and C for the selection
  * (codegen/codegen_file.h) -> report.html, report.md, metrics.json ->
  * OUT/cache pruned to its size limit (util/cache_prune.h) -> earlier runs'
  * weights files of models this run did not fit removed from OUT/weights
@@ -30,7 +32,8 @@ typedef struct sf_build_options {
                                             SF_OUTPUT_NORM_CAP_BELOW); INFINITY: none */
   int mlp_restarts;                  /* networks trained per quantity at most: while no model meets
                                         the budget, the seed's next restart (0: SF_BUILD_MLP_RESTARTS,
-                                        1 with quick) */
+                                        1 with quick, and none where the networks miss the budget by
+                                        more than SF_BUILD_RESTART_MAX_MISS; > 0: whatever the miss) */
   int emit;                          /* write the headers (default 1) */
   long long cache_limit_bytes;       /* OUT/cache kept under it after a successful run,
                                         least recently used entries removed first

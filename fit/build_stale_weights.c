@@ -8,16 +8,6 @@
 
 #include "fit/candidate_registry.h"
 
-/* "<name>-<n>" with n a restart's number: 2, 3, ... (no sign, no leading 0). */
-static int restart_of(const char *stem, size_t stem_len, const char *name) {
-  size_t n = strlen(name);
-  if (stem_len < n + 2 || strncmp(stem, name, n) != 0 || stem[n] != '-') return 0;
-  if (stem[n + 1] < '1' || stem[n + 1] > '9') return 0;
-  for (size_t k = n + 1; k < stem_len; ++k)
-    if (stem[k] < '0' || stem[k] > '9') return 0;
-  return 1;
-}
-
 int sf_build_weights_name(const char *file) {
   size_t len = strlen(file);
   if (len <= 5 || strcmp(file + len - 5, ".json") != 0) return 0;
@@ -25,11 +15,9 @@ int sf_build_weights_name(const char *file) {
   if (stem_len == strlen("spectral4") && strncmp(file, "spectral4", stem_len) == 0) return 1;
   const sf_candidate_factory *f;
   int n = sf_candidate_factories(&f);
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i)
     if (stem_len == strlen(f[i].name) && strncmp(file, f[i].name, stem_len) == 0) return 1;
-    if (f[i].restartable && restart_of(file, stem_len, f[i].name)) return 1;
-  }
-  return 0;
+  return sf_candidate_network_name(file, stem_len);
 }
 
 static int was_written(const char *path, const char *const *written, int n_written) {

@@ -64,6 +64,27 @@ static int make_fitted(const sf_candidate_inputs *in, sf_candidate_quantity q, i
   return SF_OK;
 }
 
+/* "<name>-<n>" with n a restart's number: 2, 3, ... (no sign, no leading 0). */
+static int restart_of(const char *stem, size_t stem_len, const char *name) {
+  size_t n = strlen(name);
+  if (stem_len < n + 2 || strncmp(stem, name, n) != 0 || stem[n] != '-') return 0;
+  if (stem[n + 1] < '1' || stem[n + 1] > '9') return 0;
+  for (size_t k = n + 1; k < stem_len; ++k)
+    if (stem[k] < '0' || stem[k] > '9') return 0;
+  return 1;
+}
+
+int sf_candidate_network_name(const char *name, size_t len) {
+  const sf_candidate_factory *f;
+  int n = sf_candidate_factories(&f);
+  for (int i = 0; i < n; ++i) {
+    if (!f[i].restartable) continue;
+    if (len == strlen(f[i].name) && strncmp(name, f[i].name, len) == 0) return 1;
+    if (restart_of(name, len, f[i].name)) return 1;
+  }
+  return 0;
+}
+
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err) {
   sf_candidate c;

@@ -62,6 +62,11 @@ typedef struct sf_candidate_factory {
 
 int sf_candidate_factories(const sf_candidate_factory **out);
 
+/* 1 when name[0..len) names a restartable factory's model (a network) or
+ * one of its restarts, "<name>-<n>" (n = 2, 3, ...: no sign, no leading
+ * zero); else 0. */
+int sf_candidate_network_name(const char *name, size_t len);
+
 /* Called for each model skipped or failed, with a sentence. */
 typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
 

@@ -255,5 +255,35 @@ rc=$?
 echo "--mlp-restarts 0: exit $rc: $(head -1 "$tmp/err")"
 [ $rc -eq 2 ] && grep -q -- "--mlp-restarts" "$tmp/err" && [ ! -e "$tmp/bad-restarts" ] ||
   { echo "FAIL --mlp-restarts 0 should exit 2 naming the option and write nothing"; fail=1; }
+# Without --quick or --mlp-restarts a build trains restarts (up to 3
+# networks) only while its networks miss the budget by at most the seeds'
+# spread (3x, SF_BUILD_RESTART_MAX_MISS): none for 1e-12, and a note says
+# so; for half the first network's RMSE, the restarts.
+nq=(--resolution 32x16,8x16x8x4 --no-views --samples 2000 --timing-points 20000 --repetitions 3 --quiet)
+"$bin" build "$tmp/tight.json" "${nq[@]}" --out "$tmp/far" > "$tmp/far.out" 2>&1 ||
+  { echo "FAIL default build with an impossible budget exited non-zero"; cat "$tmp/far.out"; fail=1; }
+python3 - "$tmp" <<'PY' || fail=1
+import json, sys
+t = sys.argv[1]
+doc = json.load(open(f"{t}/far/metrics.json"))
+names = [m["name"] for m in doc["models"]]
+assert "mlp-transmittance" in names and "mlp-transmittance-2" not in names, f"FAIL far miss: {names}"
+assert "no restart trained" in doc["notes"] and "--mlp-restarts N trains them anyway" in doc["notes"], doc["notes"]
+r = next(m for m in doc["models"] if m["name"] == "mlp-transmittance")["errors"]["rmse"]
+json.dump({"quantities": ["transmittance"], "error_budget": {"transmittance_rmse": r / 2}}, open(f"{t}/near.json", "w"))
+print(f"budget 1e-12: no restart trained; the network's RMSE {r:.4g}, so the next budget is {r / 2:.4g}")
+PY
+"$bin" build "$tmp/near.json" "${nq[@]}" --out "$tmp/far" > "$tmp/near.out" 2>&1 ||
+  { echo "FAIL default build with a near budget exited non-zero"; cat "$tmp/near.out"; fail=1; }
+python3 - "$tmp/far" <<'PY' || fail=1
+import json, sys
+doc = json.load(open(f"{sys.argv[1]}/metrics.json"))
+by = {m["name"]: m for m in doc["models"]}
+assert "mlp-transmittance-2" in by, f"FAIL near miss trained no restart: {sorted(by)}"
+assert "trained restart 2 of the seed's network" in doc["notes"] and "no restart trained" not in doc["notes"], doc["notes"]
+met = doc["selection"]["transmittance"]["meets_budget"]
+assert met or "mlp-transmittance-3" in by, f"FAIL budget still missed after restart 2 and no restart 3: {sorted(by)}"
+print("budget RMSE/2: restarts " + ", ".join(f"{n} {by[n]['errors']['rmse']:.4g}" for n in sorted(by) if n.startswith("mlp-")))
+PY
 [ $fail -eq 0 ] && echo "all checks passed"
 exit $fail

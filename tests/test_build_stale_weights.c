@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "fit/build_stale_weights.h"
+#include "fit/candidate_registry.h"
 #include "tests/check.h"
 
 static void plant(const char *dir, const char *name) {
@@ -49,6 +50,18 @@ int main(void) {
     if (!no) printf("taken for a build's: %s\n", other_names[k]);
     CHECK(no);
   }
+
+  /* The networks' names (fit/candidate_registry.h), which the build's
+   * restart rule measures: a network or its restart, counted to len. */
+  const char *networks[] = {"mlp-transmittance", "mlp-scattering", "mlp-scattering-2", "mlp-transmittance-17"};
+  for (size_t k = 0; k < sizeof networks / sizeof networks[0]; ++k)
+    CHECK(sf_candidate_network_name(networks[k], strlen(networks[k])));
+  const char *not_networks[] = {"sigmoid", "hosek", "preetham", "hosek-2", "mlp-scattering-02", "mlp-scattering-",
+                                "mlp-scattering-0", "mlp-scattering-2x", "mlp", "naive16", "table", ""};
+  for (size_t k = 0; k < sizeof not_networks / sizeof not_networks[0]; ++k)
+    CHECK(!sf_candidate_network_name(not_networks[k], strlen(not_networks[k])));
+  CHECK(sf_candidate_network_name("mlp-scattering-3.json", strlen("mlp-scattering-3")));
+  CHECK(!sf_candidate_network_name("mlp-scattering-3", strlen("mlp-scattering-")));
 
   char dir[] = "/tmp/skyfit_test_stale_weights_XXXXXX";
   if (!mkdtemp(dir)) {
