@@ -14,6 +14,7 @@
 #include "fit/dataset_sky.h"
 #include "fit/mlp_sky_metrics.h"
 #include "fit/output_norm.h"
+#include "fit/target_root.h"
 #include "fit/train_losses_json.h"
 #include "models/atmosphere_file.h"
 #include "models/mlp_sky.h"
@@ -55,7 +56,11 @@ static void sky_usage(FILE *out, int scattering) {
                        "                          situation's, so the brighter ones keep their raw weights\n"
                        "                          (default 1.5), or none\n"
                      : "  --input-map M           bruneton (Bruneton's horizon-aware x_r, x_mu, models/mlp_sky.h;\n"
-                       "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n");
+                       "                          default) or sqrt_h_mu (sqrt h, mu as seed 000 §9.1)\n"
+                       "  --target-root K         train on T^(1/K), then turn the network into T's exactly\n"
+                       "                          (fit/target_root.h; default 1): K = 4 cuts the error of\n"
+                       "                          rays to the ground near the horizon several-fold, as\n"
+                       "                          skyfit build does, at a higher error on the grid points\n");
   fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
   sf_mlp_cli_help(out);
 }
@@ -65,6 +70,7 @@ typedef struct sky_job {
   const char *scene_path, *tables_dir, *dump_path;
   sf_mlp_target target;
   sf_mlp_input_map input_map;   /* transmittance network */
+  int target_root;              /* transmittance: trained on T^(1/target_root) (fit/target_root.h) */
   int split;                    /* scattering: the horizon split (models/mlp_sky.h) */
   int normalise;                /* scattering: the sky network's brightness normalisation */
   double normalise_cap;         /* its cap below the brightest (fit/output_norm.h); INFINITY: none */
@@ -152,6 +158,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   /* Bruneton's inputs: lower held-out, full-ray and view errors than
    * (sqrt h, mu) at equal budget (bench/mlp_accuracy.sh, issue 6) */
   job.input_map = SF_MLP_INPUTS_BRUNETON;
+  job.target_root = 1;
   job.split = scattering;
   job.normalise = scattering;   /* brightness (fit/output_norm.h; README) */
   job.normalise_cap = SF_OUTPUT_NORM_CAP_BELOW;
@@ -189,7 +196,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     if ((strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
          (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0 ||
                          strcmp(a, "--normalise") == 0 || strcmp(a, "--normalise-cap") == 0)) ||
-         (!scattering && strcmp(a, "--input-map") == 0)) &&
+         (!scattering && (strcmp(a, "--input-map") == 0 || strcmp(a, "--target-root") == 0))) &&
         !has_value) {
       fprintf(stderr, "%s: %s needs a value\n", command, a);
       return 2;
@@ -202,6 +209,15 @@ static int run_sky(int argc, char **argv, int scattering) {
         fprintf(stderr, "%s: --input-map: expected sqrt_h_mu or bruneton, got '%s'\n", command, v);
         return 2;
       }
+    } else if (!scattering && strcmp(a, "--target-root") == 0) {
+      const char *v = argv[++i];
+      char *end;
+      long k = strtol(v, &end, 10);
+      if (*v == '\0' || *end != '\0' || k < 1 || k > SF_TARGET_ROOT_MAX) {
+        fprintf(stderr, "%s: --target-root: expected an integer in 1..%d, got '%s'\n", command, SF_TARGET_ROOT_MAX, v);
+        return 2;
+      }
+      job.target_root = (int)k;
     } else if (scattering && strcmp(a, "--split") == 0) {
       if (parse_switch(command, a, argv[++i], "horizon", &job.split)) return 2;
     } else if (scattering && strcmp(a, "--normalise") == 0) {
@@ -282,6 +298,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     else snprintf(text, sizeof text, "2,%s,%d", SF_MLP_TRANSMITTANCE_HIDDEN, n_out);
     sf_mlp_shape_parse_layers(text, &t->shape, &err);
   }
+  if (sf_target_root_check(job.target_root, &t->shape, &err)) goto fail;
   if (job.mlp.write_init) {
     status = sf_mlp_cli_write_init(command, job.mlp.write_init, &t->shape, t->seed);
     goto done;
@@ -315,6 +332,8 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (scattering ? sf_dataset_scattering(&set, atm, &dom, job.target, &data, &n_single, constituent, &err)
                  : sf_dataset_transmittance_mapped(&set, atm, &dom, job.input_map, &data, &err))
     goto fail;
+  /* the set trained on, hence the one dumped */
+  if (sf_dataset_targets_root(&data, job.target_root, &err)) goto fail;
   if (job.dump_path) {
     if (sf_dataset_write_csv(&data, job.dump_path, &err)) goto fail;
     if (!job.mlp.quiet)
@@ -374,6 +393,9 @@ static int run_sky(int argc, char **argv, int scattering) {
   }
   if (ts) goto fail;
   if (norm.active) sf_output_norm_restore(&norm, &val);   /* the model's metrics are in radiance */
+  /* ... and in transmittance */
+  sf_mlp_from_target_root(&t->shape, result.net.params, job.target_root);
+  sf_dataset_targets_power(&val, job.target_root);
   if (split) {
     if (!job.mlp.quiet) fprintf(stderr, "%s: network 2 of 2: rays to the ground\n", command);
     /* the test hook counts the command's epochs: the rest go to this
@@ -434,6 +456,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   cJSON_AddNumberToObject(training, "epochs", t->epochs);
   cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
   cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(t->loss));
+  if (job.target_root > 1) cJSON_AddNumberToObject(training, "target_root", job.target_root);
   cJSON_AddNumberToObject(training, "loss_floor", t->loss_floor);
   cJSON_AddNumberToObject(training, "batch", (double)t->batch);
   cJSON_AddNumberToObject(training, "lr", t->adam.lr);
@@ -459,7 +482,11 @@ static int run_sky(int argc, char **argv, int scattering) {
     cJSON_AddNumberToObject(g, "validation_samples", (double)val_g.n);
   }
   cJSON *metrics = sf_weights_metrics(doc);
-  if (sf_train_losses_to_json(metrics, &result, norm.active, split ? &result_g : NULL)) goto fail;
+  char loss_targets[32];
+  sf_target_root_label(job.target_root, loss_targets, sizeof loss_targets);
+  if (sf_train_losses_to_json(metrics, &result, norm.active ? "brightness_normalised" : loss_targets,
+                              split ? &result_g : NULL))
+    goto fail;
   sf_mlp_error e;
   double val_rmse = NAN, val_max_abs = NAN;   /* for the summary line */
   if (val_model->n > 0) {

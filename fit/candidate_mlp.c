@@ -25,6 +25,7 @@
 #include "fit/dataset_sky.h"
 #include "fit/mlp_lm.h"
 #include "fit/output_norm.h"
+#include "fit/target_root.h"
 #include "fit/train.h"
 #include "fit/train_losses_json.h"
 #include "models/mlp_sky.h"
@@ -88,6 +89,7 @@ typedef struct mlp_job {
   long polish_samples;       /* samples forming J^T J, <= 0: all */
   int normalise;             /* scattering: the sky network's brightness normalisation */
   double normalise_cap;      /* its cap below the brightest (fit/output_norm.h); INFINITY: none */
+  int target_root;           /* transmittance: trained on T^(1/target_root) (fit/target_root.h) */
 } mlp_job;
 
 static void train_progress(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
@@ -186,11 +188,14 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     job->train.shape.hidden = SF_ACT_SIGMOID;
     job->train.shape.output = job->scattering ? SF_ACT_EXP_NEG : SF_ACT_EXP_NEG_EXP;
   }
+  if (status == SF_OK && !job->scattering) status = sf_target_root_check(job->target_root, &job->train.shape, err);
+  if (status == SF_OK && !job->scattering) status = sf_dataset_targets_root(&data, job->target_root, err);
   sf_train_result result, result_ground;
   memset(&result, 0, sizeof result);
   memset(&result_ground, 0, sizeof result_ground);
   long n_train = 0, n_val = 0, n_train_ground = 0, n_val_ground = 0;
   if (status == SF_OK) status = train_network(in, job, &data, &result, &n_train, &n_val, err);
+  if (status == SF_OK && !job->scattering) sf_mlp_from_target_root(&job->train.shape, result.net.params, job->target_root);
   if (status == SF_OK && split)
     status = train_network(in, job, &ground, &result_ground, &n_train_ground, &n_val_ground, err);
   if (status == SF_OK && split) {
@@ -237,13 +242,17 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
     cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
     cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(job->train.loss));
+    if (!job->scattering && job->target_root > 1) cJSON_AddNumberToObject(training, "target_root", job->target_root);
     cJSON_AddNumberToObject(training, "batch", (double)job->train.batch);
     cJSON_AddNumberToObject(training, "lr", job->train.adam.lr);
     cJSON_AddNumberToObject(training, "training_samples", (double)n_train);
     cJSON_AddNumberToObject(training, "validation_samples", (double)n_val);
     cJSON_AddNumberToObject(training, "grid_points_in_domain", n_all);
     cJSON *metrics = sf_weights_metrics(doc);
-    if (status == SF_OK && sf_train_losses_to_json(metrics, &result, norm.active, split ? &result_ground : NULL))
+    char targets[32];
+    sf_target_root_label(job->scattering ? 1 : job->target_root, targets, sizeof targets);
+    if (status == SF_OK && sf_train_losses_to_json(metrics, &result, norm.active ? "brightness_normalised" : targets,
+                                                   split ? &result_ground : NULL))
       status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     if (status == SF_OK) status = sf_weights_write(doc, path, err);
     cJSON_Delete(doc);
@@ -266,8 +275,10 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   sf_cache_key_add_number(&key, "polish", job->polish_iterations);
   sf_cache_key_add_number(&key, "polish_samples", (double)job->polish_samples);
   if (job->train.first_restart > 0) sf_cache_key_add_number(&key, "restart", job->train.first_restart);
-  if (!job->scattering) sf_cache_key_add_number(&key, "input_map", SF_MLP_INPUTS_BRUNETON);
-  else {
+  if (!job->scattering) {
+    sf_cache_key_add_number(&key, "input_map", SF_MLP_INPUTS_BRUNETON);
+    sf_cache_key_add_number(&key, "target_root", job->target_root);
+  } else {
     sf_cache_key_add_number(&key, "split_min_samples", SF_MLP_SPLIT_MIN_SAMPLES);   /* horizon split */
     if (job->normalise) {   /* brightness */
       sf_cache_key_add_number(&key, "norm_degree_h", SF_OUTPUT_NORM_DEGREE_H);
@@ -336,9 +347,10 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
              m->norm.active ? "; sky network brightness-normalised" : "");
   else
     snprintf(out->description, sizeof out->description,
-             "Network %s on Bruneton's inputs (x_r, x_mu), sigmoid hidden units, exp(-exp(-z)) output (seed 000 eq. 41) = transmittance to the top (seed 000 §9.6.1); rays to the "
-             "ground from two reversed rays (eq. 43); %d epochs of Adam on the transmittance table's grid.",
-             shape, job->train.epochs);
+             "Network %s on Bruneton's inputs (x_r, x_mu), sigmoid hidden units, exp(-exp(-z)) output (seed 000 "
+             "eq. 41) = transmittance to the top (seed 000 §9.6.1); rays to the ground from two reversed rays (eq. "
+             "43); %d epochs of Adam on the transmittance table's grid%s.",
+             shape, job->train.epochs, job->target_root == 4 ? ", its fourth roots" : job->target_root > 1 ? ", its roots" : "");
   if (job->train.first_restart > 0) {
     size_t len = strlen(out->description);
     snprintf(out->description + len, sizeof out->description - len, " Restart %d of the seed (those before missed the budget).",
@@ -397,6 +409,7 @@ int sf_candidate_make_mlp_transmittance(const sf_candidate_inputs *in, sf_candid
   sf_train_options_default(&job.train);
   name_job(&job, "mlp-transmittance", in->restart);
   job.train.loss = SF_LOSS_MSE;
+  job.target_root = SF_BUILD_MLP_TRANSMITTANCE_TARGET_ROOT;
   job.train.batch = 256;
   job.train.adam.lr_decay_per_epoch = 0.995;
   job.polish_iterations = in->quick ? 10 : SF_MLP_TRANSMITTANCE_POLISH;
@@ -412,6 +425,7 @@ int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate
   mlp_job job;
   memset(&job, 0, sizeof job);
   job.scattering = 1;
+  job.target_root = 1;
   sf_train_options_default(&job.train);
   name_job(&job, "mlp-scattering", in->restart);
   /* MSE, not the relative loss: the relative loss left the validation

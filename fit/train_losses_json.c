@@ -2,16 +2,16 @@
 
 #include <math.h>
 
-static int add_losses(cJSON *obj, const sf_train_result *r, int normalised) {
+static int add_losses(cJSON *obj, const sf_train_result *r, const char *targets) {
   if (!cJSON_AddNumberToObject(obj, "train_loss", r->train_loss)) return -1;
   if (isfinite(r->validation_loss) && !cJSON_AddNumberToObject(obj, "validation_loss", r->validation_loss)) return -1;
-  return cJSON_AddStringToObject(obj, "loss_targets", normalised ? "brightness_normalised" : "raw") ? 0 : -1;
+  return cJSON_AddStringToObject(obj, "loss_targets", targets) ? 0 : -1;
 }
 
-int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, int sky_normalised,
+int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, const char *sky_targets,
                             const sf_train_result *ground) {
-  if (add_losses(metrics, sky, sky_normalised)) return -1;
+  if (add_losses(metrics, sky, sky_targets)) return -1;
   if (!ground) return 0;
   cJSON *g = cJSON_AddObjectToObject(metrics, "ground_network");
-  return g ? add_losses(g, ground, 0) : -1;
+  return g ? add_losses(g, ground, "raw") : -1;
 }

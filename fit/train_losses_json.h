@@ -7,7 +7,9 @@
  * units of its targets, never averaged into one figure:
  *   "train_loss", "validation_loss", "loss_targets"    the sky network (or the only one)
  *   "ground_network": {the same three}                 the ground network of a split sky
- * "loss_targets" is "raw" or "brightness_normalised"; a validation loss
+ * "loss_targets" is "raw", "brightness_normalised" or, for a transmittance
+ * network trained on the k-th roots of its targets (fit/target_root.h),
+ * "root_<k>" (sky_targets; the ground network's are raw); a validation loss
  * that is not finite (no validation set) is left out. */
 #ifndef SKYFIT_FIT_TRAIN_LOSSES_JSON_H
 #define SKYFIT_FIT_TRAIN_LOSSES_JSON_H
@@ -17,7 +19,7 @@
 #include "fit/train.h"
 
 /* ground: NULL without a split. 0, or -1 when out of memory. */
-int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, int sky_normalised,
+int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, const char *sky_targets,
                             const sf_train_result *ground);
 
 #endif

@@ -149,6 +149,42 @@ polished=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs
 m0=$(echo "$plain" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 m1=$(echo "$polished" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 awk -v a="$m0" -v b="$m1" 'BEGIN { exit !(b > 0 && b < 0.8 * a) }' && pass "polish: training MSE $m0 -> $m1" || fail "polish: $m0 -> $m1"
+# --target-root 4 (fit/target_root.h): the dump holds the targets' fourth
+# roots; fit mlp trains the same network on it, and the weights file holds
+# that network turned into T's: the output biases less ln 4, every other
+# parameter the same bits; its validation figures in transmittance
+"$BIN" fit mlp-transmittance "${TAB[@]}" --target-root 4 --epochs 30 --polish 20 --threads 1 \
+  --dump-dataset "$TMP/t4.csv" --out "$TMP/t4.json" --quiet
+"$BIN" fit mlp --data "$TMP/t4.csv" --inputs 2 --layers 2,16,16,3 --output exp_neg_exp --epochs 30 --batch 256 \
+  --lr-decay 0.995 --polish 20 --validation 0.1 --seed 1 --threads 1 --out "$TMP/t4_csv.json" --quiet >/dev/null
+/usr/bin/python3 - "$TMP" <<'PY' && pass "--target-root 4: fourth roots dumped, the same network trained on them, its output biases less ln 4" ||
+import csv, json, math, sys
+t = sys.argv[1]
+raw = list(csv.reader(open(f"{t}/t.csv")))[1:]
+roots = list(csv.reader(open(f"{t}/t4.csv")))[1:]
+assert len(raw) == len(roots)
+for a, b in zip(raw, roots):
+    assert a[:2] == b[:2]
+    for y, r in zip(a[2:], b[2:]):
+        assert abs(float(r) - float(y) ** 0.25) <= 1e-15 * max(1.0, float(y) ** 0.25), (y, r)
+w4, wc, w1 = (json.load(open(f"{t}/{n}.json")) for n in ("t4", "t4_csv", "t1"))
+assert w4["training"]["target_root"] == 4 and w4["metrics"]["loss_targets"] == "root_4", w4["training"]
+assert "target_root" not in w1["training"] and w1["metrics"]["loss_targets"] == "raw"
+p4, pc = w4["params"], wc["params"]
+last = "b%d" % (len([k for k in p4 if k.startswith("W")]) - 1)
+for k in pc:
+    if k == last:
+        assert all(abs(a - (b - math.log(4))) <= 1e-15 for a, b in zip(p4[k], pc[k])), (p4[k], pc[k])
+    else:
+        assert p4[k] == pc[k], k
+# the same held-out samples, measured in transmittance (not in its fourth
+# roots, whose mean is higher): the reference's mean as the plain run's
+v4, v1 = w4["metrics"]["validation"], w1["metrics"]["validation"]
+assert v4["points"] == v1["points"] and abs(v4["mean_reference"] - v1["mean_reference"]) <= 1e-12, (v4, v1)
+print("target root 4: validation RMSE %.3g (plain %.3g); full rays max abs %.3g (plain %.3g)" % (
+    v4["rmse_all"], v1["rmse_all"], w4["metrics"]["full_ray_random"]["max_abs_all"], w1["metrics"]["full_ray_random"]["max_abs_all"]))
+PY
+  fail "--target-root 4: dump, conversion or metrics wrong"
 # what the terminal shows: a validation loss only with a validation set
 # (fit mlp has none unless asked); the progress line needs a terminal
 # (script(1), where installed)
@@ -272,6 +308,10 @@ expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3
 expect_error "bad polish" "--polish" "$BIN" fit mlp-transmittance --polish -3 --out "$TMP/bad.json"
 expect_error "bad input map" "--input-map" "$BIN" fit mlp-transmittance --input-map polar --out "$TMP/bad.json"
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
+expect_error "bad target root" "--target-root: expected an integer in 1..16" "$BIN" fit mlp-transmittance --target-root 0 \
+  --out "$TMP/bad.json"
+expect_error "target root of a sigmoid output" "needs the output exp_neg or exp_neg_exp" "$BIN" fit mlp-transmittance \
+  --target-root 4 --output sigmoid --out "$TMP/bad.json"
 expect_error "bad split" "--split" "$BIN" fit mlp-scattering --split vertical --out "$TMP/bad.json"
 expect_error "bad normalisation" "--normalise" "$BIN" fit mlp-scattering --normalise log --out "$TMP/bad.json"
 expect_error "negative normalisation cap" "--normalise-cap" "$BIN" fit mlp-scattering --normalise-cap -1 --out "$TMP/bad.json"
