@@ -211,9 +211,8 @@ static int run_sky(int argc, char **argv, int scattering) {
       }
     } else if (!scattering && strcmp(a, "--target-root") == 0) {
       const char *v = argv[++i];
-      char *end;
-      long k = strtol(v, &end, 10);
-      if (*v == '\0' || *end != '\0' || k < 1 || k > SF_TARGET_ROOT_MAX) {
+      long k;
+      if (sf_mlp_cli_parse_long(v, 1, SF_TARGET_ROOT_MAX, &k)) {
         fprintf(stderr, "%s: --target-root: expected an integer in 1..%d, got '%s'\n", command, SF_TARGET_ROOT_MAX, v);
         return 2;
       }
@@ -482,11 +481,7 @@ static int run_sky(int argc, char **argv, int scattering) {
     cJSON_AddNumberToObject(g, "validation_samples", (double)val_g.n);
   }
   cJSON *metrics = sf_weights_metrics(doc);
-  char loss_targets[32];
-  sf_target_root_label(job.target_root, loss_targets, sizeof loss_targets);
-  if (sf_train_losses_to_json(metrics, &result, norm.active ? "brightness_normalised" : loss_targets,
-                              split ? &result_g : NULL))
-    goto fail;
+  if (sf_train_losses_to_json(metrics, &result, norm.active, job.target_root, split ? &result_g : NULL)) goto fail;
   sf_mlp_error e;
   double val_rmse = NAN, val_max_abs = NAN;   /* for the summary line */
   if (val_model->n > 0) {

@@ -18,7 +18,7 @@ void sf_mlp_cli_default(sf_mlp_cli *o) {
   sf_mlp_lm_options_default(&o->polish);
 }
 
-static int parse_long(const char *text, long lo, long hi, long *out) {
+int sf_mlp_cli_parse_long(const char *text, long lo, long hi, long *out) {
   char *end;
   errno = 0;
   long v = strtol(text, &end, 10);
@@ -104,7 +104,7 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
                       strcmp(a, "--polish-samples") == 0
                   ? 0
                   : 1;
-    if (parse_long(v, lo, 1000000000L, &n)) {
+    if (sf_mlp_cli_parse_long(v, lo, 1000000000L, &n)) {
       fprintf(stderr, "%s: %s: expected a whole number >= %ld, got '%s'\n", command, a, lo, v);
       return -1;
     }

@@ -34,6 +34,8 @@ int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const c
 
 /* The whole of text as a finite number in [lo, hi]: 0; else -1. */
 int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out);
+/* The whole of text as an integer in [lo, hi]: 0; else -1. */
+int sf_mlp_cli_parse_long(const char *text, long lo, long hi, long *out);
 
 /* Levenberg-Marquardt polish of a trained network (fit/mlp_lm.h) with the
  * training loss (delta_k = loss_floor * max |y_k| of train, as fit/train.h);

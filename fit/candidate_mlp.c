@@ -249,9 +249,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     cJSON_AddNumberToObject(training, "validation_samples", (double)n_val);
     cJSON_AddNumberToObject(training, "grid_points_in_domain", n_all);
     cJSON *metrics = sf_weights_metrics(doc);
-    char targets[32];
-    sf_target_root_label(job->scattering ? 1 : job->target_root, targets, sizeof targets);
-    if (status == SF_OK && sf_train_losses_to_json(metrics, &result, norm.active ? "brightness_normalised" : targets,
+    if (status == SF_OK && sf_train_losses_to_json(metrics, &result, norm.active, job->target_root,
                                                    split ? &result_ground : NULL))
       status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     if (status == SF_OK) status = sf_weights_write(doc, path, err);

@@ -9,7 +9,7 @@
  *   "ground_network": {the same three}                 the ground network of a split sky
  * "loss_targets" is "raw", "brightness_normalised" or, for a transmittance
  * network trained on the k-th roots of its targets (fit/target_root.h),
- * "root_<k>" (sky_targets; the ground network's are raw); a validation loss
+ * "root_<k>" (the ground network's are raw); a validation loss
  * that is not finite (no validation set) is left out. */
 #ifndef SKYFIT_FIT_TRAIN_LOSSES_JSON_H
 #define SKYFIT_FIT_TRAIN_LOSSES_JSON_H
@@ -19,7 +19,9 @@
 #include "fit/train.h"
 
 /* ground: NULL without a split. 0, or -1 when out of memory. */
-int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, const char *sky_targets,
+/* sky_normalised: the sky network's targets brightness-normalised; else
+ * sky_target_root (1: raw) names their units (fit/target_root.h). */
+int sf_train_losses_to_json(cJSON *metrics, const sf_train_result *sky, int sky_normalised, int sky_target_root,
                             const sf_train_result *ground);
 
 #endif
