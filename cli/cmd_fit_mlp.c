@@ -11,6 +11,7 @@
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
 #include "fit/candidate_cache.h"
+#include "fit/dataset_csv.h"
 #include "fit/dataset_sky.h"
 #include "fit/mlp_sky_metrics.h"
 #include "fit/output_norm.h"
@@ -334,7 +335,7 @@ static int run_sky(int argc, char **argv, int scattering) {
   /* the set trained on, hence the one dumped */
   if (sf_dataset_targets_root(&data, job.target_root, &err)) goto fail;
   if (job.dump_path) {
-    if (sf_dataset_write_csv(&data, job.dump_path, &err)) goto fail;
+    if (sf_dataset_write_csv(&data, job.dump_path, t->n_threads, &err)) goto fail;
     if (!job.mlp.quiet)
       fprintf(stderr, "%s: wrote %ld samples (%d inputs, %d targets) to %s\n", command, data.n, data.n_in,
               data.n_out, job.dump_path);
@@ -634,7 +635,7 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);
-  if (sf_dataset_read_csv(data_path, (int)n_inputs, &data, &err)) {
+  if (sf_dataset_read_csv(data_path, (int)n_inputs, t->n_threads, &data, &err)) {
     fprintf(stderr, "%s: %s\n", command, err.message);
     return err.status;
   }

@@ -296,8 +296,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
         if (restart == 1 && isfinite(miss)) {
           char text[400];
           snprintf(text, sizeof text,
-                   "%s: the best network misses the budget %.3g by %.1fx; no restart trained: over seeds, "
-                   "the networks' errors spread about 1.5-2.6x (--mlp-restarts N trains them anyway)",
+                   "%s: the best network misses the budget %.3g by %.1fx; no restart trained: over seeds 1-12 "
+                   "of the default build the networks' errors spread 1.5-1.6x (--mlp-restarts N trains them "
+                   "anyway)",
                    sf_candidate_quantity_name((sf_candidate_quantity)q), rep.selection[q].budget, miss);
           log_note(notes, text);
         }

@@ -1,13 +1,11 @@
 #include "fit/dataset.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "models/rng_lanes.h"
-#include "util/atomic_file.h"
 
 /* rng stream keys of this file */
 #define SPLIT_KEY 0x73706c6974ull   /* "split" */
@@ -64,136 +62,6 @@ int sf_dataset_concat(const sf_dataset *a, const sf_dataset *b, sf_dataset *out,
     memcpy(out->y + ya, b->y, sizeof(double) * (size_t)b->n * (size_t)b->n_out);
   }
   return SF_OK;
-}
-
-int sf_dataset_write_csv(const sf_dataset *d, const char *path, sf_error *err) {
-  sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err)) return err->status;
-  int cols = d->n_in + d->n_out;
-  for (int k = 0; k < cols; ++k) fprintf(f.stream, "%s%s", k ? "," : "", d->names[k]);
-  fputc('\n', f.stream);
-  for (long i = 0; i < d->n; ++i) {
-    for (int k = 0; k < cols; ++k) {
-      double v = k < d->n_in ? d->x[i * d->n_in + k] : d->y[i * d->n_out + (k - d->n_in)];
-      fprintf(f.stream, "%s%.17g", k ? "," : "", v);
-    }
-    fputc('\n', f.stream);
-  }
-  return sf_atomic_commit(&f, err);
-}
-
-/* One line of any length (caller frees *line). Returns its length or -1 at EOF. */
-static long read_line(FILE *in, char **line, size_t *cap) {
-  long n = 0;
-  int c;
-  while ((c = fgetc(in)) != EOF && c != '\n') {
-    if ((size_t)n + 2 > *cap) {
-      size_t nc = *cap ? *cap * 2 : 256;
-      char *p = realloc(*line, nc);
-      if (!p) return -2;
-      *line = p;
-      *cap = nc;
-    }
-    (*line)[n++] = (char)c;
-  }
-  if (c == EOF && n == 0) return -1;
-  if (!*line) {
-    *line = malloc(1);
-    if (!*line) return -2;
-    *cap = 1;
-  }
-  if (n > 0 && (*line)[n - 1] == '\r') --n;
-  (*line)[n] = '\0';
-  return n;
-}
-
-int sf_dataset_read_csv(const char *path, int n_in, sf_dataset *d, sf_error *err) {
-  memset(d, 0, sizeof *d);
-  FILE *in = fopen(path, "r");
-  if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
-  char *line = NULL;
-  size_t cap = 0;
-  int status = SF_OK;
-  char names[SF_DATASET_MAX_COLUMNS][SF_DATASET_NAME_LEN];
-  int cols = 0;
-  long len = read_line(in, &line, &cap);
-  if (len < 0) {
-    status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: expected a header row naming the columns", path);
-    goto done;
-  }
-  for (char *tok = line, *next;; tok = next + 1) {
-    next = strchr(tok, ',');
-    if (next) *next = '\0';
-    if (cols >= SF_DATASET_MAX_COLUMNS) {
-      status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: more than %d columns", path, SF_DATASET_MAX_COLUMNS);
-      goto done;
-    }
-    snprintf(names[cols++], SF_DATASET_NAME_LEN, "%.31s", tok);
-    if (!next) break;
-  }
-  if (n_in < 1 || cols <= n_in) {
-    status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: %d columns, but --inputs %d leaves no target column",
-                     path, cols, n_in);
-    goto done;
-  }
-  long capacity = 1024, n = 0;
-  double *rows = malloc((size_t)capacity * (size_t)cols * sizeof(double));
-  if (!rows) {
-    status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-    goto done;
-  }
-  for (long line_no = 2;; ++line_no) {
-    len = read_line(in, &line, &cap);
-    if (len == -1) break;
-    if (len == 0) continue;
-    if (n == capacity) {
-      capacity *= 2;
-      double *p = realloc(rows, (size_t)capacity * (size_t)cols * sizeof(double));
-      if (!p) {
-        free(rows);
-        status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-        goto done;
-      }
-      rows = p;
-    }
-    char *p = line;
-    for (int k = 0; k < cols; ++k) {
-      char *end;
-      errno = 0;
-      double v = strtod(p, &end);
-      int last = k + 1 == cols;
-      if (end == p || !isfinite(v) || (last ? *end != '\0' : *end != ',')) {
-        free(rows);
-        status = sf_fail(err, SF_ERR_INPUT,
-                         "%s: line %ld, column %d (%s): expected a finite number%s", path, line_no, k + 1,
-                         names[k], last ? " ending the row" : " followed by a comma");
-        goto done;
-      }
-      rows[n * cols + k] = v;
-      p = end + 1;
-    }
-    ++n;
-  }
-  if (n == 0) {
-    free(rows);
-    status = sf_fail(err, SF_ERR_INPUT, "%s: no data rows after the header", path);
-    goto done;
-  }
-  if ((status = sf_dataset_init(d, n, n_in, cols - n_in, err)) != SF_OK) {
-    free(rows);
-    goto done;
-  }
-  memcpy(d->names, names, (size_t)cols * sizeof names[0]);
-  for (long i = 0; i < n; ++i)
-    for (int k = 0; k < cols; ++k) {
-      if (k < n_in) d->x[i * n_in + k] = rows[i * cols + k];
-      else d->y[i * d->n_out + (k - n_in)] = rows[i * cols + k];
-    }
-  free(rows);
-done:
-  free(line);
-  fclose(in);
-  return status;
 }
 
 /* Swap partners drawn (and prefetched) ahead of their swaps: perm of a

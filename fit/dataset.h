@@ -1,9 +1,7 @@
 /* A training set for the networks (SPEC §7.4-7.5): n samples of n_in
  * normalised inputs and n_out targets, row-major, with the input
  * normalisation that produced them (stored in the weights file, SPEC §8) and
- * column names. CSV form (--dump-dataset, `skyfit fit mlp --data`): one
- * header row of names, inputs first, targets after, numbers printed so that
- * they read back to the same doubles. */
+ * column names. Its CSV form: fit/dataset_csv.h. */
 #ifndef SKYFIT_FIT_DATASET_H
 #define SKYFIT_FIT_DATASET_H
 
@@ -30,13 +28,6 @@ void sf_dataset_free(sf_dataset *d);
 void sf_dataset_truncate(sf_dataset *d, long n);
 /* a's samples then b's (same columns; names and normalisation from a). */
 int sf_dataset_concat(const sf_dataset *a, const sf_dataset *b, sf_dataset *out, sf_error *err);
-
-/* Writes the CSV atomically. */
-int sf_dataset_write_csv(const sf_dataset *d, const char *path, sf_error *err);
-/* Reads a CSV with a header row; the first n_in columns are inputs, the rest
- * targets. SF_ERR_INPUT "<file>: line L, column C: <problem>" for a bad
- * number, a ragged row, too few columns or no rows. */
-int sf_dataset_read_csv(const char *path, int n_in, sf_dataset *d, sf_error *err);
 
 /* Splits d into train and validation sets: a seeded shuffle puts
  * round(fraction * n) samples into validation (fraction 0: none, and
