@@ -1,6 +1,7 @@
 /* skyfit eval QUANTITY: reference quantities at points read as CSV on stdin
- * (SPEC §11). All input is read and validated first; a bad row exits 2 with
- * nothing on stdout. */
+ * (SPEC §11), or with --model a fitted model's (cli/eval_model.h). All
+ * input is read and validated first; a bad row exits 2 with nothing on
+ * stdout. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,17 +10,19 @@
 #include "cli/commands.h"
 #include "cli/csv_points.h"
 #include "cli/cmd_eval_tables.h"
+#include "cli/eval_model.h"
 #include "models/atmosphere_file.h"
 #include "models/optical_depth.h"
 #include "models/phase.h"
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
 
-typedef enum quantity { Q_OPTICAL_DEPTH, Q_TRANSMITTANCE, Q_SINGLE_SCATTERING } quantity;
+typedef enum quantity { Q_OPTICAL_DEPTH, Q_TRANSMITTANCE, Q_SINGLE_SCATTERING, Q_SKY_RADIANCE } quantity;
 
 typedef struct eval_options {
   quantity what;
   const char *atmosphere_path;
+  const char *model_path;   /* --model: a fitted model instead of the reference */
   int phase;
   sf_ray_end end;
   double distance;      /* < 0: none */
@@ -31,10 +34,13 @@ static const char *const sun_columns[] = {"h_km", "mu", "mu_s", "nu", NULL};
 static void eval_usage(FILE *out) {
   fprintf(out,
           "usage: skyfit eval optical_depth|transmittance|single_scattering [options] < points.csv\n"
+          "       skyfit eval transmittance|sky_radiance --model W.json [options] < points.csv\n"
+          "       (multiple_scattering and sky_radiance of the reference tables:\n"
+          "        skyfit eval sky_radiance --help)\n"
           "\n"
           "Reads CSV on stdin: a header naming the columns, then one point per row.\n"
           "  optical_depth, transmittance: h_km,mu\n"
-          "  single_scattering:            h_km,mu,mu_s,nu\n"
+          "  single_scattering, sky_radiance: h_km,mu,mu_s,nu\n"
           "h_km is the viewer altitude above the ground (may exceed the top of the\n"
           "atmosphere), mu the cosine of the view zenith angle, mu_s of the sun zenith angle,\n"
           "nu of the view-sun angle (clamped to what mu and mu_s allow).\n"
@@ -42,13 +48,21 @@ static void eval_usage(FILE *out) {
           "  optical_depth:     one column per constituent (density integral, km)\n"
           "  transmittance:     T_<channel>\n"
           "  single_scattering: <constituent>_<channel> per scattering constituent\n"
+          "  sky_radiance:      L_<channel>\n"
           "\n"
           "options:\n"
           "  --atmosphere FILE  atmosphere JSON (default: the built-in Earth, SPEC §4)\n"
+          "  --model W.json     a fitted model's values instead of the reference's, in double, for\n"
+          "                     the atmosphere it was fitted for (its weights file, SPEC §8):\n"
+          "                     transmittance: sigmoid, mlp-transmittance; sky_radiance:\n"
+          "                     mlp-scattering, preetham, hosek (a viewer on the ground: h_km is\n"
+          "                     ignored). Points outside the domain it was fitted on are counted\n"
+          "                     on stderr (their values are extrapolations)\n"
           "  --phase            multiply single scattering by the phase function at nu\n"
           "  --to nearest|top   ray end: the ground or the top, whichever comes first\n"
           "                     (default), or the top (rays that hit the ground are an error)\n"
           "  --to-distance D    the segment from the viewer to distance D km along the ray\n"
+          "                     (--to top and --to-distance: the reference, or mlp-transmittance)\n"
           "  --help             this text\n");
 }
 
@@ -63,6 +77,8 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       return 0;
     } else if (strcmp(a, "--atmosphere") == 0 && i + 1 < argc) {
       o->atmosphere_path = argv[++i];
+    } else if (strcmp(a, "--model") == 0 && i + 1 < argc) {
+      o->model_path = argv[++i];
     } else if (strcmp(a, "--phase") == 0) {
       o->phase = 1;
     } else if (strcmp(a, "--to") == 0 && i + 1 < argc) {
@@ -99,12 +115,21 @@ static int parse_options(int argc, char **argv, eval_options *o) {
   if (strcmp(q, "optical_depth") == 0) o->what = Q_OPTICAL_DEPTH;
   else if (strcmp(q, "transmittance") == 0) o->what = Q_TRANSMITTANCE;
   else if (strcmp(q, "single_scattering") == 0) o->what = Q_SINGLE_SCATTERING;
+  else if (strcmp(q, "sky_radiance") == 0 && o->model_path) o->what = Q_SKY_RADIANCE;
   else {
     fprintf(stderr, "skyfit eval: unknown quantity '%s' (optical_depth, transmittance, single_scattering)\n", q);
     return 2;
   }
   if (o->phase && o->what != Q_SINGLE_SCATTERING) {
     fprintf(stderr, "skyfit eval: --phase applies to single_scattering only\n");
+    return 2;
+  }
+  if (o->model_path && o->what != Q_TRANSMITTANCE && o->what != Q_SKY_RADIANCE) {
+    fprintf(stderr, "skyfit eval: --model: fitted models give transmittance or sky_radiance, not %s\n", q);
+    return 2;
+  }
+  if (o->model_path && o->atmosphere_path) {
+    fprintf(stderr, "skyfit eval: --model evaluates the atmosphere its weights file holds; leave out --atmosphere\n");
     return 2;
   }
   return -1;   /* go on */
@@ -116,9 +141,9 @@ static int output_columns(const sf_atmosphere *atm, quantity what, char names[][
   if (what == Q_OPTICAL_DEPTH) {
     for (int i = 0; i < atm->n_constituents; ++i)
       snprintf(names[n++], 64, "%s", atm->constituents[i].name);
-  } else if (what == Q_TRANSMITTANCE) {
+  } else if (what == Q_TRANSMITTANCE || what == Q_SKY_RADIANCE) {
     for (int ch = 0; ch < atm->n_channels; ++ch)
-      snprintf(names[n++], 64, "T_%s", atm->channel_names[ch]);
+      snprintf(names[n++], 64, "%s_%s", what == Q_TRANSMITTANCE ? "T" : "L", atm->channel_names[ch]);
   } else {
     for (int i = 0; i < atm->n_constituents; ++i) {
       if (!sf_constituent_scatters(&atm->constituents[i], atm->n_channels)) continue;
@@ -150,9 +175,16 @@ static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf
   return 0;
 }
 
-static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const sf_csv_points *pts,
-                         long row, const sf_view_ray *ray, double *out) {
+static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const sf_eval_model *model,
+                         const sf_csv_points *pts, long row, const sf_view_ray *ray, double *out) {
   const double *v = pts->values + row * pts->n_columns;
+  if (model) {
+    double p[4];
+    static const char *const names[] = {"h_km", "mu", "mu_s", "nu"};
+    for (int k = 0; k < (o->what == Q_SKY_RADIANCE ? 4 : 2); ++k) p[k] = v[sf_csv_points_column(pts, names[k])];
+    sf_eval_model_values(model, p, o->distance, out);
+    return;
+  }
   double depth[SF_MAX_CONSTITUENTS];
   if (o->what != Q_SINGLE_SCATTERING) {
     sf_optical_depth_segment(atm, ray->r, ray->mu, ray->t0, ray->t1, depth);
@@ -175,10 +207,38 @@ static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const 
   }
 }
 
-int sf_cmd_eval(int argc, char **argv) {
-  /* multiple_scattering and sky_radiance are read from tables (issue 3). */
+/* Points whose (h_km, mu[, mu_s]) lie outside the domain the model was
+ * fitted on. */
+static long count_outside(const sf_eval_model *model, quantity what, const sf_csv_points *pts) {
+  static const char *const names[] = {"h_km", "mu", "mu_s"};
+  int c[3];
+  for (int k = 0; k < 3; ++k) c[k] = sf_csv_points_column(pts, names[k]);
+  long n = 0;
+  for (long row = 0; row < pts->n_rows; ++row) {
+    const double *v = pts->values + row * pts->n_columns;
+    double p[4] = {v[c[0]], v[c[1]], what == Q_SKY_RADIANCE ? v[c[2]] : 0.0, 0.0};
+    n += sf_eval_model_outside(model, p);
+  }
+  return n;
+}
+
+static void free_model(sf_eval_model *m) {
+  if (!m) return;
+  sf_eval_model_free(m);
+  free(m);
+}
+
+static int has_model_option(int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
-    if (sf_eval_tables_handles(argv[i])) return sf_cmd_eval_tables(argc, argv);
+    if (strcmp(argv[i], "--model") == 0) return 1;
+  return 0;
+}
+
+int sf_cmd_eval(int argc, char **argv) {
+  /* multiple_scattering and sky_radiance of the reference are read from
+   * tables (issue 3); sky_radiance --model is a fitted model's, here. */
+  for (int i = 1; i < argc; ++i)
+    if (sf_eval_tables_handles(argv[i]) && !has_model_option(argc, argv)) return sf_cmd_eval_tables(argc, argv);
   eval_options o;
   int rc = parse_options(argc, argv, &o);
   if (rc >= 0) return rc;
@@ -186,7 +246,21 @@ int sf_cmd_eval(int argc, char **argv) {
   sf_error err;
   sf_error_clear(&err);
   sf_atmosphere atm;
-  if (o.atmosphere_path) {
+  sf_eval_model *fitted = NULL;   /* --model */
+  if (o.model_path) {
+    fitted = calloc(1, sizeof *fitted);
+    if (!fitted) {
+      fprintf(stderr, "skyfit eval: out of memory\n");
+      return 1;
+    }
+    if (sf_eval_model_load(o.model_path, o.what == Q_SKY_RADIANCE ? "sky_radiance" : "transmittance", fitted, &err) ||
+        sf_eval_model_check_ray(fitted, o.end, o.distance, &err)) {
+      fprintf(stderr, "skyfit eval: %s\n", err.message);
+      free_model(fitted);
+      return err.status;
+    }
+    atm = fitted->atmosphere;
+  } else if (o.atmosphere_path) {
     if (sf_atmosphere_load_file(o.atmosphere_path, &atm, &err)) {
       fprintf(stderr, "skyfit eval: %s\n", err.message);
       return err.status;
@@ -196,9 +270,10 @@ int sf_cmd_eval(int argc, char **argv) {
   }
 
   sf_csv_points pts;
-  const char *const *columns = o.what == Q_SINGLE_SCATTERING ? sun_columns : ray_columns;
+  const char *const *columns = o.what == Q_SINGLE_SCATTERING || o.what == Q_SKY_RADIANCE ? sun_columns : ray_columns;
   if (sf_csv_points_read(stdin, "stdin", columns, columns, &pts, &err)) {
     fprintf(stderr, "skyfit eval: %s\n", err.message);
+    free_model(fitted);
     return err.status;
   }
   static char names[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS][64];
@@ -208,19 +283,31 @@ int sf_cmd_eval(int argc, char **argv) {
   if (!rays || !results) {
     fprintf(stderr, "skyfit eval: out of memory for %ld points\n", pts.n_rows);
     free(rays), free(results), sf_csv_points_free(&pts);
+    free_model(fitted);
     return 1;
   }
   for (long row = 0; row < pts.n_rows; ++row)
     if (prepare_row(&atm, &o, &pts, row, &rays[row], &err)) {
       fprintf(stderr, "skyfit eval: %s\n", err.message);
       free(rays), free(results), sf_csv_points_free(&pts);
+      free_model(fitted);
       return err.status;
     }
 
   /* Rows are independent: the thread count cannot change any value. */
 #pragma omp parallel for schedule(dynamic, 16)
   for (long row = 0; row < pts.n_rows; ++row)
-    evaluate_row(&atm, &o, &pts, row, &rays[row], results + row * n_out);
+    evaluate_row(&atm, &o, fitted, &pts, row, &rays[row], results + row * n_out);
+  long n_outside = fitted ? count_outside(fitted, o.what, &pts) : 0;
+  if (n_outside > 0) {
+    const sf_scene_domain *d = &fitted->domain;
+    char mu_s[64] = "";
+    if (o.what == Q_SKY_RADIANCE) snprintf(mu_s, sizeof mu_s, ", mu_s %g..%g", d->mu_s_min, d->mu_s_max);
+    fprintf(stderr,
+            "skyfit eval: %s: %ld of %ld points lie outside the domain the model was fitted on (h_km %g..%g, "
+            "mu %g..%g%s); its values there are extrapolations\n",
+            o.model_path, n_outside, pts.n_rows, d->h_min_km, d->h_max_km, d->mu_min, d->mu_max, mu_s);
+  }
 
   for (int c = 0; c < pts.n_columns; ++c) printf("%s%s", c ? "," : "", pts.column_names[c]);
   for (int k = 0; k < n_out; ++k) printf(",%s", names[k]);
@@ -234,6 +321,7 @@ int sf_cmd_eval(int argc, char **argv) {
   free(rays);
   free(results);
   sf_csv_points_free(&pts);
+  free_model(fitted);
   if (fflush(stdout) != 0 || ferror(stdout)) {
     fprintf(stderr, "skyfit eval: writing to stdout failed\n");
     return 1;

@@ -153,6 +153,22 @@ void sf_fitted_link(sf_fitted_model **models, sf_codegen_part *parts, int n) {
       break;
     }
   }
+  /* The segment function calls the transmittance network's functions, and
+   * C and GLSL declare a function before its use: a linked transmittance
+   * part that comes later moves to just before its first caller. */
+  for (int i = 0; i < n; ++i) {
+    if (!models[i] || !models[i]->transmittance) continue;
+    int j = i + 1;
+    while (j < n && !(models[j] && &models[j]->mlp == models[i]->transmittance)) ++j;
+    if (j == n) continue;   /* already before it */
+    sf_fitted_model *model = models[j];
+    sf_codegen_part part = parts[j];
+    memmove(models + i + 1, models + i, (size_t)(j - i) * sizeof *models);
+    memmove(parts + i + 1, parts + i, (size_t)(j - i) * sizeof *parts);
+    models[i] = model;
+    parts[i] = part;
+    ++i;   /* the caller, now at i + 1 */
+  }
 }
 
 void sf_fitted_free(sf_fitted_model *model) {

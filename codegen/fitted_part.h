@@ -47,7 +47,10 @@ void sf_fitted_free(sf_fitted_model *model);
 /* Gives every mlp-scattering model among models[0..n) the mlp-transmittance
  * model of the same atmosphere (same bottom and top radii and channels),
  * so that its segment function (eq. 44) is emitted; updates its part's
- * summary. Call after all parts are made. */
+ * summary, and moves a linked transmittance part that comes after its
+ * scattering part to just before it (the segment function calls it, and
+ * C and GLSL declare a function before its use). Call after all parts are
+ * made; models[k] and parts[k] stay paired. */
 void sf_fitted_link(sf_fitted_model **models, sf_codegen_part *parts, int n);
 
 /* The model names that have an emitter, comma-separated. */

@@ -41,6 +41,29 @@ check "broken weights file exits 2" "[ $? -eq 2 ]"
 check "message names the file" "grep -q broken.json $tmp/err.txt"
 check "previous output untouched" "cmp -s $tmp/a/skyfit.h $tmp/before.h"
 
+# The scattering network's segment function calls the transmittance
+# network's: given in either order, the header declares them first (it
+# did not compile with the scattering weights first).
+if [ -n "${SKYFIT_SOURCE_DIR:-}" ]; then
+  w="$SKYFIT_SOURCE_DIR/weights/default"
+  for order in "mlp-transmittance mlp-scattering" "mlp-scattering mlp-transmittance"; do
+    set -- $order
+    mkdir -p "$tmp/order"
+    "$SKYFIT_BIN" codegen --weights "$w/$1.json" --weights "$w/$2.json" --lang both --out "$tmp/order" --quiet
+    printf '#include "skyfit.h"\nint main(void) { return skyfit_mlp_sky_radiance_segment(1.0f, 0.3f, 0.5f, 0.2f, 10.0f).x < 0.0f; }\n' \
+      > "$tmp/order/use.c"
+    check "$1 then $2: the C compiles and its segment call runs" \
+      "cc -std=c99 -Wall -Werror -I$tmp/order -o $tmp/order/use $tmp/order/use.c -lm && $tmp/order/use"
+    if command -v glslangValidator >/dev/null; then
+      printf '#version 450\n' > "$tmp/order/use.frag"
+      cat "$tmp/order/skyfit.glsl" >> "$tmp/order/use.frag"
+      printf 'layout(location = 0) out vec4 c;\nvoid main() { c = vec4(skyfit_mlp_sky_radiance_segment(1.0, 0.3, 0.5, 0.2, 10.0), 1.0); }\n' \
+        >> "$tmp/order/use.frag"
+      check "$1 then $2: the GLSL compiles" "glslangValidator $tmp/order/use.frag > $tmp/order/glsl.log 2>&1"
+    fi
+  done
+fi
+
 "$SKYFIT_BIN" codegen --baselines naive --lang c --out "$tmp/missing-dir" 2>"$tmp/err.txt"
 check "missing output folder exits 2" "[ $? -eq 2 ]"
 "$SKYFIT_BIN" codegen --baselines naive --out "$tmp/a" 2>/dev/null

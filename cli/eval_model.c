@@ -1,0 +1,110 @@
+#include "cli/eval_model.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "codegen/emit_sky.h"
+#include "models/weights_file.h"
+
+/* The models eval takes, and the quantity each gives. */
+static const struct {
+  const char *model, *quantity;
+  sf_eval_model_kind kind;
+} models[] = {
+    {"sigmoid", "transmittance", SF_EVAL_MODEL_SIGMOID},
+    {"mlp-transmittance", "transmittance", SF_EVAL_MODEL_MLP_TRANSMITTANCE},
+    {"mlp-scattering", "sky_radiance", SF_EVAL_MODEL_MLP_SCATTERING},
+    {"preetham", "sky_radiance", SF_EVAL_MODEL_SKY_FORM},
+    {"hosek", "sky_radiance", SF_EVAL_MODEL_SKY_FORM},
+};
+#define N_MODELS (sizeof models / sizeof models[0])
+#define MODELS_TAKEN "sigmoid and mlp-transmittance (transmittance); mlp-scattering, preetham and hosek (sky_radiance)"
+
+static int load_kind(const sf_weights *w, sf_eval_model *m, sf_error *err) {
+  switch (m->kind) {
+    case SF_EVAL_MODEL_SIGMOID:
+      if (sf_sigmoid_model_load(m->path, &m->sigmoid, NULL, err) != SF_OK) return err->status;
+      m->n_channels = m->sigmoid.n_channels;
+      return SF_OK;
+    case SF_EVAL_MODEL_SKY_FORM: {
+      sf_sky_form form = strcmp(m->name, "hosek") == 0 ? SF_SKY_FORM_HOSEK : SF_SKY_FORM_PEREZ;
+      if (sf_elevation_sky_load(m->path, form, &m->sky, NULL, err) != SF_OK) return err->status;
+      m->n_channels = m->sky.n_channels;
+      return SF_OK;
+    }
+    case SF_EVAL_MODEL_MLP_TRANSMITTANCE:
+    case SF_EVAL_MODEL_MLP_SCATTERING: {
+      if (sf_mlp_sky_from_weights(w, &m->mlp, err) != SF_OK) return err->status;
+      int scattering = m->kind == SF_EVAL_MODEL_MLP_SCATTERING;
+      if ((m->mlp.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) == scattering)
+        return sf_fail(err, SF_ERR_INPUT, "%s: training.target: \"%s\" does not fit model \"%s\"", m->path,
+                       sf_mlp_target_name(m->mlp.target), m->name);
+      m->n_channels = m->mlp.n_channels;
+      return SF_OK;
+    }
+  }
+  return SF_OK;
+}
+
+int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m, sf_error *err) {
+  memset(m, 0, sizeof *m);
+  snprintf(m->path, sizeof m->path, "%s", path);
+  sf_weights w;
+  if (sf_weights_load_file(path, NULL, &w, err) != SF_OK) return err->status;
+  snprintf(m->name, sizeof m->name, "%s", w.model);
+  m->atmosphere = w.atmosphere;
+  m->domain = w.domain;
+  size_t k = 0;
+  while (k < N_MODELS && strcmp(models[k].model, w.model) != 0) ++k;
+  int status;
+  if (k == N_MODELS)
+    status = sf_fail(err, SF_ERR_INPUT, "%s: model: eval does not evaluate model \"%s\" (it takes " MODELS_TAKEN ")",
+                     path, w.model);
+  else if (strcmp(models[k].quantity, quantity) != 0)
+    status = sf_fail(err, SF_ERR_INPUT, "%s: model: \"%s\" gives %s, not %s", path, w.model, models[k].quantity,
+                     quantity);
+  else {
+    m->kind = models[k].kind;
+    status = load_kind(&w, m, err);
+  }
+  sf_weights_free(&w);
+  if (status != SF_OK) sf_eval_model_free(m);
+  return status;
+}
+
+int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double distance, sf_error *err) {
+  if ((end == SF_RAY_END_NEAREST && distance < 0.0) || m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE) return SF_OK;
+  return sf_fail(err, SF_ERR_INPUT,
+                 "%s: model \"%s\" evaluates the full ray (to the ground or the top, whichever comes first); "
+                 "--to top and --to-distance take an mlp-transmittance model",
+                 m->path, m->name);
+}
+
+void sf_eval_model_values(const sf_eval_model *m, const double *v, double distance, double *out) {
+  switch (m->kind) {
+    case SF_EVAL_MODEL_SIGMOID: sf_sigmoid_model_eval(&m->sigmoid, v[0], v[1], out); return;
+    case SF_EVAL_MODEL_SKY_FORM: sf_sky_radiance_clamped(&m->sky, v[1], v[2], v[3], out); return;
+    case SF_EVAL_MODEL_MLP_SCATTERING: sf_mlp_scattering(&m->mlp, v[0], v[1], v[2], v[3], out); return;
+    case SF_EVAL_MODEL_MLP_TRANSMITTANCE:
+      if (distance >= 0.0) sf_mlp_transmittance_segment(&m->mlp, v[0], v[1], distance, out);
+      else sf_mlp_transmittance(&m->mlp, v[0], v[1], out);
+      return;
+  }
+}
+
+static int outside(double x, double lo, double hi) { return x < lo || x > hi; }
+
+int sf_eval_model_outside(const sf_eval_model *m, const double *v) {
+  const sf_scene_domain *d = &m->domain;
+  double top = m->atmosphere.top_radius_km - m->atmosphere.bottom_radius_km;
+  double h = v[0] < top ? v[0] : top;
+  if (outside(h, d->h_min_km, d->h_max_km)) return 1;
+  if (v[0] <= top && outside(v[1], d->mu_min, d->mu_max)) return 1;
+  int sky = m->kind == SF_EVAL_MODEL_SKY_FORM || m->kind == SF_EVAL_MODEL_MLP_SCATTERING;
+  return sky && outside(v[2], d->mu_s_min, d->mu_s_max);
+}
+
+void sf_eval_model_free(sf_eval_model *m) {
+  if (m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE || m->kind == SF_EVAL_MODEL_MLP_SCATTERING) sf_mlp_sky_free(&m->mlp);
+  memset(&m->mlp, 0, sizeof m->mlp);
+}
