@@ -32,6 +32,8 @@ static void usage(FILE *out) {
           "                       phase function plus multiple scattering (no direct sun, no ground)\n"
           "interpolated in the reference tables (skyfit sample). A viewer above the atmosphere\n"
           "sees from where the ray enters it; a ray that never enters gives 0.\n"
+          "A fitted model's sky radiance instead: skyfit eval sky_radiance --model W.json\n"
+          "(skyfit eval --help).\n"
           "\n"
           "options:\n"
           "  --tables DIR            load the tables from DIR (skyfit sample --out DIR); those\n"
