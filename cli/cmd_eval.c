@@ -175,13 +175,23 @@ static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf
   return 0;
 }
 
+/* A row as a fitted model takes it (cli/eval_model.h): h_km, mu, then mu_s,
+ * nu (0 where the quantity has no such column). */
+static void model_point(const sf_csv_points *pts, long row, double p[4]) {
+  static const char *const names[] = {"h_km", "mu", "mu_s", "nu"};
+  const double *v = pts->values + row * pts->n_columns;
+  for (int k = 0; k < 4; ++k) {
+    int c = sf_csv_points_column(pts, names[k]);
+    p[k] = c >= 0 ? v[c] : 0.0;
+  }
+}
+
 static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const sf_eval_model *model,
                          const sf_csv_points *pts, long row, const sf_view_ray *ray, double *out) {
   const double *v = pts->values + row * pts->n_columns;
   if (model) {
     double p[4];
-    static const char *const names[] = {"h_km", "mu", "mu_s", "nu"};
-    for (int k = 0; k < (o->what == Q_SKY_RADIANCE ? 4 : 2); ++k) p[k] = v[sf_csv_points_column(pts, names[k])];
+    model_point(pts, row, p);
     sf_eval_model_values(model, p, o->distance, out);
     return;
   }
@@ -207,16 +217,12 @@ static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const 
   }
 }
 
-/* Points whose (h_km, mu[, mu_s]) lie outside the domain the model was
- * fitted on. */
-static long count_outside(const sf_eval_model *model, quantity what, const sf_csv_points *pts) {
-  static const char *const names[] = {"h_km", "mu", "mu_s"};
-  int c[3];
-  for (int k = 0; k < 3; ++k) c[k] = sf_csv_points_column(pts, names[k]);
+/* Points that lie outside the domain the model was fitted on. */
+static long count_outside(const sf_eval_model *model, const sf_csv_points *pts) {
   long n = 0;
   for (long row = 0; row < pts->n_rows; ++row) {
-    const double *v = pts->values + row * pts->n_columns;
-    double p[4] = {v[c[0]], v[c[1]], what == Q_SKY_RADIANCE ? v[c[2]] : 0.0, 0.0};
+    double p[4];
+    model_point(pts, row, p);
     n += sf_eval_model_outside(model, p);
   }
   return n;
@@ -298,7 +304,7 @@ int sf_cmd_eval(int argc, char **argv) {
 #pragma omp parallel for schedule(dynamic, 16)
   for (long row = 0; row < pts.n_rows; ++row)
     evaluate_row(&atm, &o, fitted, &pts, row, &rays[row], results + row * n_out);
-  long n_outside = fitted ? count_outside(fitted, o.what, &pts) : 0;
+  long n_outside = fitted ? count_outside(fitted, &pts) : 0;
   if (n_outside > 0) {
     const sf_scene_domain *d = &fitted->domain;
     char mu_s[64] = "";

@@ -35,10 +35,6 @@ static int load_kind(const sf_weights *w, sf_eval_model *m, sf_error *err) {
     case SF_EVAL_MODEL_MLP_TRANSMITTANCE:
     case SF_EVAL_MODEL_MLP_SCATTERING: {
       if (sf_mlp_sky_from_weights(w, &m->mlp, err) != SF_OK) return err->status;
-      int scattering = m->kind == SF_EVAL_MODEL_MLP_SCATTERING;
-      if ((m->mlp.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) == scattering)
-        return sf_fail(err, SF_ERR_INPUT, "%s: training.target: \"%s\" does not fit model \"%s\"", m->path,
-                       sf_mlp_target_name(m->mlp.target), m->name);
       m->n_channels = m->mlp.n_channels;
       return SF_OK;
     }

@@ -6,7 +6,10 @@
  *   sky_radiance   mlp-scattering     sf_mlp_scattering (full ray)
  *                  preetham, hosek    sf_sky_radiance_clamped (a viewer on the
  *                                     ground: h is not an input)
- * The atmosphere is the one the model was fitted for (its weights file). */
+ * The atmosphere is the one the model was fitted for (its weights file).
+ * Each model is read by its own loader, as codegen/fitted_part.h reads
+ * them, but not through that one: it also refuses what its emitters do not
+ * take (more than 4 channels, some networks), which eval evaluates. */
 #ifndef SKYFIT_CLI_EVAL_MODEL_H
 #define SKYFIT_CLI_EVAL_MODEL_H
 

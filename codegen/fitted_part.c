@@ -85,9 +85,6 @@ static int load_mlp(const sf_weights *w, int scattering, sf_fitted_model *m, sf_
                     sf_error *err) {
   if (sf_mlp_sky_from_weights(w, &m->mlp, err) != SF_OK) return err->status;
   m->kind = scattering ? SF_FITTED_MLP_SCATTERING : SF_FITTED_MLP_TRANSMITTANCE;
-  if ((m->mlp.target == SF_MLP_TARGET_TRANSMITTANCE_TOP) == scattering)
-    return sf_fail(err, SF_ERR_INPUT, "%s: training.target: \"%s\" does not fit model \"%s\"", w->source,
-                   sf_mlp_target_name(m->mlp.target), w->model);
   char problem[200];
   if (sf_emit_mlp_check(&m->mlp, problem, sizeof problem))
     return sf_fail(err, SF_ERR_INPUT, "%s: %s", w->source, problem);

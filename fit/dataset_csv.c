@@ -1,14 +1,14 @@
 #include "fit/dataset_csv.h"
 
-#include <errno.h>
 #include <math.h>
 #include <omp.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "util/atomic_file.h"
+#include "util/read_file.h"
 
 /* A field as written: "%.17g" is at most 24 characters
  * ("-1.2345678901234567e-308"), then its comma or the row's newline. */
@@ -62,33 +62,6 @@ int sf_dataset_write_csv(const sf_dataset *d, const char *path, int threads, sf_
   }
   free(text);
   return sf_atomic_commit(&f, err);   /* reports a failed write (ferror) */
-}
-
-/* The whole of in, NUL-terminated, in *text (the caller frees it). */
-static int read_whole_file(FILE *in, const char *path, char **text, size_t *len, sf_error *err) {
-  struct stat st;
-  size_t cap = 1 << 20, n = 0;
-  /* a byte more than a regular file holds: its end shows in the first read */
-  if (fstat(fileno(in), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) cap = (size_t)st.st_size + 2;
-  char *buf = malloc(cap);
-  for (;;) {
-    if (!buf) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory reading %zu bytes", path, cap);
-    size_t want = cap - 1 - n, got = fread(buf + n, 1, want, in);
-    n += got;
-    if (got < want) break;
-    char *grown = realloc(buf, 2 * cap);
-    if (!grown) free(buf);
-    buf = grown;
-    cap *= 2;
-  }
-  if (ferror(in)) {
-    free(buf);
-    return sf_fail(err, SF_ERR_INPUT, "%s: cannot read: %s", path, strerror(errno));
-  }
-  buf[n] = '\0';
-  *text = buf;
-  *len = n;
-  return SF_OK;
 }
 
 /* The fields of one row (a NUL-terminated line, perhaps ending in '\r')
@@ -155,12 +128,10 @@ static long split_rows(char *text, size_t from, size_t len, long **starts) {
 
 int sf_dataset_read_csv(const char *path, int n_in, int threads, sf_dataset *d, sf_error *err) {
   memset(d, 0, sizeof *d);
-  FILE *in = fopen(path, "rb");
-  if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: cannot open: %s", path, strerror(errno));
+  static const sf_file_rules rules = {"training set", "", SIZE_MAX / 4};
   char *text = NULL;
   size_t len = 0;
-  int status = read_whole_file(in, path, &text, &len, err);
-  fclose(in);
+  int status = sf_read_file(path, &rules, &text, &len, err);
   if (status) return status;
   long *starts = NULL;
   char names[SF_DATASET_MAX_COLUMNS][SF_DATASET_NAME_LEN];

@@ -294,6 +294,12 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
   if (!cJSON_IsString(target_item) || sf_mlp_target_parse(target_item->valuestring, &target))
     return sf_fail(err, SF_ERR_INPUT, "%s: training.target: expected transmittance_top, radiance or separate",
                    w->source);
+  /* The file's model names what its network gives. */
+  int scattering_model = strcmp(w->model, "mlp-scattering") == 0;
+  if ((scattering_model || strcmp(w->model, "mlp-transmittance") == 0) &&
+      (target == SF_MLP_TARGET_TRANSMITTANCE_TOP) == scattering_model)
+    return sf_fail(err, SF_ERR_INPUT, "%s: training.target: \"%s\" does not fit model \"%s\"", w->source,
+                   sf_mlp_target_name(target), w->model);
   static const char *const names[4] = {"sqrt_h_km", "mu", "mu_s", "nu"};
   int n_in = target == SF_MLP_TARGET_TRANSMITTANCE_TOP ? 2 : 4;
   if (w->n_inputs != n_in)

@@ -208,7 +208,10 @@ int sf_mlp_sky_add_norms_to_weights(cJSON *doc, const sf_mlp_sky *m);
  * the ground (the horizon split's test above), double and float32. */
 int sf_mlp_ray_ends_on_ground(double bottom_radius_km, double h_km, double mu);
 int sf_mlp_ray_ends_on_ground_f(float bottom_radius_km, float h_km, float mu);
-/* Loads "mlp-transmittance" or "mlp-scattering" weights (SPEC §8). */
+/* Loads "mlp-transmittance" or "mlp-scattering" weights (SPEC §8); a
+ * training.target that does not fit the file's model (transmittance_top
+ * for mlp-transmittance, radiance or separate for mlp-scattering) is
+ * SF_ERR_INPUT. */
 int sf_mlp_sky_load(const char *path, sf_mlp_sky *m, sf_error *err);
 int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err);
 void sf_mlp_sky_free(sf_mlp_sky *m);

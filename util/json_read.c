@@ -1,6 +1,5 @@
 #include "util/json_read.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -130,50 +129,14 @@ int sf_json_parse(const sf_json_ctx *c, const char *text, cJSON **root_out) {
   return 0;
 }
 
-/* Grows the buffer as the file proves longer, reading at most one byte past
- * max_bytes: a huge file costs no huge allocation before it is rejected. */
 int sf_json_read_file(const char *path, const sf_json_file_rules *rules, char **text_out,
                       sf_error *err) {
-  FILE *f = fopen(path, "rb");
-  if (!f)
-    return sf_fail(err, SF_ERR_INPUT, "%s: %scannot open %s: %s", path, rules->where, rules->kind,
-                   strerror(errno));
-  size_t cap = 0, len = 0; /* cap bytes of text, plus one for the NUL */
   char *text = NULL;
-  int rc = 0;
-  for (;;) {
-    if (len == cap) {
-      if (cap > rules->max_bytes) {
-        rc = sf_fail(err, SF_ERR_INPUT, "%s: %s%s too large (over %zu bytes)", path, rules->where,
-                     rules->kind, rules->max_bytes);
-        break;
-      }
-      size_t new_cap = cap ? 2 * cap : (size_t)1 << 16;
-      if (new_cap > rules->max_bytes + 1) new_cap = rules->max_bytes + 1;
-      char *grown = realloc(text, new_cap + 1);
-      if (!grown) {
-        rc = sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory reading the file", path);
-        break;
-      }
-      text = grown;
-      cap = new_cap;
-    }
-    size_t got = fread(text + len, 1, cap - len, f);
-    len += got;
-    if (got == 0) {
-      if (ferror(f))
-        rc = sf_fail(err, SF_ERR_INPUT, "%s: %scannot read %s: %s", path, rules->where, rules->kind,
-                     strerror(errno));
-      break;
-    }
-  }
-  fclose(f);
-  if (rc == 0) {
-    text[len] = '\0';
-    if (strlen(text) != len)
-      rc = sf_fail(err, SF_ERR_INPUT, "%s: byte %zu: NUL byte in a JSON file", path, strlen(text));
-  }
-  if (rc) {
+  size_t len = 0;
+  int rc = sf_read_file(path, rules, &text, &len, err);
+  if (rc) return rc;
+  if (strlen(text) != len) {
+    rc = sf_fail(err, SF_ERR_INPUT, "%s: byte %zu: NUL byte in a JSON file", path, strlen(text));
     free(text);
     return rc;
   }

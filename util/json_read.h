@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "util/error.h"
+#include "util/read_file.h"
 
 /* Key paths longer than this are cut short in messages, never overflow. */
 #define SF_JSON_PATH_LEN 320
@@ -50,16 +51,14 @@ int sf_json_read_finite(const sf_json_ctx *c, const cJSON *v, const char *path, 
  * A syntax error is reported at "line L, column C" with the text near it. */
 int sf_json_parse(const sf_json_ctx *c, const char *text, cJSON **root_out);
 
-/* How file-level failures of one kind of input file are worded. */
-typedef struct sf_json_file_rules {
-  const char *kind;  /* "atmosphere file": named in the messages */
-  const char *where; /* put before the problem: "" or "(file): " */
-  size_t max_bytes;  /* a longer file is rejected */
-} sf_json_file_rules;
+/* How file-level failures of one kind of input file are worded
+ * (util/read_file.h). */
+typedef sf_file_rules sf_json_file_rules;
 
-/* The whole file as one NUL-terminated string in *text_out (caller frees).
- * Rejects a missing or unreadable file, one over rules->max_bytes and one
- * holding a NUL byte (SF_ERR_INPUT); out of memory is SF_ERR_INTERNAL. */
+/* The whole file as one NUL-terminated string in *text_out (caller frees),
+ * by sf_read_file. Rejects a missing or unreadable file, one over
+ * rules->max_bytes and one holding a NUL byte (SF_ERR_INPUT); out of
+ * memory is SF_ERR_INTERNAL. */
 int sf_json_read_file(const char *path, const sf_json_file_rules *rules, char **text_out,
                       sf_error *err);
 
