@@ -243,11 +243,20 @@ SF_LANES_INLINE sf_lanes sf_lanes_fnma_scalars(sf_lanes a, double w, double u) {
   return sf_fma_lanes_emulated(-a, sf_lanes_set1(w), sf_lanes_set1(u));
 }
 #else
+#if defined(__AVX512F__)
+/* The instruction itself: GCC's vectorisation of the lane loop below
+ * failed where many accumulators are live (fit/lm_gram_body.h's tiles,
+ * built lane by lane with scalar multiply-adds). */
+SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) {
+  return (sf_lanes)_mm512_fmadd_pd((__m512d)a, (__m512d)b, (__m512d)c);
+}
+#else
 SF_LANES_INLINE sf_lanes sf_lanes_fma(sf_lanes a, sf_lanes b, sf_lanes c) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], b[k], c[k]);
   return r;
 }
+#endif
 SF_LANES_INLINE sf_lanes sf_lanes_fma_scalar(sf_lanes a, double w, sf_lanes c) {
   sf_lanes r;
   for (int k = 0; k < SF_LANES; ++k) r[k] = __builtin_fma(a[k], w, c[k]);

@@ -57,7 +57,6 @@ typedef struct lm_work {
   int P, L;
   double z[SF_MLP_MAX_LAYERS][SF_MLP_MAX_WIDTH], a[SF_MLP_MAX_LAYERS + 1][SF_MLP_MAX_WIDTH];
   double g[2][SF_MLP_MAX_WIDTH];
-  double *row;
 } lm_work;
 
 static void forward_store(const sf_mlp_shape *s, const double *params, const double *x, lm_work *w) {
@@ -77,24 +76,20 @@ static void forward_store(const sf_mlp_shape *s, const double *params, const dou
   }
 }
 
-/* w->row = d out_k / d params (flat order of models/mlp.h) * scale. */
-static void jacobian_row(const sf_mlp_shape *s, const double *params, int k, double scale, lm_work *w) {
-  int L = s->n_layers;
-  memset(w->row, 0, (size_t)w->P * sizeof(double));
+/* d e_k / d z_u for every unit u of the sample in w (fit/lm_gram.h),
+ * scale = d e_k / d out_k, into column pos of the block's rows g. */
+static void unit_gradients(const sf_mlp_shape *s, const double *params, int k, double scale, lm_work *w,
+                           double *g_block, int pos) {
+  int L = s->n_layers, K = s->sizes[L];
   double *g = w->g[0], *g_prev = w->g[1];
-  int n_last = s->sizes[L];
-  for (int i = 0; i < n_last; ++i) g[i] = 0.0;
+  for (int i = 0; i < K; ++i) g[i] = 0.0;
   g[k] = scale * activation_slope(s->output, w->z[L - 1][k], w->a[L][k]);
   for (int l = L - 1; l >= 0; --l) {
     int n_in = s->sizes[l], n_out = s->sizes[l + 1];
-    int wo = sf_mlp_weight_offset(s, l), bo = sf_mlp_bias_offset(s, l);
-    const double *W = params + wo;
-    for (int i = 0; i < n_out; ++i) {
-      if (g[i] == 0.0) continue;
-      for (int j = 0; j < n_in; ++j) w->row[wo + i * n_in + j] = g[i] * w->a[l][j];
-      w->row[bo + i] = g[i];
-    }
+    double *g_rows = g_block + ((long)sf_lm_gram_unit(s, l, 0) * K + k) * SF_LM_GRAM_BLOCK + pos;
+    for (int i = 0; i < n_out; ++i) g_rows[(long)i * K * SF_LM_GRAM_BLOCK] = g[i];
     if (l == 0) break;
+    const double *W = params + sf_mlp_weight_offset(s, l);
     for (int j = 0; j < n_in; ++j) {
       double sum = 0.0;
       for (int i = 0; i < n_out; ++i) sum += W[i * n_in + j] * g[i];
@@ -166,90 +161,89 @@ static int cholesky_solve(int P, const double *A, const double *b, double *Lw, d
   return 0;
 }
 
-/* Jacobian rows are gathered LM_BLOCK at a time, stored parameter-major
- * (block[i * LM_BLOCK + r] = row r's entry i), and J^T J's upper triangle
- * gets each block's Gram matrix (fit/lm_gram.h): contiguous dot products
- * instead of one pass over the whole P x P matrix per row (which made the
- * polish of a 2-16-16-3 network memory-bound). The sum order is fixed by
- * the samples. */
-#define LM_BLOCK SF_LM_GRAM_BLOCK
-
-static void add_block_gram(int P, double *block, int filled, double *JTJ) {
-  int padded = (filled + 7) & ~7;
-  for (int i = 0; i < P; ++i)
-    for (int r = filled; r < padded; ++r) block[(size_t)i * LM_BLOCK + r] = 0.0;
-  sf_lm_add_block_gram(P, block, padded, JTJ);
-}
-
-/* Rows are staged row-major LM_STAGE at a time and then written into the
- * parameter-major block a 64-byte line per parameter: written one by one,
- * each row touched P lines of a block larger than L1. */
-#define LM_STAGE 8   /* divides LM_BLOCK */
-_Static_assert(LM_BLOCK % LM_STAGE == 0, "LM_STAGE must divide LM_BLOCK");
-
-/* One thread's buffers for the normal equations of a chunk of samples. */
+/* One thread's buffers for the normal equations of a chunk of samples:
+ * a block of samples' unit gradients and layer inputs (fit/lm_gram.h). */
 typedef struct lm_worker {
   lm_work w;
-  double *row, *block;   /* LM_STAGE Jacobian rows, row-major; LM_BLOCK rows, parameter-major */
+  double *g_block, *a_block, *scratch;
   double *JTJ, *JTe;     /* the chunk's sums (J^T J: upper triangle) */
 } lm_worker;
 
-static int lm_worker_init(lm_worker *t, int P) {
+static int lm_worker_init(lm_worker *t, const sf_mlp_shape *s) {
   memset(t, 0, sizeof *t);
+  int P = sf_mlp_param_count(s), K = s->sizes[s->n_layers];
   size_t PP = (size_t)P * (size_t)P;
-  t->row = malloc((size_t)P * LM_STAGE * sizeof(double));
-  t->block = malloc((size_t)P * LM_BLOCK * sizeof(double));
+  t->g_block = malloc((size_t)sf_lm_gram_units(s) * K * SF_LM_GRAM_BLOCK * sizeof(double));
+  t->a_block = malloc((size_t)sf_lm_gram_input_rows(s) * SF_LM_GRAM_BLOCK * sizeof(double));
+  t->scratch = malloc((size_t)sf_lm_gram_scratch_size(s) * sizeof(double));
   t->JTJ = malloc(PP * sizeof(double));
   t->JTe = malloc((size_t)P * sizeof(double));
   t->w.P = P;
-  t->w.row = t->row;
-  return t->row && t->block && t->JTJ && t->JTe ? 0 : -1;
-}
-
-/* Staged rows 0..count-1 into block rows first..first+count-1. */
-static void unstage_rows(const lm_worker *t, int count, int first) {
-  int P = t->w.P;
-  for (int i = 0; i < P; ++i) {
-    double *b = t->block + (size_t)i * LM_BLOCK + first;
-    for (int r = 0; r < count; ++r) b[r] = t->row[(size_t)r * P + i];
-  }
+  return t->g_block && t->a_block && t->scratch && t->JTJ && t->JTe ? 0 : -1;
 }
 
 static void lm_worker_free(lm_worker *t) {
-  free(t->row);
-  free(t->block);
+  free(t->g_block);
+  free(t->a_block);
+  free(t->scratch);
   free(t->JTJ);
   free(t->JTe);
 }
 
+/* The block's first `filled` samples into t->JTJ; the columns past them,
+ * to the next multiple of 8, zeroed (they add nothing). */
+static void add_block(const sf_mlp_shape *s, lm_worker *t, int filled) {
+  int padded = (filled + 7) & ~7;
+  if (filled < padded) {
+    long g_rows = (long)sf_lm_gram_units(s) * s->sizes[s->n_layers], a_rows = sf_lm_gram_input_rows(s);
+    for (long r = 0; r < g_rows; ++r)
+      memset(t->g_block + r * SF_LM_GRAM_BLOCK + filled, 0, (size_t)(padded - filled) * sizeof(double));
+    for (long r = 0; r < a_rows; ++r)
+      memset(t->a_block + r * SF_LM_GRAM_BLOCK + filled, 0, (size_t)(padded - filled) * sizeof(double));
+  }
+  sf_lm_add_block_gram(s, t->g_block, t->a_block, filled, t->scratch, t->JTJ);
+}
+
 /* J^T J (upper triangle) and J^T e of samples s0..s1-1 into t->JTJ, t->JTe:
- * each residual's Jacobian row, gathered LM_BLOCK rows at a time. */
+ * each sample's unit gradients for every output (one back-propagation per
+ * output) and layer inputs, gathered SF_LM_GRAM_BLOCK samples at a time.
+ * The sum order is fixed by the samples. */
 static void chunk_normal_equations(const sf_mlp_shape *shape, const double *params, const sf_mlp_loss *loss,
                                    const sf_dataset *train, long s0, long s1, lm_worker *t) {
-  int P = t->w.P, n_out = shape->sizes[shape->n_layers];
+  int P = t->w.P, L = shape->n_layers, n_out = shape->sizes[L];
   memset(t->JTJ, 0, (size_t)P * (size_t)P * sizeof(double));
   memset(t->JTe, 0, (size_t)P * sizeof(double));
-  double out[SF_MLP_MAX_WIDTH];
+  double e[SF_MLP_MAX_WIDTH];
   int filled = 0;
   for (long s = s0; s < s1; ++s) {
     forward_store(shape, params, train->x + s * train->n_in, &t->w);
-    memcpy(out, t->w.a[shape->n_layers], (size_t)n_out * sizeof(double));
     for (int k = 0; k < n_out; ++k) {
-      double slope, e = residual(loss, k, out[k], train->y[s * train->n_out + k], &slope);
-      int staged = filled % LM_STAGE;
-      t->w.row = t->row + (size_t)staged * P;
-      jacobian_row(shape, params, k, slope, &t->w);
-      for (int i = 0; i < P; ++i) t->JTe[i] += t->w.row[i] * e;
-      ++filled;
-      if (staged + 1 == LM_STAGE) unstage_rows(t, LM_STAGE, filled - LM_STAGE);
-      if (filled == LM_BLOCK) {
-        add_block_gram(P, t->block, filled, t->JTJ);
-        filled = 0;
+      double slope;
+      e[k] = residual(loss, k, t->w.a[L][k], train->y[s * train->n_out + k], &slope);
+      unit_gradients(shape, params, k, slope, &t->w, t->g_block, filled);
+    }
+    for (int l = 0; l < L; ++l) {
+      int n_in = shape->sizes[l];
+      double *a_rows = t->a_block + (long)sf_lm_gram_input_row(shape, l, 0) * SF_LM_GRAM_BLOCK + filled;
+      for (int j = 0; j < n_in; ++j) a_rows[(long)j * SF_LM_GRAM_BLOCK] = t->w.a[l][j];
+      a_rows[(long)n_in * SF_LM_GRAM_BLOCK] = 1.0;
+      /* J^T e: the sample's sum_k e_k g_k[u] times the unit's inputs */
+      int wo = sf_mlp_weight_offset(shape, l), bo = sf_mlp_bias_offset(shape, l);
+      const double *g_layer = t->g_block + (long)sf_lm_gram_unit(shape, l, 0) * n_out * SF_LM_GRAM_BLOCK + filled;
+      for (int i = 0; i < shape->sizes[l + 1]; ++i) {
+        const double *gu = g_layer + (long)i * n_out * SF_LM_GRAM_BLOCK;
+        double c = 0.0;
+        for (int k = 0; k < n_out; ++k) c += e[k] * gu[(long)k * SF_LM_GRAM_BLOCK];
+        for (int j = 0; j < n_in; ++j) t->JTe[wo + i * n_in + j] += c * t->w.a[l][j];
+        t->JTe[bo + i] += c;
       }
     }
+    if (++filled == SF_LM_GRAM_BLOCK) {
+      add_block(shape, t, filled);
+      filled = 0;
+    }
   }
-  if (filled % LM_STAGE) unstage_rows(t, filled % LM_STAGE, filled - filled % LM_STAGE);
-  if (filled) add_block_gram(P, t->block, filled, t->JTJ);
+  if (filled) add_block(shape, t, filled);
 }
 
 int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_loss *loss, const sf_dataset *train,
@@ -269,7 +263,7 @@ int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_los
   if (n_threads > LM_CHUNKS) n_threads = LM_CHUNKS;
   lm_worker *workers = calloc((size_t)n_threads, sizeof *workers);
   int ok = JTJ && Lw && JTe && step && trial && best && A && workers;
-  for (int t = 0; ok && t < n_threads; ++t) ok = lm_worker_init(&workers[t], P) == 0;
+  for (int t = 0; ok && t < n_threads; ++t) ok = lm_worker_init(&workers[t], shape) == 0;
   if (!ok) {
     for (int t = 0; workers && t < n_threads; ++t) lm_worker_free(&workers[t]);
     free(JTJ); free(Lw); free(JTe); free(step); free(trial); free(best); free(A); free(workers);

@@ -7,8 +7,9 @@
  * e the residual of fit/mlp_backward.h (mse: p - y; rel: (p - y)/(|y| + d_k);
  * log: log(p + d_k) - log(y + d_k)), so minimising it minimises the training
  * loss. Each iteration forms J^T J and J^T e over the samples (the Jacobian
- * rows by back-propagation of each output, one sample at a time, in sample
- * order: deterministic, independent of threads), solves
+ * by back-propagation of each output, one sample at a time, in sample
+ * order, J^T J from its Kronecker form, fit/lm_gram.h: deterministic,
+ * independent of threads), solves
  *   (J^T J + lambda diag(J^T J) + lambda_floor I) step = -J^T e
  * by Cholesky, and accepts the step if the loss drops (lambda / 3), else
  * rejects it (lambda * 4). The validation loss, when given, picks the best
