@@ -314,14 +314,19 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              " * nothing lies past the ground, and an end on it is at altitude 0\n"
              " * exactly (from the distance, the altitude would cancel against the\n"
              " * radius). Returns (d cut at the ground, the altitude there before\n"
-             " * clamping, the distance to the ground or -1 if the ray misses it, 0). */\n"
+             " * clamping, the distance to the ground or -1 if the ray misses it,\n"
+             " * 1 if the ray misses it and d reaches the top: the segment is the\n"
+             " * whole ray, and a \"no hit\" d such as 3.4e38 or infinity would\n"
+             " * overflow the altitude). */\n"
              "@fn @vec4 skyfit_mlp_segment_end(float h, float m, float d) {\n"
              "  @vec2 g = skyfit_sphere_hits(%F + h, m, %F, -h);\n"
              "  float d_ground = (m < 0.0f && g.x <= g.y) ? @max(g.x, 0.0f) : -1.0f;\n"
-             "  float h_raw = (d_ground >= 0.0f && d >= d_ground) ? 0.0f : skyfit_altitude_at(%F, h, m, d);\n"
-             "  return @vec4(d_ground >= 0.0f ? @min(d, d_ground) : d, h_raw, d_ground, 0.0f);\n"
+             "  if (d_ground >= 0.0f && d >= d_ground) return @vec4(d_ground, 0.0f, d_ground, 0.0f);\n"
+             "  @vec2 s = skyfit_sphere_hits(%F + h, m, %F, %F - h);\n"
+             "  if (d_ground < 0.0f && s.x <= s.y && d >= s.y) return @vec4(d, %F, -1.0f, 1.0f);\n"
+             "  return @vec4(d, skyfit_altitude_at(%F, h, m, d), d_ground, 0.0f);\n"
              "}\n\n",
-             g.R, g.R, g.R);
+             g.R, g.R, g.R, g.Rt, g.h_top, g.h_top, g.R);
   sf_cw_emit(w,
              "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground) */\n"
              "@fn %V skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km) {\n"
@@ -331,6 +336,7 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "  float h = e.x, m = e.y;\n"
              "  float r = %F + h;\n"
              "  @vec4 end = skyfit_mlp_segment_end(h, m, d);\n"
+             "  if (end.w > 0.0f) return skyfit_mlp_transmittance_top(h, m);  /* the whole ray */\n"
              "  d = end.x;\n"
              "  float h_d = @min(@max(end.y, 0.0f), %F);\n"
              "  float mu_d = @min(@max((r * m + d) / @max(%F + end.y, 1e-6f), -1.0f), 1.0f);\n"
@@ -483,19 +489,20 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
              "  ms = e.z;\n"
              "  float r = %F + h;\n"
              "  @vec4 end = skyfit_mlp_segment_end(h, m, d);\n"
+             "%s"
+             "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c%s);\n"
+             "  if (end.w > 0.0f) return lv;  /* the whole ray: eq. 44's L at the top's exit is 0 */\n"
              "  d = end.x;\n"
              "  float h_d = @min(@max(end.y, 0.0f), %F);\n"
              "  float inv_r_d = 1.0f / @max(%F + end.y, 1e-6f);\n"
              "  float mu_d = @min(@max((r * m + d) * inv_r_d, -1.0f), 1.0f);\n"
              "  float mu_s_d = @min(@max((r * ms + d * c) * inv_r_d, -1.0f), 1.0f);\n"
-             "%s"
-             "  %V lv = skyfit_mlp_sky_radiance_inside(h, m, ms, c%s);\n"
              "  %V lp = skyfit_mlp_sky_radiance_inside(h_d, mu_d, mu_s_d, c%s);\n"
              "  %V tr = skyfit_mlp_transmittance_segment(h, m, d);\n"
              "  return %C",
-             n, g.R, g.h_top, zeros, g.R, g.h_top, g.R,
+             n, g.R, g.h_top, zeros, g.R,
              split ? "  int ground = skyfit_mlp_ray_ends_on_ground(h, m);  /* both ends: one ray */\n" : "", n,
-             split ? ", ground" : "", n, split ? ", ground" : "", n, n);
+             split ? ", ground" : "", g.h_top, g.R, n, split ? ", ground" : "", n, n);
   for (int c = 0; c < n; ++c) {
     const char *m = member(n, c);
     if (c) sf_cw_emit(w, ",\n              ");

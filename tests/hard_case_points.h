@@ -6,6 +6,7 @@
 #ifndef SKYFIT_TESTS_HARD_CASE_POINTS_H
 #define SKYFIT_TESTS_HARD_CASE_POINTS_H
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 
@@ -110,7 +111,7 @@ static inline void hc_ray_extent(const sf_atmosphere *atm, double h, double mu, 
 
 /* A distance that stresses a segment of the ray (h, mu): 0, tiny, at the
  * end +- 1e-6 relative or +- a little, just past the entry (space), beyond
- * the end, or huge. */
+ * the end, huge, or a renderer's "no hit" (FLT_MAX, infinity). */
 static inline double hc_segment_distance(hard_case_rng *g, const sf_atmosphere *atm, double h, double mu) {
   double t_enter, t_exit;
   hc_ray_extent(atm, h, mu, &t_enter, &t_exit);
@@ -121,7 +122,9 @@ static inline double hc_segment_distance(hard_case_rng *g, const sf_atmosphere *
   if (pick < 0.75) return fmax(t_exit + hc_sign(g) * hc_log_range(g, 1e-4, 1e-1), 0.0);
   if (pick < 0.85) return t_exit * hc_range(g, 1.0, 1e3) + 1e-3;
   if (pick < 0.9) return t_enter > 0.0 ? t_enter * (1.0 + hc_sign(g) * 1e-6 * hc_uniform(g)) : 1e7;
-  if (pick < 0.95) return 1e7;
+  if (pick < 0.92) return 1e7;
+  if (pick < 0.935) return FLT_MAX;
+  if (pick < 0.95) return INFINITY;
   return hc_range(g, 0.0, t_exit);
 }
 
