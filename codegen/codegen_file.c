@@ -7,12 +7,13 @@
 #include "codegen/emit_helpers.h"
 #include "util/atomic_file.h"
 
-/* Comment text must not close the comment. */
+/* Comment text must not close the comment, nor open one inside it (GCC's
+ * -Wcomment, an error under -Werror). */
 static void comment_safe(const char *in, char *out, size_t n) {
   size_t k = 0;
   for (; *in && k + 1 < n; ++in) {
     char c = *in;
-    if (c == '*' && in[1] == '/') c = '.';
+    if ((c == '*' && in[1] == '/') || (c == '/' && in[1] == '*')) c = '.';
     if (c == '\n' || c == '\r') c = ' ';
     out[k++] = c;
   }
@@ -119,7 +120,7 @@ static void guard_of(const char *base, char *guard, size_t n) {
 }
 
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
-                      const char *base, char **text, sf_error *err) {
+                      const char *file_name, char **text, sf_error *err) {
   *text = NULL;
   for (int p = 0; p < n_parts; ++p)
     for (int q = 0; q < p; ++q)
@@ -135,8 +136,10 @@ int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang la
   sf_cw_init(&file, lang);
   for (int p = 0; p < n_parts; ++p) parts[p].emit(&body, parts[p].model);
   sf_emit_helpers(&helpers, body.helpers);
-  char file_name[300], guard_name[128], guard[200];
-  snprintf(file_name, sizeof file_name, "%s.%s", base, lang == SF_CODE_C ? "h" : "glsl");
+  char base[300], guard_name[128], guard[200];
+  snprintf(base, sizeof base, "%s", file_name);
+  char *dot = strrchr(base, '.');
+  if (dot && dot != base) *dot = '\0';
   header_comment(&file, parts, n_parts, file_name);
   guard_of(base, guard_name, sizeof guard_name);
   snprintf(guard, sizeof guard, "SKYFIT_GENERATED_%s_%s", guard_name,
@@ -162,33 +165,54 @@ int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang la
   return SF_OK;
 }
 
-static int write_text(const char *path, const char *text, sf_error *err) {
-  sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
-  if (fputs(text, f.stream) == EOF) {
-    sf_atomic_abort(&f);
-    return sf_fail(err, SF_ERR_INTERNAL, "%s: write failed", path);
+/* The name of the file at path, without its folders. */
+static const char *file_name_of(const char *path) {
+  const char *slash = strrchr(path, '/');
+  return slash ? slash + 1 : path;
+}
+
+int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
+                           sf_error *err) {
+  if (c_path && glsl_path && strcmp(c_path, glsl_path) == 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
+  const char *paths[2] = {c_path, glsl_path};
+  static const sf_code_lang langs[2] = {SF_CODE_C, SF_CODE_GLSL};
+  char *text[2] = {NULL, NULL};
+  sf_atomic_file file[2];
+  int open[2] = {0, 0}, status = SF_OK;
+  for (int k = 0; k < 2 && status == SF_OK; ++k)
+    if (paths[k]) status = sf_atomic_check(paths[k], err);
+  for (int k = 0; k < 2 && status == SF_OK; ++k)
+    if (paths[k]) status = sf_codegen_render(parts, n_parts, langs[k], file_name_of(paths[k]), &text[k], err);
+  /* Both temporaries open and written before either is renamed into place:
+   * a second file that cannot be written leaves the first as it was. */
+  for (int k = 0; k < 2 && status == SF_OK; ++k) {
+    if (!paths[k]) continue;
+    if (sf_atomic_open(&file[k], paths[k], err) != SF_OK) {
+      status = err->status;
+      break;
+    }
+    open[k] = 1;
+    if (fputs(text[k], file[k].stream) == EOF) status = sf_fail(err, SF_ERR_INTERNAL, "%s: write failed", paths[k]);
   }
-  return sf_atomic_commit(&f, err);
+  for (int k = 0; k < 2; ++k) {
+    if (!open[k]) continue;
+    if (status == SF_OK) status = sf_atomic_commit(&file[k], err);
+    else sf_atomic_abort(&file[k]);
+  }
+  free(text[0]);
+  free(text[1]);
+  return status;
 }
 
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,
                      const char *dir, const char *base, sf_error *err) {
-  char *c_text = NULL, *glsl_text = NULL;
-  int status = SF_OK;
-  if (want_c) status = sf_codegen_render(parts, n_parts, SF_CODE_C, base, &c_text, err);
-  if (status == SF_OK && want_glsl)
-    status = sf_codegen_render(parts, n_parts, SF_CODE_GLSL, base, &glsl_text, err);
-  char path[4096];
-  if (status == SF_OK && c_text) {
-    snprintf(path, sizeof path, "%s/%s.h", dir, base);
-    status = write_text(path, c_text, err);
-  }
-  if (status == SF_OK && glsl_text) {
-    snprintf(path, sizeof path, "%s/%s.glsl", dir, base);
-    status = write_text(path, glsl_text, err);
-  }
-  free(c_text);
-  free(glsl_text);
-  return status;
+  if (!base[0] || strchr(base, '/'))
+    return sf_fail(err, SF_ERR_INPUT, "output name \"%s\": expected a file name without folders", base);
+  char c_path[4096], glsl_path[4096];
+  int c_len = snprintf(c_path, sizeof c_path, "%s/%s.h", dir, base);
+  int g_len = snprintf(glsl_path, sizeof glsl_path, "%s/%s.glsl", dir, base);
+  if (c_len < 0 || (size_t)c_len >= sizeof c_path || g_len < 0 || (size_t)g_len >= sizeof glsl_path)
+    return sf_fail(err, SF_ERR_INPUT, "%s/%s: output path is too long", dir, base);
+  return sf_codegen_write_files(parts, n_parts, want_c ? c_path : NULL, want_glsl ? glsl_path : NULL, err);
 }

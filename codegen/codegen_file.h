@@ -26,15 +26,24 @@ typedef struct sf_codegen_part {
   const void *model;
 } sf_codegen_part;
 
-/* The whole file BASE.h (C) or BASE.glsl in lang; *text is malloc'd
- * (caller frees). The include guard is SKYFIT_GENERATED_<BASE>_H / _GLSL
- * (BASE upper-cased, other characters as '_'). SF_ERR_INPUT when a model cannot be written
- * (a non-finite constant) or two parts share a name. */
+/* The whole file named file_name (no folders; e.g. "sky.h") in lang;
+ * *text is malloc'd (caller frees). The include guard is
+ * SKYFIT_GENERATED_<BASE>_H / _GLSL by lang (BASE the name without its
+ * extension, upper-cased, other characters as '_'). SF_ERR_INPUT when a
+ * model cannot be written (a non-finite constant) or two parts share a
+ * name. */
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
-                      const char *base, char **text, sf_error *err);
+                      const char *file_name, char **text, sf_error *err);
 
-/* Writes DIR/BASE.h and/or DIR/BASE.glsl atomically (both rendered before
- * either is written; nothing written on failure). */
+/* Writes the C header to c_path and the GLSL to glsl_path, exactly those
+ * paths (either may be NULL), atomically as a pair: both rendered and
+ * written to temporaries before either is renamed into place, so on
+ * failure neither file is touched. */
+int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
+                           sf_error *err);
+
+/* sf_codegen_write_files to DIR/BASE.h and/or DIR/BASE.glsl; BASE a file
+ * name without folders, not empty. */
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,
                      const char *dir, const char *base, sf_error *err);
 

@@ -22,6 +22,7 @@ static const char *why_not_selectable(const sf_report_model *m) {
   const sf_candidate *c = m->candidate;
   if (c->role == SF_ROLE_REFERENCE) return "it is the reference";
   if (c->role == SF_ROLE_LOOKUP) return "it needs the reference tables at run time";
+  if (!c->emit) return "it cannot be emitted as code";
   if (!m->valid_over_domain) return "it is not valid over the whole scene domain";
   if (!m->has_errors || m->errors.n_values == 0) return "it was not measured";
   if (m->non_finite) return "it gave non-finite values";

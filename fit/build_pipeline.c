@@ -13,6 +13,7 @@
 #include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
 #include "models/weights_file.h"
+#include "util/atomic_file.h"
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
@@ -30,14 +31,16 @@ void sf_build_options_default(sf_build_options *o) {
   o->mlp_scattering_normalise_cap = SF_OUTPUT_NORM_CAP_BELOW;
 }
 
-/* "dir/base.ext" -> dir, base. */
-static void split_output(const char *path, char *dir, size_t dn, char *base, size_t bn) {
-  const char *slash = strrchr(path, '/');
-  if (slash) snprintf(dir, dn, "%.*s", (int)(slash - path), path);
-  else snprintf(dir, dn, ".");
-  snprintf(base, bn, "%s", slash ? slash + 1 : path);
-  char *dot = strrchr(base, '.');
-  if (dot && dot != base) *dot = '\0';
+/* The scene's outputs (SPEC §5), exactly as named, or OUT/sky.h and
+ * OUT/sky.glsl. */
+static int output_paths(const sf_scene *scene, const char *out_dir, char *c_path, char *glsl_path, size_t n,
+                        sf_error *err) {
+  int c = scene->output_c[0] ? snprintf(c_path, n, "%s", scene->output_c) : snprintf(c_path, n, "%s/sky.h", out_dir);
+  int g = scene->output_glsl[0] ? snprintf(glsl_path, n, "%s", scene->output_glsl)
+                                : snprintf(glsl_path, n, "%s/sky.glsl", out_dir);
+  if (c < 0 || (size_t)c >= n) return sf_fail(err, SF_ERR_INPUT, "%s: output path too long", c_path);
+  if (g < 0 || (size_t)g >= n) return sf_fail(err, SF_ERR_INPUT, "%s: output path too long", glsl_path);
+  return SF_OK;
 }
 
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
@@ -98,30 +101,14 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     ++n;
   }
   if (n == 0) return SF_OK;
-  /* Each part as long as the scene's whole path may be: never cut short. */
-  char dir_c[SF_SCENE_PATH_LEN], base_c[SF_SCENE_PATH_LEN], dir_g[SF_SCENE_PATH_LEN], base_g[SF_SCENE_PATH_LEN];
-  if (scene->output_c[0]) split_output(scene->output_c, dir_c, sizeof dir_c, base_c, sizeof base_c);
-  else { snprintf(dir_c, sizeof dir_c, "%s", o->out_dir); snprintf(base_c, sizeof base_c, "sky"); }
-  if (scene->output_glsl[0]) split_output(scene->output_glsl, dir_g, sizeof dir_g, base_g, sizeof base_g);
-  else { snprintf(dir_g, sizeof dir_g, "%s", o->out_dir); snprintf(base_g, sizeof base_g, "sky"); }
-  int status;
-  if (strcmp(dir_c, dir_g) == 0 && strcmp(base_c, base_g) == 0) {
-    status = sf_codegen_write(parts, n, 1, 1, dir_c, base_c, err);
-  } else {
-    status = sf_codegen_write(parts, n, 1, 0, dir_c, base_c, err);
-    if (status == SF_OK) status = sf_codegen_write(parts, n, 0, 1, dir_g, base_g, err);
-  }
+  int status = output_paths(scene, o->out_dir, res->header_c, res->header_glsl, sizeof res->header_c, err);
+  if (status == SF_OK) status = sf_codegen_write_files(parts, n, res->header_c, res->header_glsl, err);
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
-  if (status != SF_OK) return status;
-  /* The files were written, so their paths fit (sf_atomic_open's bound is
-   * the same length); checked all the same, never cut short in silence. */
-  int len = snprintf(res->header_c, sizeof res->header_c, "%s/%s.h", dir_c, base_c);
-  if (len < 0 || (size_t)len >= sizeof res->header_c)
-    return sf_fail(err, SF_ERR_INPUT, "%s/%s.h: output path too long", dir_c, base_c);
-  len = snprintf(res->header_glsl, sizeof res->header_glsl, "%s/%s.glsl", dir_g, base_g);
-  if (len < 0 || (size_t)len >= sizeof res->header_glsl)
-    return sf_fail(err, SF_ERR_INPUT, "%s/%s.glsl: output path too long", dir_g, base_g);
+  if (status != SF_OK) {
+    res->header_c[0] = res->header_glsl[0] = '\0';
+    return status;
+  }
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     sf_report_selection *s = &rep->selection[q];
     if (!s->asked || s->model < 0 || !rep->models[s->model].candidate->emit) continue;
@@ -232,6 +219,15 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   if (sf_make_folders(o->out_dir, "--out", err) != SF_OK || sf_make_folders(cache, "--out", err) != SF_OK ||
       sf_make_folders(work, "--out", err) != SF_OK)
     return err->status;
+  /* The headers' paths, checked before the work: a scene naming a missing
+   * folder fails now, not after the fits. */
+  if (o->emit) {
+    char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
+    if (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK) return err->status;
+    if (strcmp(c_path, glsl_path) == 0)
+      return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
+    if (sf_atomic_check(c_path, err) != SF_OK || sf_atomic_check(glsl_path, err) != SF_OK) return err->status;
+  }
   sf_table_set set;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];

@@ -98,7 +98,7 @@ typedef struct baseline_ctx {
   sf_transmittance_baseline kind;
   int steps;
   sf_flat_model flat;
-  sf_baseline emitted;      /* codegen/baselines.h form (naive, chapman, taylor) */
+  sf_baseline emitted;      /* codegen/baselines.h form */
   /* float32 copy for the timed naive raymarch */
   float bottom_f, top_f;
   int n_constituents, n_channels;
@@ -268,10 +268,12 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   snprintf(out->emit_name, sizeof out->emit_name, "%s",
            kind == SF_TB_NAIVE ? "naive" : kind == SF_TB_CHAPMAN ? "chapman"
                                          : kind == SF_TB_TAYLOR  ? "taylor"
-                                                                 : "");
-  if (kind != SF_TB_FLAT && atm->n_channels <= 4) {
-    b->emitted.kind = kind == SF_TB_NAIVE ? SF_BASELINE_NAIVE : kind == SF_TB_CHAPMAN ? SF_BASELINE_CHAPMAN
-                                                                                      : SF_BASELINE_TAYLOR;
+                                                                 : "flat");
+  if (atm->n_channels <= 4) {
+    b->emitted.kind = kind == SF_TB_NAIVE     ? SF_BASELINE_NAIVE
+                      : kind == SF_TB_CHAPMAN ? SF_BASELINE_CHAPMAN
+                      : kind == SF_TB_TAYLOR  ? SF_BASELINE_TAYLOR
+                                              : SF_BASELINE_FLAT;
     b->emitted.steps = steps;
     b->emitted.atmosphere = atm;
     out->emit = emit_baseline;

@@ -69,4 +69,22 @@ check "missing output folder exits 2" "[ $? -eq 2 ]"
 "$SKYFIT_BIN" codegen --baselines naive --out "$tmp/a" 2>/dev/null
 check "missing --lang exits 2" "[ $? -eq 2 ]"
 check "no temporary files left" "[ -z \"\$(ls $tmp/a | grep tmp)\" ]"
+# The C header and the GLSL file are written as a pair: a GLSL path that
+# cannot be written leaves the previous header as it was (the header was
+# replaced before the GLSL failed). An empty --name exits 2.
+mkdir -p "$tmp/pair/pair.glsl"
+echo "previous" > "$tmp/pair/pair.h"
+"$SKYFIT_BIN" codegen --baselines naive --lang both --out "$tmp/pair" --name pair 2>"$tmp/err.txt"
+check "GLSL path a folder: exit 2, the previous header untouched" \
+  "[ $? -eq 2 ] && [ \"\$(cat $tmp/pair/pair.h)\" = previous ] && [ -z \"\$(ls $tmp/pair | grep tmp)\" ]"
+"$SKYFIT_BIN" codegen --baselines naive --lang c --out "$tmp/pair" --name "" 2>"$tmp/err.txt"
+check "empty --name exits 2" "[ $? -eq 2 ] && [ ! -e $tmp/pair/.h ]"
+# Names reach the header's comment: one that would close it or open a
+# comment inside it (GCC's -Wcomment, an error under -Werror) is defused.
+mkdir -p "$tmp/names"
+printf '{"base": "default", "name": "evil */ #error injected /* x"}' > "$tmp/names/a.json"
+"$SKYFIT_BIN" codegen --baselines naive,flat --atmosphere "$tmp/names/a.json" --lang c --out "$tmp/names" --name n \
+  2>/dev/null
+check "an atmosphere named with */ and /*: the header compiles with -Werror" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -fsyntax-only $tmp/names/n.h"
 exit $fail

@@ -197,6 +197,47 @@ for limit in -1 1.5 lots; do
     { echo "FAIL --cache-limit $limit should exit 2 naming the option and write nothing"; fail=1; }
 done
 
+# The scene's outputs, exactly as named (relative to the scene's folder),
+# written as a pair; the model chosen is always one the build can emit (a
+# loose budget on the ground picked Leenman's flat model, which had no
+# emitter in the build: nothing was emitted, exit 0). A missing folder, a
+# folder as the file, or one path for both files exits 2 before any
+# fitting and leaves the previous outputs as they were.
+mkdir -p "$tmp/named/ext"
+cat > "$tmp/named/scene.json" <<'EOF'
+{"viewer_altitude_km": [0, 0], "view": "above_horizon", "sun_elevation_deg": [0, 90], "quantities": ["transmittance"],
+ "error_budget": {"transmittance_rmse": 1e-2}, "outputs": {"c": "ext/sky.hpp", "glsl": "ext/sky.frag"}}
+EOF
+"$bin" build "$tmp/named/scene.json" "${tiny[@]}" --out "$tmp/named/out" > "$tmp/named.out" 2>&1
+rc=$?
+grep -E "chose|headers" "$tmp/named.out"
+[ $rc -eq 0 ] && [ -s "$tmp/named/ext/sky.hpp" ] && [ -s "$tmp/named/ext/sky.frag" ] && [ ! -e "$tmp/named/ext/sky.h" ] &&
+  [ ! -e "$tmp/named/ext/sky.glsl" ] && [ ! -e "$tmp/named/out/sky.h" ] &&
+  grep -q "SKYFIT_GENERATED_SKY_H" "$tmp/named/ext/sky.hpp" && grep -q "SKYFIT_GENERATED_SKY_GLSL" "$tmp/named/ext/sky.frag" ||
+  { echo "FAIL scene outputs ext/sky.hpp and ext/sky.frag not written as named"; cat "$tmp/named.out"; fail=1; }
+python3 - "$tmp/named" <<'PY' || fail=1
+import json, re, sys
+d = sys.argv[1]
+chosen = json.load(open(f"{d}/out/metrics.json"))["selection"]["transmittance"]["model"]
+prefix = {"naive16": "naive", "mlp-transmittance": "mlp"}.get(chosen, chosen)
+header = open(f"{d}/ext/sky.hpp").read()
+assert re.search(rf"skyfit_{prefix}_transmittance\(", header), f"FAIL chose {chosen}: no skyfit_{prefix}_transmittance"
+print(f"named outputs: chose {chosen}, emitted as skyfit_{prefix}_transmittance")
+PY
+cc -std=c99 -Wall -Wextra -Werror -pedantic -fsyntax-only -x c "$tmp/named/ext/sky.hpp" ||
+  { echo "FAIL ext/sky.hpp does not compile as C99"; fail=1; }
+listing() { (cd "$tmp/named" && find out ext -type f ! -path "out/cache/*" -exec sha256sum {} + | sort -k2); }
+listing > "$tmp/named-before"
+for outputs in '{"c": "nodir/sky.h"}' '{"glsl": "nodir/sky.glsl"}' '{"c": "same.txt", "glsl": "same.txt"}' '{"c": "ext"}'; do
+  sed "s|\"outputs\": {[^}]*}|\"outputs\": $outputs|" "$tmp/named/scene.json" > "$tmp/named/bad.json"
+  "$bin" build "$tmp/named/bad.json" "${tiny[@]}" --out "$tmp/named/out" > "$tmp/named-bad.out" 2> "$tmp/err"
+  rc=$?
+  echo "outputs $outputs: exit $rc: $(head -1 "$tmp/err")"
+  listing > "$tmp/named-after"
+  [ $rc -eq 2 ] && ! grep -q "chose" "$tmp/named-bad.out" && cmp -s "$tmp/named-before" "$tmp/named-after" ||
+    { echo "FAIL outputs $outputs: should exit 2 before fitting, the previous outputs untouched"; fail=1; }
+done
+
 # An impossible budget is not an error: the best available, said so.
 printf '{"quantities": ["transmittance"], "error_budget": {"transmittance_rmse": 1e-12}}' > "$tmp/tight.json"
 "$bin" build "$tmp/tight.json" "${small[@]}" --no-views --out "$tmp/tight" > "$tmp/tight.out" 2>&1

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -113,4 +114,13 @@ void sf_atomic_abort(sf_atomic_file *f) {
   if (f->stream) fclose(f->stream);
   f->stream = NULL;
   if (f->temp_path[0]) unlink(f->temp_path);
+}
+
+int sf_atomic_check(const char *path, sf_error *err) {
+  struct stat st;
+  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return sf_fail(err, SF_ERR_INPUT, "%s: is a folder", path);
+  sf_atomic_file f;
+  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
+  sf_atomic_abort(&f);
+  return SF_OK;
 }

@@ -23,6 +23,10 @@ int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err);
 int sf_atomic_commit(sf_atomic_file *f, sf_error *err);
 /* Abandons the temporary; the destination is left as it was. */
 void sf_atomic_abort(sf_atomic_file *f);
+/* Whether path can be written (its folder exists and takes a temporary;
+ * path is not a folder), checked before long work whose result goes
+ * there; SF_ERR_INPUT naming the path otherwise. Writes nothing. */
+int sf_atomic_check(const char *path, sf_error *err);
 /* Removes temporaries of path ("PATH.tmp.PID.XXXXXX") whose writing process
  * no longer exists (killed before it could commit or abort), so an
  * interrupted run leaves nothing behind once the file is written again.
