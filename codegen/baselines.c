@@ -394,10 +394,28 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   if (b->kind == SF_BASELINE_FLAT) emit_flat_helpers(w);
   if (b->kind == SF_BASELINE_SPLINE) sf_emit_spline_tables(w, b->spline);
   sf_cw_emit(w, "/* %s: %s. */\n", name, description);
-  sf_cw_emit(w,
-             "@fn %V skyfit_%s_transmittance_between(float h_km, float mu, float t0, float t1) {\n"
-             "  @vec4 seg = skyfit_air_clip(%F, %F, h_km, mu, t0, t1);\n",
-             n, name, atm->bottom_radius_km,
+  sf_cw_emit(w, "@fn %V skyfit_%s_transmittance_between(float h_km, float mu, float t0, float t1) {\n", n, name);
+  /* A viewer above the top starts where its ray enters (the same ray):
+   * from far out, every distance and altitude along the ray would be a
+   * small difference of two values of order r^2 (a float32 viewer 1e6 km
+   * away lost the ground by kilometres). Not the flat model, whose
+   * descent (eq. 53) is taken at the viewer itself. */
+  if (b->kind != SF_BASELINE_FLAT) {
+    char ones[64] = "";
+    for (int ch = 0; ch < n; ++ch) strcat(ones, ch ? ", 1.0f" : "1.0f");
+    sf_cw_emit(w,
+               "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
+               "  if (e.w < 0.0f || !(t1 > e.w)) return %C%s);\n"
+               "  if (e.w > 0.0f) {\n"
+               "    h_km = e.x;\n"
+               "    mu = e.y;\n"
+               "    t0 = @max(t0 - e.w, 0.0f);\n"
+               "    t1 = t1 - e.w;\n"
+               "  }\n",
+               atm->bottom_radius_km, atm->top_radius_km - atm->bottom_radius_km, n, ones);
+    sf_cw_need(w, SF_HELPER_RAY_ENTER);
+  }
+  sf_cw_emit(w, "  @vec4 seg = skyfit_air_clip(%F, %F, h_km, mu, t0, t1);\n", atm->bottom_radius_km,
              atm->top_radius_km - atm->bottom_radius_km);
   sf_cw_need(w, SF_HELPER_AIR_CLIP);
   for (int i = 0; i < atm->n_constituents; ++i)

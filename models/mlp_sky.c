@@ -52,6 +52,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_HITS sf_ray_hits_sphere_from_above
 #define RAY_RADIUS_AT sf_ray_radius_at
 #define RAY_INTERSECT sf_ray_sphere_intersections
+#define RAY_DISC sf_ray_sphere_discriminant
 #define OFFSET offset
 #define SCALE scale
 #define NORM_COEF coef
@@ -68,6 +69,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef RAY_HITS
 #undef RAY_RADIUS_AT
 #undef RAY_INTERSECT
+#undef RAY_DISC
 #undef OFFSET
 #undef SCALE
 #undef NORM_COEF
@@ -84,6 +86,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_HITS sf_ray_hits_sphere_from_above_f
 #define RAY_RADIUS_AT sf_ray_radius_at_f
 #define RAY_INTERSECT sf_ray_sphere_intersections_f
+#define RAY_DISC sf_ray_sphere_discriminant_f
 #define OFFSET offset_f
 #define SCALE scale_f
 #define NORM_COEF coef_f

@@ -14,6 +14,10 @@ double sf_ray_radius_at(double r, double mu, double t);
 /* Cosine of the zenith angle at distance t along the ray. */
 double sf_ray_mu_at(double r, double mu, double t);
 
+/* R^2 - r^2 (1 - mu^2), whose sign says whether the ray's line meets the
+ * sphere of radius R, without cancellation near the sphere (from (R - r)(R
+ * + r)) and far outside it (from the closest approach). */
+double sf_ray_sphere_discriminant(double r, double mu, double sphere_radius);
 /* Does the ray from radius r hit the sphere of radius R_ground? A ray tangent
  * to it (discriminant exactly 0) counts as hitting, as in Bruneton 2017. */
 int sf_ray_hits_sphere_from_above(double r, double mu, double sphere_radius);
@@ -38,6 +42,7 @@ int sf_ray_atmosphere_segment(double r, double mu, double bottom_radius,
 /* The same in float32. */
 float sf_ray_closest_radius_sq_f(float r, float mu);
 float sf_ray_radius_at_f(float r, float mu, float t);
+float sf_ray_sphere_discriminant_f(float r, float mu, float sphere_radius);
 int sf_ray_hits_sphere_from_above_f(float r, float mu, float sphere_radius);
 float sf_horizon_mu_f(float r, float sphere_radius);
 int sf_ray_sphere_intersections_f(float r, float mu, float sphere_radius,

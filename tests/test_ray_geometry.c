@@ -349,11 +349,56 @@ static void test_cancellation(void) {
   }
 }
 
+/* Viewers far out (geostationary to 1e9 km): the discriminant R^2 - r^2 (1
+ * - mu^2) in float against long double at the same float inputs. Its terms
+ * carry a few float roundings of R^2 and of p^2 = r^2 (1 - mu^2), so
+ * |dD| <= 8 eps (R^2 + p^2); (R - r)(R + r) + (r mu)^2 would lose eps r^2
+ * (at 1e7 km, 2.5 R^2: a viewer looking straight down missed the planet).
+ * mu from -1 up through rays that pass the planet; straight down, the
+ * atmosphere is entered at r - R_top and the ground hit. */
+static void test_far_viewers(void) {
+  printf("-- viewers far out: the float discriminant\n");
+  const double hs[] = {3.6e4, 1e5, 1e6, 1e7, 1e9};
+  const double radii[] = {R_GROUND, R_TOP};
+  char label[160];
+  double worst = 0.0;
+  int all_in = 1;
+  for (int i = 0; i < 5; ++i) {
+    float rf = (float)(R_GROUND + hs[i]);
+    /* the planet's angular radius from there, and the cosines across it */
+    double edge = sqrt(1.0 - (R_TOP / rf) * (R_TOP / rf));
+    for (int k = 0; k <= 40; ++k) {
+      float muf = k == 0 ? -1.0f : (float)-(edge + (1.0 - edge) * (1.0 - k / 30.0));
+      if (!(muf >= -1.0f)) muf = -1.0f;
+      for (int s = 0; s < 2; ++s) {
+        double R = radii[s];
+        ld p2 = (ld)rf * rf * (1.0L - (ld)muf * muf);
+        ld want = (ld)R * R - p2;
+        double got = sf_ray_sphere_discriminant_f(rf, muf, (float)R);
+        double err = (double)(fabsl((ld)got - want) / ((ld)R * R + p2));
+        if (err > worst) worst = err;
+        all_in &= err <= 8 * FLT_EPSILON;
+      }
+    }
+    float te, tx;
+    int g;
+    int in = sf_ray_atmosphere_segment_f(rf, -1.0f, (float)R_GROUND, (float)R_TOP, &te, &tx, &g);
+    snprintf(label, sizeof label, "float h=%g straight down: enters at r - R_top and hits the ground", hs[i]);
+    check_report(in && g && fabs(te - ((double)rf - R_TOP)) <= 4 * FLT_EPSILON * (double)rf &&
+                     fabs(tx - ((double)rf - R_GROUND)) <= 4 * FLT_EPSILON * (double)rf,
+                 label, __FILE__, __LINE__);
+  }
+  printf("   worst |D_f - D| / (R^2 + p^2) over 5 distances x 41 cosines x 2 spheres: %.3g (bound 8 eps = %.3g)\n",
+         worst, 8 * FLT_EPSILON);
+  check_report(all_in, "far viewers: float discriminant within 8 eps (R^2 + p^2)", __FILE__, __LINE__);
+}
+
 int main(void) {
   test_inside_viewers();
   test_horizon();
   test_boundaries();
   test_space_viewers();
+  test_far_viewers();
   test_cancellation();
   return check_summary();
 }
