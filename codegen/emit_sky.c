@@ -14,6 +14,9 @@ void sf_sky_radiance_clamped(const sf_elevation_sky_model *m, double mu, double 
   double ms = clampd(mu_s, -1.0, 1.0);
   double cg = sf_clamp_nu(ct, ms, clampd(nu, -1.0, 1.0));
   sf_elevation_sky_radiance(m, asin(ms), acos(ct), acos(cg), radiance);
+  /* A radiance is never negative; the fitted forms dip below 0 near the
+   * horizon at a low sun (Hosek's default fit: -0.0038 in G at 3 degrees). */
+  for (int k = 0; k < m->n_channels; ++k) radiance[k] = radiance[k] > 0.0 ? radiance[k] : 0.0;
 }
 
 void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m) {
@@ -68,12 +71,14 @@ void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m) {
     sf_cw_emit(w,
                "    float q = 1.0f + c[7] * c[7] - 2.0f * c[7] * cg;\n"
                "    float chi = (1.0f + cg * cg) / (q * @sqrt(q));\n"
-               "    L[k] = c[9] * ((1.0f + c[0] * @exp(c[1] / (ct + 0.01f))) *\n"
-               "                   (c[2] + c[3] * @exp(c[4] * gamma) + c[5] * cg * cg + c[6] * chi + c[8] * @sqrt(ct)));\n"
+               "    L[k] = @max(c[9] * ((1.0f + c[0] * @exp(c[1] / (ct + 0.01f))) *\n"
+               "                        (c[2] + c[3] * @exp(c[4] * gamma) + c[5] * cg * cg + c[6] * chi +\n"
+               "                         c[8] * @sqrt(ct))), 0.0f);  /* never negative (the fit dips below 0) */\n"
                "  }\n");
   else
     sf_cw_emit(w,
-               "    L[k] = c[5] * ((1.0f + c[0] * @exp(c[1] / ct)) * (1.0f + c[2] * @exp(c[3] * gamma) + c[4] * cg * cg));\n"
+               "    L[k] = @max(c[5] * ((1.0f + c[0] * @exp(c[1] / ct)) * (1.0f + c[2] * @exp(c[3] * gamma) +\n"
+               "                                                       c[4] * cg * cg)), 0.0f);\n"
                "  }\n");
   if (n == 1) sf_cw_emit(w, "  return L[0];\n}\n\n");
   else if (n == 2) sf_cw_emit(w, "  return @vec2(L[0], L[1]);\n}\n\n");

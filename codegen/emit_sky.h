@@ -24,8 +24,9 @@
 
 void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m);
 
-/* The same clamps in double, then sf_elevation_sky_radiance: what the
- * emitted function approximates in float32. */
+/* The same clamps in double, then sf_elevation_sky_radiance, negative
+ * radiance (the fitted forms dip below 0 near the horizon at a low sun)
+ * raised to 0: what the emitted function approximates in float32. */
 void sf_sky_radiance_clamped(const sf_elevation_sky_model *m, double mu, double mu_s, double nu,
                              double *radiance);
 

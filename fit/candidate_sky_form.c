@@ -70,7 +70,7 @@ static void sky_form_eval_f32(const void *ctx, size_t n, const float *in, float 
       } else {       /* seed 000 eq. 33 */
         f = (1.0f + c[0] * expf(c[1] / ct)) * (1.0f + c[2] * expf(c[3] * gamma) + c[4] * cg * cg);
       }
-      o[k] = c[s->n_coeffs] * f;
+      o[k] = fmaxf(c[s->n_coeffs] * f, 0.0f);   /* never negative (codegen/emit_sky.h) */
     }
   }
 }
