@@ -20,7 +20,7 @@ static void usage(FILE *out, const char *command, int emit) {
           "usage: %s [SCENE.json] [--out DIR] [options]\n"
           "\n"
           "%s"
-          "Samples the reference tables for the scene's atmosphere (cached in DIR/cache), %s\n"
+          "Samples the reference tables for the scene's atmosphere (cached in DIR/cache), %s"
           "measures every model against the reference over the scene's domain (RMSE, max abs, mean\n"
           "relative error; cost in ns per evaluation and as a ratio to the 16-step naive raymarch),\n"
           "renders the standard views of seed 000 §11.4 and writes DIR/report.html, report.md,\n"
@@ -60,8 +60,10 @@ static void usage(FILE *out, const char *command, int emit) {
           command,
           emit ? "The whole pipeline (SPEC §5, §11): sample, fit, select, emit, report.\n"
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
-          emit ? "fits every model valid in the scene's domain,\nselects per quantity the cheapest that meets the budget, emits GLSL and C for it,\n"
-               : "builds\nthe candidates, ",
+          emit ? "fits\nevery model valid in the scene's domain, selects per quantity the cheapest that meets\n"
+                 "the budget among those it can emit, emits GLSL and C for it (the scene's outputs, or\n"
+                 "DIR/sky.h and DIR/sky.glsl),\n"
+               : "builds\nthe candidates,\n",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
           SF_BUILD_MLP_RESTARTS, SF_BUILD_RESTART_MAX_MISS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
 }
@@ -109,7 +111,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       o.out_dir = argv[++i];
     } else if (!strcmp(a, "--resolution") && v) {
       if (sf_table_resolution_parse(argv[++i], &o.tables.res, &perr) != SF_OK) {
-        fprintf(stderr, "%s: --resolution: %s\n", command, perr.message);
+        fprintf(stderr, "%s: %s\n", command, perr.message);
         return 2;
       }
     } else if (!strcmp(a, "--views") && v) {
@@ -173,6 +175,9 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       o.tables.run.n_threads = (int)n;
     } else if (a[0] != '-' && !scene_path) {
       scene_path = a;
+    } else if (a[0] != '-') {
+      fprintf(stderr, "%s: one scene file only: '%s' after '%s'\n", command, a, scene_path);
+      return 2;
     } else {
       fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", command, a);
       return 2;

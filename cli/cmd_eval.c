@@ -108,7 +108,8 @@ static int parse_options(int argc, char **argv, eval_options *o) {
     }
   }
   if (!q) {
-    fprintf(stderr, "skyfit eval: which quantity? optical_depth, transmittance or single_scattering\n");
+    fprintf(stderr, "skyfit eval: which quantity? optical_depth, transmittance, single_scattering, "
+                    "multiple_scattering or sky_radiance\n");
     eval_usage(stderr);
     return 2;
   }
@@ -117,7 +118,10 @@ static int parse_options(int argc, char **argv, eval_options *o) {
   else if (strcmp(q, "single_scattering") == 0) o->what = Q_SINGLE_SCATTERING;
   else if (strcmp(q, "sky_radiance") == 0 && o->model_path) o->what = Q_SKY_RADIANCE;
   else {
-    fprintf(stderr, "skyfit eval: unknown quantity '%s' (optical_depth, transmittance, single_scattering)\n", q);
+    fprintf(stderr,
+            "skyfit eval: unknown quantity '%s' (optical_depth, transmittance, single_scattering, "
+            "multiple_scattering, sky_radiance)\n",
+            q);
     return 2;
   }
   if (o->phase && o->what != Q_SINGLE_SCATTERING) {

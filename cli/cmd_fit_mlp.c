@@ -567,7 +567,7 @@ int sf_cmd_fit_mlp_scattering(int argc, char **argv) { return run_sky(argc, argv
 
 static void plain_usage(FILE *out) {
   fprintf(out,
-          "usage: skyfit fit mlp --data F.csv --inputs N [options]\n"
+          "usage: skyfit fit mlp --data F.csv --inputs N --layers A,B,... [options]\n"
           "\n"
           "Trains a network on any CSV (header row; the first N columns are inputs, the rest\n"
           "targets), e.g. one written by --dump-dataset, and prints the final training loss\n"
@@ -576,7 +576,7 @@ static void plain_usage(FILE *out) {
           "unless --validation is given. Defaults: --hidden sigmoid --output exp_neg --loss mse\n"
           "--batch 1024 --epochs 10.\n"
           "\n"
-          "  --data F.csv, --inputs N  the data (required)\n");
+          "  --data F.csv, --inputs N  the data (required, with --layers)\n");
   sf_mlp_cli_help(out);
 }
 

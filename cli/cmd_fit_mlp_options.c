@@ -68,9 +68,16 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
   else if (strcmp(a, "--checkpoint") == 0) o->checkpoint = v;
   else if (strcmp(a, "--init-weights") == 0) o->init_weights = v;
   else if (strcmp(a, "--write-init") == 0) o->write_init = v;
-  else if (strcmp(a, "--hidden") == 0 || strcmp(a, "--output") == 0) {
-    if (sf_mlp_activation_parse(v, strcmp(a, "--hidden") == 0 ? &t->shape.hidden : &t->shape.output)) {
-      fprintf(stderr, "%s: %s: expected sigmoid, tanh, relu, linear, exp_neg or exp_neg_exp, got '%s'\n", command, a, v);
+  else if (strcmp(a, "--hidden") == 0) {
+    /* e^-x and e^-e^-x are output activations (their help and the emitters') */
+    if (sf_mlp_activation_parse(v, &t->shape.hidden) || t->shape.hidden == SF_ACT_EXP_NEG ||
+        t->shape.hidden == SF_ACT_EXP_NEG_EXP) {
+      fprintf(stderr, "%s: --hidden: expected sigmoid, tanh, relu or linear, got '%s'\n", command, v);
+      return -1;
+    }
+  } else if (strcmp(a, "--output") == 0) {
+    if (sf_mlp_activation_parse(v, &t->shape.output)) {
+      fprintf(stderr, "%s: --output: expected exp_neg, exp_neg_exp, sigmoid or linear, got '%s'\n", command, v);
       return -1;
     }
   } else if (strcmp(a, "--loss") == 0) {
@@ -156,7 +163,8 @@ void sf_mlp_cli_help(FILE *out) {
           "  --polish-samples N      training samples used by the polish (0: all)\n"
           "  --stop-after-epochs K   behave as if interrupted after K epochs (tests)\n"
           "  --stop-after-polish-steps K  the same after K polish steps (tests)\n"
-          "  --quiet                 no progress line\n");
+          "  --quiet                 no progress line\n"
+          "  --help                  this text\n");
 }
 
 int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dataset *validation,

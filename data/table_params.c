@@ -81,8 +81,7 @@ int sf_table_resolution_check(const sf_table_resolution *res, sf_parameterizatio
     if (counts[k].v < 2)
       return sf_fail(err, SF_ERR_INPUT, "resolution: %s count %d must be at least 2", counts[k].name, counts[k].v);
     if (counts[k].v > SF_TABLE_MAX_AXIS_SIZE)
-      return sf_fail(err, SF_ERR_INPUT, "resolution: %s count %s%d exceeds the limit of %d", counts[k].name,
-                     counts[k].v == SF_TABLE_MAX_AXIS_SIZE + 1 ? "over " : "", counts[k].v,
+      return sf_fail(err, SF_ERR_INPUT, "resolution: %s count exceeds the limit of %d", counts[k].name,
                      SF_TABLE_MAX_AXIS_SIZE);
   }
   if (p == SF_PARAM_BRUNETON && (res->scattering_mu % 2 != 0 || res->scattering_mu < 4))

@@ -60,6 +60,19 @@ static int read_name(const sf_json_ctx *c, const cJSON *v, const char *path, siz
   return 0;
 }
 
+/* A constituent's name heads columns of CSV (skyfit eval: "ozone",
+ * "mie_r") and names it in emitted comments: printable ASCII without the
+ * comma and the double quote that CSV would split or quote on. */
+static int check_constituent_name(const sf_json_ctx *c, const char *name, const char *path) {
+  for (const char *p = name; *p; ++p)
+    if (*p < 0x20 || *p > 0x7e || *p == ',' || *p == '"')
+      return sf_json_fail(c, path,
+                          "constituent name \"%s\": printable ASCII without ',' or '\"' only (it heads CSV "
+                          "columns)",
+                          name);
+  return 0;
+}
+
 /* Coefficients or sun irradiance: numbers as above, or in spectral mode a
  * recipe object deriving them from the shipped tables
  * (models/spectral_recipes.h); owner: the constituent (density read). */
@@ -273,7 +286,9 @@ static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, cons
       return sf_json_fail(c, path, "missing required key");
     }
   constituent_path(path, sizeof path, r, "name");
-  if (read_name(c, sf_json_get(r->merged, "name"), path, sizeof out->name, 0, out->name)) return SF_ERR_INPUT;
+  if (read_name(c, sf_json_get(r->merged, "name"), path, sizeof out->name, 0, out->name) ||
+      check_constituent_name(c, out->name, path))
+    return SF_ERR_INPUT;
   /* the density first: a recipe (ozone from a column) integrates it */
   constituent_path(path, sizeof path, r, "density");
   if (read_density(c, sf_json_get(r->merged, "density"), path, out)) return SF_ERR_INPUT;
@@ -309,7 +324,7 @@ static int check_constituent_names(const sf_json_ctx *c, const cJSON *list) {
     const cJSON *name = sf_json_get(e, "name");
     if (!name) return sf_json_fail(c, npath, "missing required key");
     char buf[SF_NAME_LEN];
-    if (read_name(c, name, npath, sizeof buf, 0, buf)) return SF_ERR_INPUT;
+    if (read_name(c, name, npath, sizeof buf, 0, buf) || check_constituent_name(c, buf, npath)) return SF_ERR_INPUT;
     int k = 0;
     for (const cJSON *o = list->child; o != e; o = o->next, ++k)
       if (strcmp(sf_json_get(o, "name")->valuestring, buf) == 0)
@@ -449,6 +464,12 @@ static int load_tree(const sf_json_ctx *c, const cJSON *user, sf_atmosphere *out
   if (sf_json_check_duplicate_keys(c, user, "")) return SF_ERR_INPUT;
   const cJSON *list = sf_json_get(user, "constituents");
   if (cJSON_IsArray(list) && check_constituent_names(c, list)) return SF_ERR_INPUT;
+  /* Over "base", constituents merge by name: an empty list would change
+   * nothing, which is not what writing it means. */
+  if (cJSON_IsArray(list) && cJSON_GetArraySize(list) == 0 && sf_json_get(user, "base"))
+    return sf_json_fail(c, "constituents", "empty: over base \"default\" constituents merge by name, so an empty "
+                                           "list would change nothing (give the ones to add or override, or omit "
+                                           "the key)");
   top_ref t = {user, NULL};
   cJSON *merged = NULL;
   const cJSON *base = sf_json_get(user, "base");

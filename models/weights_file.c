@@ -353,6 +353,16 @@ int sf_weights_load_string(const char *json, const char *source_name, const char
     sf_json_fail(&c, "model", "expected a \"%s\" model, got \"%s\"", expected_model, out->model);
     goto fail;
   }
+  /* The models skyfit writes give one quantity each (a generic "mlp" any). */
+  static const char *const model_quantity[][2] = {
+      {"sigmoid", "transmittance"}, {"mlp-transmittance", "transmittance"}, {"mlp-scattering", "sky_radiance"},
+      {"preetham", "sky_radiance"}, {"hosek", "sky_radiance"},              {"spectral4", "sky_radiance"}};
+  for (size_t k = 0; k < sizeof model_quantity / sizeof model_quantity[0]; ++k)
+    if (strcmp(out->model, model_quantity[k][0]) == 0 && strcmp(out->quantity, model_quantity[k][1]) != 0) {
+      sf_json_fail(&c, "quantity", "a \"%s\" model gives \"%s\", got \"%s\"", out->model, model_quantity[k][1],
+                   out->quantity);
+      goto fail;
+    }
   if (read_atmosphere(&c, root, out) || read_domain(&c, root, &out->domain) || read_inputs(&c, root, out) ||
       read_params(&c, root) || read_optional_object(&c, root, "metrics") ||
       read_optional_object(&c, root, "training"))

@@ -496,6 +496,13 @@ static void test_invalid_files(void) {
   expect_error("duplicate constituent names", ATM("", NC("a") "," NC("b") "," NC("a")),
                "constituents[2].name", "duplicate");
   expect_error("empty constituent name", ATM("", NC("")), "constituents[0].name", "empty");
+  /* a name heads CSV columns (skyfit eval): no comma, quote or control character */
+  expect_error("comma in a constituent name", ATM("", NC("a,b")), "constituents[0].name", "printable ASCII");
+  expect_error("quote in a constituent name", ATM("", NC("a\\\"b")), "constituents[0].name", "printable ASCII");
+  expect_error("comma in a merged name", "{'base': 'default', 'constituents': [{'name': 'dust,2', 'base': 'mie'}]}",
+               "constituents[0].name", "printable ASCII");
+  /* over base "default" an empty list would merge nothing */
+  expect_error("empty constituents over base", "{'base': 'default', 'constituents': []}", "constituents", "empty");
   expect_error("constituent name too long", ATM("", NC("abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuv")),
                "constituents[0].name", "too long");
   char long_name[160], file[1024];

@@ -136,6 +136,8 @@ int main(void) {
   struct { const char *from, *to, *key; } cases[] = {
       {"\"skyfit_weights\":\t1", "\"skyfit_weights\":\t2", "skyfit_weights"},
       {"\"model\":\t\"sigmoid\"", "\"model\":\t7", "model"},
+      /* a sigmoid gives transmittance */
+      {"\"quantity\":\t\"transmittance\"", "\"quantity\":\t\"sky_radiance\"", "quantity"},
       {"\"rmse\":\t0.000125", "\"rmse\":\t1e999", "metrics.rmse"},
       {"[0.1, ", "[NaN, ", "line"},
       {"[0.1, ", "[\"x\", ", "params.w[0][0]"},
