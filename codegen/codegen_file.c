@@ -171,38 +171,58 @@ static const char *file_name_of(const char *path) {
   return slash ? slash + 1 : path;
 }
 
-int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
-                           sf_error *err) {
+int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
+                             sf_codegen_files *out, sf_error *err) {
+  memset(out, 0, sizeof *out);
   if (c_path && glsl_path && strcmp(c_path, glsl_path) == 0)
     return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
   const char *paths[2] = {c_path, glsl_path};
   static const sf_code_lang langs[2] = {SF_CODE_C, SF_CODE_GLSL};
   char *text[2] = {NULL, NULL};
-  sf_atomic_file file[2];
-  int open[2] = {0, 0}, status = SF_OK;
+  int status = SF_OK;
   for (int k = 0; k < 2 && status == SF_OK; ++k)
     if (paths[k]) status = sf_atomic_check(paths[k], err);
   for (int k = 0; k < 2 && status == SF_OK; ++k)
     if (paths[k]) status = sf_codegen_render(parts, n_parts, langs[k], file_name_of(paths[k]), &text[k], err);
-  /* Both temporaries open and written before either is renamed into place:
-   * a second file that cannot be written leaves the first as it was. */
   for (int k = 0; k < 2 && status == SF_OK; ++k) {
     if (!paths[k]) continue;
-    if (sf_atomic_open(&file[k], paths[k], err) != SF_OK) {
+    if (sf_atomic_open(&out->file[k], paths[k], err) != SF_OK) {
       status = err->status;
       break;
     }
-    open[k] = 1;
-    if (fputs(text[k], file[k].stream) == EOF) status = sf_fail(err, SF_ERR_INTERNAL, "%s: write failed", paths[k]);
-  }
-  for (int k = 0; k < 2; ++k) {
-    if (!open[k]) continue;
-    if (status == SF_OK) status = sf_atomic_commit(&file[k], err);
-    else sf_atomic_abort(&file[k]);
+    out->open[k] = 1;
+    if (fputs(text[k], out->file[k].stream) == EOF) status = sf_fail(err, SF_ERR_INTERNAL, "%s: write failed", paths[k]);
   }
   free(text[0]);
   free(text[1]);
+  if (status != SF_OK) sf_codegen_abort_files(out);
   return status;
+}
+
+int sf_codegen_commit_files(sf_codegen_files *f, sf_error *err) {
+  int status = SF_OK;
+  for (int k = 0; k < 2; ++k) {
+    if (!f->open[k]) continue;
+    f->open[k] = 0;
+    if (status == SF_OK) status = sf_atomic_commit(&f->file[k], err);
+    else sf_atomic_abort(&f->file[k]);
+  }
+  return status;
+}
+
+void sf_codegen_abort_files(sf_codegen_files *f) {
+  for (int k = 0; k < 2; ++k)
+    if (f->open[k]) {
+      f->open[k] = 0;
+      sf_atomic_abort(&f->file[k]);
+    }
+}
+
+int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
+                           sf_error *err) {
+  sf_codegen_files files;
+  if (sf_codegen_prepare_files(parts, n_parts, c_path, glsl_path, &files, err) != SF_OK) return err->status;
+  return sf_codegen_commit_files(&files, err);
 }
 
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,

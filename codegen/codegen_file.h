@@ -9,6 +9,7 @@
 
 #include "codegen/code_writer.h"
 #include "models/scene_file.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 #define SF_CODEGEN_TEXT_LEN 512
@@ -34,6 +35,20 @@ typedef struct sf_codegen_part {
  * name. */
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
                       const char *file_name, char **text, sf_error *err);
+
+/* The pair written to temporaries beside c_path and glsl_path (either may
+ * be NULL), not yet in place: sf_codegen_commit_files renames them into
+ * place, sf_codegen_abort_files removes them. Lets a caller put them in
+ * place together with its other outputs (fit/build_staging.h). On failure
+ * nothing is left. */
+typedef struct sf_codegen_files {
+  sf_atomic_file file[2];   /* C, GLSL */
+  int open[2];
+} sf_codegen_files;
+int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
+                             sf_codegen_files *out, sf_error *err);
+int sf_codegen_commit_files(sf_codegen_files *f, sf_error *err);
+void sf_codegen_abort_files(sf_codegen_files *f);
 
 /* Writes the C header to c_path and the GLSL to glsl_path, exactly those
  * paths (either may be NULL), atomically as a pair: both rendered and

@@ -10,6 +10,7 @@
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
 #include "fit/build_stale_weights.h"
+#include "fit/build_staging.h"
 #include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
 #include "models/weights_file.h"
@@ -43,8 +44,10 @@ static int output_paths(const sf_scene *scene, const char *out_dir, char *c_path
   return SF_OK;
 }
 
+/* The selected models' headers, written to temporaries beside their paths
+ * (headers: committed with the other outputs, fit/build_staging.h). */
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
-                          sf_error *err) {
+                          sf_codegen_files *headers, sf_error *err) {
   sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 1];
   int n = 0;
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
@@ -102,7 +105,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   }
   if (n == 0) return SF_OK;
   int status = output_paths(scene, o->out_dir, res->header_c, res->header_glsl, sizeof res->header_c, err);
-  if (status == SF_OK) status = sf_codegen_write_files(parts, n, res->header_c, res->header_glsl, err);
+  if (status == SF_OK) status = sf_codegen_prepare_files(parts, n, res->header_c, res->header_glsl, headers, err);
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
   if (status != SF_OK) {
@@ -200,6 +203,20 @@ static void remove_stale_weights(const char *work, const sf_candidate_list *list
   free(written);
 }
 
+/* The weights files' paths as they will be once published: the report
+ * names those, not the staging folder's. */
+static void weights_paths_final(const sf_build_staging *stage, sf_candidate_list *list, sf_report_spectral4 *s4) {
+  char path[4096];
+  for (int i = 0; i < list->count; ++i) {
+    sf_build_staging_final_path(stage, list->items[i].weights_path, path, sizeof path);
+    snprintf(list->items[i].weights_path, sizeof list->items[i].weights_path, "%s", path);
+  }
+  if (s4->present) {
+    sf_build_staging_final_path(stage, s4->weights_path, path, sizeof path);
+    snprintf(s4->weights_path, sizeof s4->weights_path, "%s", path);
+  }
+}
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err) {
   memset(res, 0, sizeof *res);
   double t_start = sf_wall_seconds(), c_start = sf_cpu_seconds();
@@ -245,8 +262,26 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   }
   notes->forward = o->note;
   notes->forward_ctx = o->note_ctx;
+  /* Weights, views and report go to a staging folder, published when the
+   * run has succeeded (fit/build_staging.h); the cache is written as it goes. */
+  sf_build_staging stage;
+  char staged_work[sizeof stage.dir + 16];
+  if (sf_build_staging_open(&stage, o->out_dir, err) != SF_OK) {
+    free(notes);
+    sf_table_set_free(&set);
+    return err->status;
+  }
+  snprintf(staged_work, sizeof staged_work, "%s/weights", stage.dir);
+  if (sf_make_folders(staged_work, "--out", err) != SF_OK) {
+    sf_build_staging_discard(&stage);
+    free(notes);
+    sf_table_set_free(&set);
+    return err->status;
+  }
+  sf_codegen_files headers;
+  memset(&headers, 0, sizeof headers);
   sf_candidate_inputs in = {.scene = scene, .domain = domain, .atm = &scene->atmosphere, .tables = &set,
-                            .sky = &sky, .work_dir = work, .cache_dir = cache,
+                            .sky = &sky, .work_dir = staged_work, .cache_dir = cache,
                             .orders = topt.orders, .seed = o->report.seed, .quick = o->quick,
                             .mlp_transmittance_epochs = o->mlp_transmittance_epochs,
                             .mlp_scattering_epochs = o->mlp_scattering_epochs,
@@ -262,7 +297,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   sf_report_spectral4 spectral4;
   memset(&spectral4, 0, sizeof spectral4);
   if (status == SF_OK && scene->color == SF_COLOR_SPECTRAL4 && (scene->quantities & SF_QUANTITY_SKY_RADIANCE)) {
-    sf_build_spectral4_options so = {.cache_dir = cache, .work_dir = work, .quick = o->quick, .run = o->report.run,
+    sf_build_spectral4_options so = {.cache_dir = cache, .work_dir = staged_work, .quick = o->quick, .run = o->report.run,
                                      .note = log_note, .note_ctx = notes};
     status = sf_build_spectral4(scene, &so, &spectral4, err);
   }
@@ -274,7 +309,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   memset(&rep, 0, sizeof rep);
   sf_report_options ropt = o->report;
   ropt.cost_cache_dir = cache;
-  if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, o->out_dir, err);
+  if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, stage.dir, err);
   /* A network that missed the budget may meet it from another start: the
    * seed's next restart is trained, measured beside it, and the selection
    * made again, up to the build's number of networks per quantity. By
@@ -320,7 +355,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     }
     seconds_restarts += sf_wall_seconds() - t0;
     cpu_seconds_restarts += sf_cpu_seconds() - c0;
-    if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, o->out_dir, err);
+    if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, stage.dir, err);
     if (!added) break;
   }
   res->seconds_fit += seconds_restarts;
@@ -328,12 +363,19 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   rep.spectral4 = spectral4;
   snprintf(rep.notes, sizeof rep.notes, "%s", notes->text);
   free(notes);
-  if (status == SF_OK && o->emit) status = emit_selection(&rep, scene, o, res, err);
+  if (status == SF_OK && o->emit) status = emit_selection(&rep, scene, o, res, &headers, err);
+  weights_paths_final(&stage, &list, &rep.spectral4);
   res->seconds_report = sf_wall_seconds() - t_fit - seconds_restarts;
   res->cpu_seconds_report = sf_cpu_seconds() - c_fit - cpu_seconds_restarts;
   res->seconds_total = sf_wall_seconds() - t_start;
   rep.seconds_total = res->seconds_total;
   if (status == SF_OK) status = sf_report_write_all(&rep, err);
+  /* Everything written: the headers and the staged outputs into place
+   * together; otherwise none of them, the previous outputs untouched. */
+  if (status == SF_OK) status = sf_codegen_commit_files(&headers, err);
+  if (status == SF_OK) status = sf_build_staging_publish(&stage, err);
+  sf_codegen_abort_files(&headers);
+  sf_build_staging_discard(&stage);
   if (status == SF_OK) {
     snprintf(res->report_html, sizeof res->report_html, "%s/report.html", o->out_dir);
     for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {

@@ -1,0 +1,36 @@
+/* A build's outputs inside OUT (weights/, views/, report.html, report.md,
+ * metrics.json) are written under a staging folder, OUT/.staging.PID, and
+ * moved into place together once the run has succeeded: a failed or
+ * interrupted run never touches the previous outputs (SPEC §11). The
+ * moves are renames within OUT's file system, one per file, in a burst at
+ * the end. A run killed before it leaves its staging folder behind; the
+ * next build into OUT removes the staging folders of processes that no
+ * longer exist (as util/atomic_file.h does for temporaries). */
+#ifndef SKYFIT_FIT_BUILD_STAGING_H
+#define SKYFIT_FIT_BUILD_STAGING_H
+
+#include <stddef.h>
+
+#include "util/error.h"
+
+typedef struct sf_build_staging {
+  char out_dir[4096];
+  char dir[4096];   /* OUT/.staging.PID */
+} sf_build_staging;
+
+/* Removes stale staging folders in out_dir (which exists) and creates this
+ * process's. */
+int sf_build_staging_open(sf_build_staging *s, const char *out_dir, sf_error *err);
+
+/* The final path of a path under the staging folder (out, n bytes): the
+ * same path under OUT. Paths elsewhere are copied as they are. */
+void sf_build_staging_final_path(const sf_build_staging *s, const char *staged, char *out, size_t n);
+
+/* Moves every file of the staging folder to the same place under OUT
+ * (creating folders there as needed), then removes the staging folder. */
+int sf_build_staging_publish(sf_build_staging *s, sf_error *err);
+
+/* Removes the staging folder and everything in it (a failed run). */
+void sf_build_staging_discard(sf_build_staging *s);
+
+#endif
