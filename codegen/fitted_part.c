@@ -21,7 +21,10 @@ static void emit_part(sf_code_writer *w, const void *model) {
 
 /* The weights file's metrics as one line for the header comment. */
 static void metrics_line(const sf_weights *w, char *out, size_t n) {
-  static const char *const names[] = {"rmse", "max_abs", "mean_rel", "rel_rmse", "loss"};
+  /* the fits' error metrics; a network's training and validation loss (of
+   * the targets it trained on: T^(1/4), the brightness-normalised sky) */
+  static const char *const names[] = {"rmse", "max_abs", "mean_rel", "rel_rmse", "loss", "train_loss",
+                                      "validation_loss"};
   size_t k = 0;
   out[0] = '\0';
   for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {

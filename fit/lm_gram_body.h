@@ -9,21 +9,10 @@
 #error "define SF_LM_GRAM_NAME before including fit/lm_gram_body.h"
 #endif
 
-/* No implicit contraction: a multiply-add is fused exactly where written. */
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+#include "fit/lanes_body_prelude.h"
 
 #include "fit/lm_gram.h"
 #include "fit/mlp_lanes.h"
-
-#if defined(__GNUC__)
-#define FORCE_INLINE __attribute__((always_inline)) inline
-#else
-#define FORCE_INLINE inline
-#endif
 
 #ifndef SF_LM_GRAM_TILE_ROWS
 #define SF_LM_GRAM_TILE_ROWS 4

@@ -10,14 +10,7 @@
 #error "define SF_MLP_KERNEL_NAME before including fit/mlp_kernel_body.h"
 #endif
 
-/* No implicit contraction: a multiply-add is fused exactly where written,
- * the same on every build (GCC contracts in GNU mode, Clang within an
- * expression by default). */
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+#include "fit/lanes_body_prelude.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -27,12 +20,6 @@
 #include "fit/mlp_lanes.h"
 #if defined(SF_MLP_SIGMOID_NEWTON)
 #include "fit/mlp_lanes_reciprocal.h"
-#endif
-
-#if defined(__GNUC__)
-#define FORCE_INLINE __attribute__((always_inline)) inline
-#else
-#define FORCE_INLINE inline
 #endif
 
 /* The sigmoid's e^-z is capped at e^700: any z < -700 gives 1 / (1 +
