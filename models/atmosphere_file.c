@@ -369,6 +369,10 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
     if (!(v = sf_json_get(t->merged, radii[i]))) return sf_json_fail(c, path, "missing required key");
     if (sf_json_read_finite(c, v, path, &r[i])) return SF_ERR_INPUT;
     if (!(r[i] > 0.0)) return sf_json_fail(c, path, "radius must be positive, got %.17g", r[i]);
+    /* squares of distances along rays must stay far from overflow (a top
+     * of 1e308 km gave every optical depth 0) */
+    if (r[i] > 1e12)
+      return sf_json_fail(c, path, "radius must be at most 1e12 km, got %.17g", r[i]);
   }
   if (!(r[1] > r[0]))
     return sf_json_fail(c, path, "must be greater than bottom_radius_km (%.17g), got %.17g", r[0], r[1]);
@@ -382,6 +386,9 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
   if ((v = sf_json_get(t->merged, "ground_albedo")) != NULL &&
       read_channel_values(c, v, path, atm->n_channels, atm->ground_albedo))
     return SF_ERR_INPUT;
+  for (int ch = 0; ch < atm->n_channels; ++ch)   /* a ground reflects at most what reaches it */
+    if (atm->ground_albedo[ch] > 1.0)
+      return sf_json_fail(c, path, "an albedo is at most 1, got %.17g (channel %d)", atm->ground_albedo[ch], ch);
   top_path(path, sizeof path, t, "sun_irradiance");
   if ((v = sf_json_get(t->merged, "sun_irradiance")) != NULL) {
     if (read_values_or_recipe(c, v, path, atm, NULL, SF_RECIPE_FOR_SUN, atm->sun_irradiance)) return SF_ERR_INPUT;

@@ -501,6 +501,9 @@ static void test_invalid_files(void) {
   expect_error("quote in a constituent name", ATM("", NC("a\\\"b")), "constituents[0].name", "printable ASCII");
   expect_error("comma in a merged name", "{'base': 'default', 'constituents': [{'name': 'dust,2', 'base': 'mie'}]}",
                "constituents[0].name", "printable ASCII");
+  expect_error("top radius beyond 1e12 km", "{'base': 'default', 'top_radius_km': 1e308}", "top_radius_km", "at most");
+  expect_error("ground albedo above 1", "{'base': 'default', 'ground_albedo': [0.1, 1.5, 0.1]}", "ground_albedo",
+               "at most 1");
   /* over base "default" an empty list would merge nothing */
   expect_error("empty constituents over base", "{'base': 'default', 'constituents': []}", "constituents", "empty");
   expect_error("constituent name too long", ATM("", NC("abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuv")),

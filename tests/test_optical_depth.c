@@ -219,9 +219,40 @@ static void test_extreme_atmospheres(void) {
   }
 }
 
+/* Atmospheres thousands of scale heights deep (the top 1e4 to 1e6 km up):
+ * vertical and slant rays from the ground against H (1 - e^{-depth/H}) and
+ * the Chapman-free slant case against the independent integrator. A piece
+ * from the ground to such a top had every Gauss-Kronrod node where the
+ * density had vanished (7.946 for 8 with the top 1e5 km up). */
+static void test_deep_atmospheres(void) {
+  printf("-- the top 1e4..1e6 km up, H = 8 and 1.2 km\n");
+  const double R = 6360.0, depths[] = {1e4, 1e5, 1e6}, Hs[] = {8.0, 1.2};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 2; ++k) {
+      double H = Hs[k];
+      sf_atmosphere atm = exponential_atmosphere(R, R + depths[i], H);
+      double got[1];
+      sf_optical_depth_ray(&atm, 0.0, 1.0, SF_RAY_END_NEAREST, got);
+      CHECK_REL(got[0], H, 1e-10);
+      sf_optical_depth_ray(&atm, 2.0, -1.0, SF_RAY_END_NEAREST, got);
+      CHECK_REL(got[0], H * (1.0 - exp(-2.0 / H)), 1e-10);
+      double mus[] = {0.5, 0.05};
+      for (int m = 0; m < 2; ++m) {
+        double t_enter, t_exit;
+        int ground;
+        sf_ray_atmosphere_segment(R, mus[m], R, atm.top_radius_km, &t_enter, &t_exit, &ground);
+        sf_optical_depth_segment(&atm, R, mus[m], t_enter, t_exit, got);
+        ld want = ind_optical_depth(&atm.constituents[0], R, atm.top_radius_km, R, mus[m], t_enter, t_exit,
+                                    atm.kink_altitudes_km, atm.n_kinks);
+        CHECK_REL(got[0], (double)want, 1e-9);
+      }
+    }
+}
+
 int main(void) {
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
+  test_deep_atmospheres();
   test_vertical_exponential();
   test_constant_shell();
   test_chapman_asymptotics();
