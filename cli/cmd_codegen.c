@@ -125,6 +125,17 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
     fprintf(stderr, "skyfit codegen: nothing to emit: give --weights and/or --baselines\n");
     return 2;
   }
+  /* as skyfit sample and fit: one source of the atmosphere */
+  if (o->atmosphere_path && o->scene_path) {
+    fprintf(stderr, "skyfit codegen: --atmosphere and --scene both name the atmosphere: give one\n");
+    return 2;
+  }
+  /* a weights file carries its own atmosphere */
+  if ((o->atmosphere_path || o->scene_path) && !o->baselines) {
+    fprintf(stderr, "skyfit codegen: --atmosphere and --scene apply to --baselines (a weights file holds its "
+                    "own atmosphere)\n");
+    return 2;
+  }
   for (const char *c = o->name; *c; ++c)
     if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') ||
           *c == '_' || *c == '-')) {

@@ -69,6 +69,7 @@ static void eval_usage(FILE *out) {
 static int parse_options(int argc, char **argv, eval_options *o) {
   memset(o, 0, sizeof *o);
   o->distance = -1.0;
+  int to_given = 0, distance_given = 0;
   const char *q = NULL;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
@@ -83,6 +84,7 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       o->phase = 1;
     } else if (strcmp(a, "--to") == 0 && i + 1 < argc) {
       const char *v = argv[++i];
+      to_given = 1;
       if (strcmp(v, "top") == 0) o->end = SF_RAY_END_TOP;
       else if (strcmp(v, "nearest") == 0) o->end = SF_RAY_END_NEAREST;
       else {
@@ -91,6 +93,7 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       }
     } else if (strcmp(a, "--to-distance") == 0 && i + 1 < argc) {
       char *end;
+      distance_given = 1;
       o->distance = strtod(argv[++i], &end);
       if (*end != '\0' || !isfinite(o->distance) || o->distance < 0.0) {
         fprintf(stderr, "skyfit eval: --to-distance: expected a distance >= 0 in km, got '%s'\n",
@@ -106,6 +109,10 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       fprintf(stderr, "skyfit eval: unexpected argument '%s'\n", a);
       return 2;
     }
+  }
+  if (to_given && distance_given) {
+    fprintf(stderr, "skyfit eval: --to and --to-distance both say where the ray ends: give one\n");
+    return 2;
   }
   if (!q) {
     fprintf(stderr, "skyfit eval: which quantity? optical_depth, transmittance, single_scattering, "

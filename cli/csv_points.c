@@ -117,7 +117,8 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
   for (int i = 0; i < nc; ++i) {
     char *end;
     double v = strtod(fields[i], &end);
-    if (fields[i][0] == '\0' || *end != '\0')
+    /* decimal only: strtod would read "0x10" as 16 */
+    if (fields[i][0] == '\0' || *end != '\0' || strpbrk(fields[i], "xX"))
       return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%s' is not a number", source, row,
                      out->column_names[i], fields[i]);
     if (!isfinite(v))
@@ -151,7 +152,8 @@ int sf_csv_points_read(FILE *in, const char *source, const char *const *allowed,
       break;
     }
     ++row;
-    char *text = trim(line);
+    /* a UTF-8 byte order mark (spreadsheets write one) is not part of the header */
+    char *text = trim(row == 1 && strncmp(line, "\xEF\xBB\xBF", 3) == 0 ? line + 3 : line);
     if (row == 1) {
       if (text[0] == '\0')
         status = sf_fail(err, SF_ERR_INPUT, "%s: row 1: expected a header naming the columns", source);

@@ -75,7 +75,9 @@ static int parse_row(const char *line, int cols, int n_in, double *x, double *y)
     char *end;
     double v = strtod(p, &end);
     int ends = k + 1 == cols ? *end == '\0' || (end[0] == '\r' && end[1] == '\0') : *end == ',';
-    if (end == p || !isfinite(v) || !ends) return k;
+    /* decimal only: strtod would read "0x10" as 16 */
+    int hex = memchr(p, 'x', (size_t)(end - p)) || memchr(p, 'X', (size_t)(end - p));
+    if (end == p || !isfinite(v) || !ends || hex) return k;
     if (k < n_in) x[k] = v;
     else y[k - n_in] = v;
     p = end + 1;
@@ -149,9 +151,21 @@ int sf_dataset_read_csv(const char *path, int n_in, int threads, sf_dataset *d, 
   char *header_end = memchr(text, '\n', len);
   size_t body = header_end ? (size_t)(header_end - text) + 1 : len;
   if (header_end) *header_end = '\0';
-  int cols = parse_header(text, names);
+  /* a UTF-8 byte order mark (spreadsheets write one) is not part of the header */
+  int cols = parse_header(len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? text + 3 : text, names);
   if (cols < 0) {
     status = sf_fail(err, SF_ERR_INPUT, "%s: line 1: more than %d columns", path, SF_DATASET_MAX_COLUMNS);
+    goto done;
+  }
+  int numbers = 0;
+  for (int k = 0; k < cols; ++k) {
+    char *end;
+    strtod(names[k], &end);
+    numbers += end != names[k] && *end == '\0';
+  }
+  if (numbers == cols) {
+    status = sf_fail(err, SF_ERR_INPUT, "%s: line 1 holds numbers: expected a header row naming the columns (as "
+                                        "--dump-dataset writes)", path);
     goto done;
   }
   if (n_in < 1 || cols <= n_in) {

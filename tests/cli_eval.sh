@@ -150,6 +150,12 @@ expect_error "unknown column" $'h_km,mu,zeta\n0,1,2\n' "unknown column 'zeta'" o
 expect_error "missing column" $'h_km\n0\n' "missing column 'mu'" optical_depth
 expect_error "missing column mu_s" $'h_km,mu,nu\n0,1,0.5\n' "missing column 'mu_s'" single_scattering
 expect_error "non-numeric field" $'h_km,mu\n0,1\n2,abc\n' 'row 3, column mu' optical_depth
+bom_out=$(printf '\xEF\xBB\xBFh_km,mu\n0,1\n' | "$BIN" eval optical_depth 2>&1)
+if [[ $(head -1 <<<"$bom_out") == h_km,mu,* && $(wc -l <<<"$bom_out") -eq 2 ]]; then
+  pass "a UTF-8 byte order mark before the header is skipped"
+else fail "byte order mark: $bom_out"; fi
+expect_error "--to and --to-distance together" $'h_km,mu\n0,1\n' "give one" optical_depth --to top --to-distance 5
+expect_error "hexadecimal field" $'h_km,mu\n0x10,1\n' "row 2, column h_km: '0x10' is not a number" optical_depth
 expect_error "wrong field count" $'h_km,mu\n0,1\n2,0.5,7\n' 'row 3' optical_depth
 expect_error "mu > 1" $'h_km,mu\n0,1.5\n' 'row 2, column mu' optical_depth
 expect_error "mu < -1" $'h_km,mu\n0,-1.0001\n' 'row 2, column mu' transmittance

@@ -147,6 +147,16 @@ static void test_line_endings(const char *dir) {
     CHECK(ok);
     sf_dataset_free(&d);
   }
+  /* a UTF-8 byte order mark before the header (spreadsheets write one) */
+  static const char bom[] = "\xEF\xBB\xBF" "a,t\n1,2\n";
+  sf_dataset d;
+  sf_error err = {0};
+  int status = read_text(dir, bom, sizeof bom - 1, 1, 1, &d, &err);
+  int ok = status == SF_OK && d.n == 1 && strcmp(d.names[0], "a") == 0 && d.x[0] == 1 && d.y[0] == 2;
+  printf("%s byte order mark: first column named '%s' %s\n", ok ? "ok  " : "FAIL", status == SF_OK ? d.names[0] : "",
+         err.message);
+  CHECK(ok);
+  if (status == SF_OK) sf_dataset_free(&d);
 }
 
 static void test_refusals(const char *dir) {
@@ -175,6 +185,11 @@ static void test_refusals(const char *dir) {
   check_refused(dir, "a,b\n\r\n\n", 7, 1, "no data rows after the header");
   check_refused(dir, "", 0, 1, "line 1: expected a header row");
   check_refused(dir, "a,b\n1,2\n", 8, 2, "line 1: 2 columns, but --inputs 2 leaves no target column");
+  /* decimal only (strtod reads "0x10" as 16); a file without its header
+   * row would lose its first row to it */
+  check_refused(dir, "a,b\n0x10,2\n", 11, 1, "line 2, column 1 (a): expected a finite number");
+  check_refused(dir, "a,b\n1,0X1p3\n", 12, 1, "line 2, column 2 (b): expected a finite number");
+  check_refused(dir, "1,2\n3,4\n", 8, 1, "line 1 holds numbers: expected a header row");
   sf_dataset d;
   sf_error err = {0};
   char missing[256];
