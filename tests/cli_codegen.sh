@@ -88,7 +88,8 @@ printf '{"base": "default", "name": "evil */ #error injected /* x"}' > "$tmp/nam
 check "an atmosphere named with */ and /*: the header compiles with -Werror" \
   "cc -std=c99 -Wall -Wextra -Werror -pedantic -fsyntax-only $tmp/names/n.h"
 # One source of the atmosphere, and only for the baselines.
-"$SKYFIT_BIN" codegen --baselines naive --atmosphere "$tmp/names/a.json" --scene "$tmp/names/a.json" --lang c \
+printf '{}' > "$tmp/names/scene.json"
+"$SKYFIT_BIN" codegen --baselines naive --atmosphere "$tmp/names/a.json" --scene "$tmp/names/scene.json" --lang c \
   --out "$tmp/names" --name twice 2>/dev/null
 check "--atmosphere with --scene exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/names/twice.h ]"
 if [ -n "${SKYFIT_SOURCE_DIR:-}" ]; then
