@@ -6,16 +6,17 @@
 #include "codegen/emit_sky.h"
 #include "models/weights_file.h"
 
-/* The models eval takes, and the quantity each gives. */
+/* The models eval takes (the quantity each gives is its weights file's,
+ * which models/weights_file.h checks against the model). */
 static const struct {
-  const char *model, *quantity;
+  const char *model;
   sf_eval_model_kind kind;
 } models[] = {
-    {"sigmoid", "transmittance", SF_EVAL_MODEL_SIGMOID},
-    {"mlp-transmittance", "transmittance", SF_EVAL_MODEL_MLP_TRANSMITTANCE},
-    {"mlp-scattering", "sky_radiance", SF_EVAL_MODEL_MLP_SCATTERING},
-    {"preetham", "sky_radiance", SF_EVAL_MODEL_SKY_FORM},
-    {"hosek", "sky_radiance", SF_EVAL_MODEL_SKY_FORM},
+    {"sigmoid", SF_EVAL_MODEL_SIGMOID},
+    {"mlp-transmittance", SF_EVAL_MODEL_MLP_TRANSMITTANCE},
+    {"mlp-scattering", SF_EVAL_MODEL_MLP_SCATTERING},
+    {"preetham", SF_EVAL_MODEL_SKY_FORM},
+    {"hosek", SF_EVAL_MODEL_SKY_FORM},
 };
 #define N_MODELS (sizeof models / sizeof models[0])
 #define MODELS_TAKEN "sigmoid and mlp-transmittance (transmittance); mlp-scattering, preetham and hosek (sky_radiance)"
@@ -56,9 +57,8 @@ int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m,
   if (k == N_MODELS)
     status = sf_fail(err, SF_ERR_INPUT, "%s: model: eval does not evaluate model \"%s\" (it takes " MODELS_TAKEN ")",
                      path, w.model);
-  else if (strcmp(models[k].quantity, quantity) != 0)
-    status = sf_fail(err, SF_ERR_INPUT, "%s: model: \"%s\" gives %s, not %s", path, w.model, models[k].quantity,
-                     quantity);
+  else if (strcmp(w.quantity, quantity) != 0)
+    status = sf_fail(err, SF_ERR_INPUT, "%s: model: \"%s\" gives %s, not %s", path, w.model, w.quantity, quantity);
   else {
     m->kind = models[k].kind;
     status = load_kind(&w, m, err);

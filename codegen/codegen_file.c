@@ -171,17 +171,21 @@ static const char *file_name_of(const char *path) {
   return slash ? slash + 1 : path;
 }
 
+int sf_codegen_check_files(const char *c_path, const char *glsl_path, sf_error *err) {
+  if (c_path && glsl_path && strcmp(c_path, glsl_path) == 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
+  if (c_path && sf_atomic_check(c_path, err) != SF_OK) return err->status;
+  if (glsl_path && sf_atomic_check(glsl_path, err) != SF_OK) return err->status;
+  return SF_OK;
+}
+
 int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
                              sf_codegen_files *out, sf_error *err) {
   memset(out, 0, sizeof *out);
-  if (c_path && glsl_path && strcmp(c_path, glsl_path) == 0)
-    return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
   const char *paths[2] = {c_path, glsl_path};
   static const sf_code_lang langs[2] = {SF_CODE_C, SF_CODE_GLSL};
   char *text[2] = {NULL, NULL};
-  int status = SF_OK;
-  for (int k = 0; k < 2 && status == SF_OK; ++k)
-    if (paths[k]) status = sf_atomic_check(paths[k], err);
+  int status = sf_codegen_check_files(c_path, glsl_path, err);
   for (int k = 0; k < 2 && status == SF_OK; ++k)
     if (paths[k]) status = sf_codegen_render(parts, n_parts, langs[k], file_name_of(paths[k]), &text[k], err);
   for (int k = 0; k < 2 && status == SF_OK; ++k) {

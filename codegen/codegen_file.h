@@ -36,6 +36,12 @@ typedef struct sf_codegen_part {
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
                       const char *file_name, char **text, sf_error *err);
 
+/* Whether the pair can be written there (either path may be NULL): two
+ * distinct paths, neither a folder, their folders writable (SF_ERR_INPUT
+ * naming the path otherwise). Writes nothing; sf_codegen_prepare_files
+ * checks it first, and a caller may before long work. */
+int sf_codegen_check_files(const char *c_path, const char *glsl_path, sf_error *err);
+
 /* The pair written to temporaries beside c_path and glsl_path (either may
  * be NULL), not yet in place: sf_codegen_commit_files renames them into
  * place, sf_codegen_abort_files removes them. Lets a caller put them in

@@ -14,7 +14,6 @@
 #include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
 #include "models/weights_file.h"
-#include "util/atomic_file.h"
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
@@ -240,10 +239,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
    * folder fails now, not after the fits. */
   if (o->emit) {
     char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
-    if (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK) return err->status;
-    if (strcmp(c_path, glsl_path) == 0)
-      return sf_fail(err, SF_ERR_INPUT, "%s: named for both the C header and the GLSL file", c_path);
-    if (sf_atomic_check(c_path, err) != SF_OK || sf_atomic_check(glsl_path, err) != SF_OK) return err->status;
+    if (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
+        sf_codegen_check_files(c_path, glsl_path, err) != SF_OK)
+      return err->status;
   }
   sf_table_set set;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;

@@ -2,13 +2,13 @@
 
 #include <dirent.h>
 #include <errno.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "util/atomic_file.h"
 #include "util/make_folders.h"
 
 #define STAGING_PREFIX ".staging."
@@ -48,9 +48,7 @@ static void remove_stale(const char *out_dir) {
     char *end = NULL;
     errno = 0;
     long pid = strtol(e->d_name + prefix, &end, 10);
-    if (errno || !end || *end || pid <= 0 || pid == (long)getpid()) continue;
-    /* kill(pid, 0) fails with ESRCH only when no such process exists */
-    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+    if (errno || !end || *end || !sf_process_gone(pid)) continue;
     char path[4096];
     int w = snprintf(path, sizeof path, "%s/%s", out_dir, e->d_name);
     if (w > 0 && (size_t)w < sizeof path) remove_tree(path, 0);

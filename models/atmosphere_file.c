@@ -286,9 +286,7 @@ static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, cons
       return sf_json_fail(c, path, "missing required key");
     }
   constituent_path(path, sizeof path, r, "name");
-  if (read_name(c, sf_json_get(r->merged, "name"), path, sizeof out->name, 0, out->name) ||
-      check_constituent_name(c, out->name, path))
-    return SF_ERR_INPUT;
+  if (read_name(c, sf_json_get(r->merged, "name"), path, sizeof out->name, 0, out->name)) return SF_ERR_INPUT;
   /* the density first: a recipe (ozone from a column) integrates it */
   constituent_path(path, sizeof path, r, "density");
   if (read_density(c, sf_json_get(r->merged, "density"), path, out)) return SF_ERR_INPUT;

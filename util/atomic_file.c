@@ -43,6 +43,12 @@ static int create_temp(const char *path, char *temp, size_t n) {
   return -1;
 }
 
+int sf_process_gone(long pid) {
+  /* kill(pid, 0) fails with ESRCH only when no such process exists; EPERM
+   * (another user's live process) counts as alive. */
+  return pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
 /* "PID.XXXXXX" after the "PATH.tmp." prefix: the writer's pid, or 0. */
 static long temp_writer_pid(const char *suffix) {
   char *end;
@@ -64,10 +70,7 @@ void sf_atomic_remove_stale(const char *path) {
   size_t dir_len = strlen(dir);
   for (struct dirent *e; (e = readdir(d)) != NULL;) {
     if (strncmp(e->d_name, prefix, (size_t)len) != 0) continue;
-    long pid = temp_writer_pid(e->d_name + len);
-    /* kill(pid, 0) fails with ESRCH only when no such process exists; EPERM
-     * (another user's live process) keeps the file. */
-    if (pid == 0 || pid == (long)getpid() || kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue;
+    if (!sf_process_gone(temp_writer_pid(e->d_name + len))) continue;
     char stale[4096 + 256];
     snprintf(stale, sizeof stale, "%.*s%s", (int)dir_len, dir, e->d_name);
     unlink(stale);

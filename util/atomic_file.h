@@ -27,6 +27,10 @@ void sf_atomic_abort(sf_atomic_file *f);
  * path is not a folder), checked before long work whose result goes
  * there; SF_ERR_INPUT naming the path otherwise. Writes nothing. */
 int sf_atomic_check(const char *path, sf_error *err);
+/* 1 when no process pid exists, so what it left behind (a temporary, a
+ * staging folder) can go; 0 for this process, pid <= 0, or one that may
+ * exist. */
+int sf_process_gone(long pid);
 /* Removes temporaries of path ("PATH.tmp.PID.XXXXXX") whose writing process
  * no longer exists (killed before it could commit or abort), so an
  * interrupted run leaves nothing behind once the file is written again.
