@@ -57,14 +57,39 @@ static void logit_start(int n, const double *h, const double *mu, const double *
   free(w);
 }
 
-static void error_add(sf_sigmoid_error *e, double *sse, double d, double h, double mu, int k) {
-  *sse += d * d;
-  e->n_points++;
+static void error_max(sf_sigmoid_error *e, double d, double h, double mu, int k) {
   if (!(fabs(d) <= e->max_abs)) {
     e->max_abs = fabs(d);
     e->worst_h_km = h;
     e->worst_mu = mu;
     e->worst_channel = k;
+  }
+}
+
+static void error_add(sf_sigmoid_error *e, double *sse, double d, double h, double mu, int k) {
+  *sse += d * d;
+  e->n_points++;
+  error_max(e, d, h, mu, k);
+}
+
+/* The full ray at (h, mu), model against the exact optical depth, into
+ * rep->full and its ground or sky part; sse_* NULL: the maximum only. */
+static void full_ray_error(const sf_atmosphere *atm, const sf_sigmoid_model *model, double h, double mu,
+                           sf_sigmoid_fit_report *rep, double *sse_full, double *sse_ground, double *sse_sky) {
+  double dep[SF_MAX_CONSTITUENTS], ref[SF_MAX_CHANNELS], mod[SF_MAX_CHANNELS];
+  sf_optical_depth_ray(atm, h, mu, SF_RAY_END_NEAREST, dep);
+  sf_transmittance_from_depth(atm, dep, ref);
+  sf_sigmoid_model_eval(model, h, mu, mod);
+  int ground = sf_ray_hits_sphere_from_above(atm->bottom_radius_km + h, mu, atm->bottom_radius_km);
+  for (int k = 0; k < atm->n_channels; ++k) {
+    double d = mod[k] - ref[k];
+    if (sse_full) {
+      error_add(&rep->full, sse_full, d, h, mu, k);
+      error_add(ground ? &rep->full_ground : &rep->full_sky, ground ? sse_ground : sse_sky, d, h, mu, k);
+    } else {
+      error_max(&rep->full, d, h, mu, k);
+      error_max(ground ? &rep->full_ground : &rep->full_sky, d, h, mu, k);
+    }
   }
 }
 
@@ -185,18 +210,24 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
     double hh = h0 + (h1 - h0) * i / (o->n_h - 1);
     for (int j = 0; j < o->n_mu; ++j) {
       double mm = domain->mu_min + (domain->mu_max - domain->mu_min) * j / (o->n_mu - 1);
-      double dep[SF_MAX_CONSTITUENTS], ref[SF_MAX_CHANNELS], mod[SF_MAX_CHANNELS];
-      sf_optical_depth_ray(atm, hh, mm, SF_RAY_END_NEAREST, dep);
-      sf_transmittance_from_depth(atm, dep, ref);
-      sf_sigmoid_model_eval(out, hh, mm, mod);
-      int ground = sf_ray_hits_sphere_from_above(atm->bottom_radius_km + hh, mm, atm->bottom_radius_km);
-      for (int k = 0; k < nk; ++k) {
-        error_add(&rep->full, &sse_full, mod[k] - ref[k], hh, mm, k);
-        if (ground) error_add(&rep->full_ground, &sse_ground, mod[k] - ref[k], hh, mm, k);
-        else error_add(&rep->full_sky, &sse_sky, mod[k] - ref[k], hh, mm, k);
-      }
+      full_ray_error(atm, out, hh, mm, rep, &sse_full, &sse_ground, &sse_sky);
     }
     if (o->progress) o->progress(o->progress_ctx, "full-ray error", (double)(i + 1) / o->n_h);
+  }
+  /* The model errs most at the horizon, peaking a few hundred metres up
+   * (0.655 at 0.36 km for the built-in Earth): the grid's rows and
+   * columns miss it (0.467). The horizon cosine and 1e-6 either side
+   * (SPEC §10), on rows squared-spaced in h to resolve the peak, enter the
+   * maximum; the RMSE stays the box's mean over the domain. */
+  enum { HORIZON_ROWS = 512 };
+  static const double horizon_offset[] = {-1e-6, 0.0, 1e-6};
+  for (int i = 0; status == SF_OK && i < HORIZON_ROWS; ++i) {
+    double u = (double)i / (HORIZON_ROWS - 1), hh = h0 + (h1 - h0) * u * u;
+    double mu_h = sf_horizon_mu(atm->bottom_radius_km + hh, atm->bottom_radius_km);
+    for (int j = 0; j < 3; ++j) {
+      double mm = mu_h + horizon_offset[j];
+      if (mm >= domain->mu_min && mm <= domain->mu_max) full_ray_error(atm, out, hh, mm, rep, NULL, NULL, NULL);
+    }
   }
   if (status == SF_OK) {
     rep->full.rmse = sqrt(sse_full / rep->full.n_points);

@@ -21,7 +21,9 @@
  *
  * Evaluation (the report): the to-top fit on its grid, and full rays (to
  * the ground or the top, models/sigmoid_transmittance.h) on the domain's
- * n_h x n_mu (h, mu) box against the exact optical depth. */
+ * n_h x n_mu (h, mu) box against the exact optical depth; the maximum of
+ * the full-ray error also visits each row's horizon cosine and 1e-6 either
+ * side (where the model errs most), the RMSE only the box. */
 #ifndef SKYFIT_FIT_FIT_SIGMOID_H
 #define SKYFIT_FIT_FIT_SIGMOID_H
 
