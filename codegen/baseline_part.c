@@ -22,8 +22,8 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
   double rmse, max_abs;
   sf_baseline_measure(b, domain, &rmse, &max_abs);
   snprintf(part->error, sizeof part->error,
-           "transmittance against the reference (double), 16 x 48 (h, mu) grid over the "
-           "domain: rmse %.3g, max abs %.3g",
+           "transmittance against the reference (double): rmse %.3g over a 64 x 384 (h, mu) grid "
+           "over the domain, max abs %.3g over it and the rays grazing the ground and shells",
            rmse, max_abs);
   part->emit = emit_baseline;
   part->model = b;

@@ -11,6 +11,7 @@
 #include "models/optical_depth_raymarch.h"
 #include "models/optical_depth_spline.h"
 #include "models/optical_depth_taylor.h"
+#include "models/tangent_sweep.h"
 #include "codegen/baseline_spline.h"
 
 static const char *const kind_names[SF_BASELINE_COUNT] = {"naive", "chapman", "taylor", "flat",
@@ -439,28 +440,55 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
              n, name, name, n, name, name);
 }
 
+typedef struct baseline_error {
+  const sf_baseline *baseline;
+  double sum_sq, worst;
+  long count;
+} baseline_error;
+
+/* One full ray against the reference; in_rmse 0: the maximum only. */
+static void baseline_error_at(baseline_error *e, double h, double mu, int in_rmse) {
+  const sf_atmosphere *atm = e->baseline->atmosphere;
+  double depth[SF_MAX_CONSTITUENTS], want[SF_MAX_CHANNELS], got[SF_MAX_CHANNELS];
+  sf_optical_depth_ray(atm, h, mu, SF_RAY_END_NEAREST, depth);
+  sf_transmittance_from_depth(atm, depth, want);
+  sf_baseline_transmittance(e->baseline, h, mu, 0.0, INFINITY, got);
+  for (int ch = 0; ch < atm->n_channels; ++ch) {
+    double d = fabs(got[ch] - want[ch]);
+    if (in_rmse) {
+      e->sum_sq += d * d;
+      ++e->count;
+    }
+    if (d > e->worst) e->worst = d;
+  }
+}
+
+static void tangent_visit(void *ctx, double h, double mu) { baseline_error_at(ctx, h, mu, 0); }
+
 void sf_baseline_measure(const sf_baseline *b, const sf_scene_domain *domain, double *rmse,
                          double *max_abs) {
   const sf_atmosphere *atm = b->atmosphere;
-  enum { NH = 16, NMU = 48 };
-  double sum_sq = 0.0, worst = 0.0;
-  long count = 0;
+  enum { NH = 64, NMU = 384 };
+  baseline_error e = {b, 0.0, 0.0, 0};
   for (int i = 0; i < NH; ++i) {
     double h = domain->h_min_km + (domain->h_max_km - domain->h_min_km) * i / (NH - 1);
-    for (int j = 0; j < NMU; ++j) {
-      double mu = domain->mu_min + (domain->mu_max - domain->mu_min) * j / (NMU - 1);
-      double depth[SF_MAX_CONSTITUENTS], want[SF_MAX_CHANNELS], got[SF_MAX_CHANNELS];
-      sf_optical_depth_ray(atm, h, mu, SF_RAY_END_NEAREST, depth);
-      sf_transmittance_from_depth(atm, depth, want);
-      sf_baseline_transmittance(b, h, mu, 0.0, INFINITY, got);
-      for (int ch = 0; ch < atm->n_channels; ++ch) {
-        double e = fabs(got[ch] - want[ch]);
-        sum_sq += e * e;
-        if (e > worst) worst = e;
-        ++count;
-      }
-    }
+    for (int j = 0; j < NMU; ++j)
+      baseline_error_at(&e, h, domain->mu_min + (domain->mu_max - domain->mu_min) * j / (NMU - 1), 1);
   }
-  *rmse = count ? sqrt(sum_sq / count) : 0.0;
-  *max_abs = worst;
+  /* The rays grazing the ground and the boundaries of the shells that
+   * stand for non-exponential constituents, where these models err most
+   * or jump, enter the maximum. */
+  sf_tangent_sweep(atm->bottom_radius_km, 0.0, domain->h_min_km, domain->h_max_km, domain->mu_min,
+                   domain->mu_max, tangent_visit, &e);
+  for (int c = 0; c < atm->n_constituents; ++c) {
+    double H, d0, shell[2];
+    if (sf_constituent_exponential(&atm->constituents[c], &H, &d0)) continue;
+    sf_flat_shell_of(atm, c, &shell[0], &shell[1]);
+    for (int k = 0; k < 2; ++k)
+      if (shell[k] > 0.0)
+        sf_tangent_sweep(atm->bottom_radius_km, shell[k], domain->h_min_km, domain->h_max_km, domain->mu_min,
+                         domain->mu_max, tangent_visit, &e);
+  }
+  *rmse = e.count ? sqrt(e.sum_sq / e.count) : 0.0;
+  *max_abs = e.worst;
 }

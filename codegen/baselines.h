@@ -86,8 +86,10 @@ void sf_baseline_transmittance(const sf_baseline *b, double h_km, double mu, dou
                                double t1, double *transmittance);
 
 /* Transmittance error of the (double) baseline against the reference
- * (models/optical_depth.h) over domain: a 16 x 48 grid in (h, mu), every
- * channel; RMSE (seed 000 eq. 61) and the largest absolute error. */
+ * (models/optical_depth.h) over domain, every channel: RMSE (seed 000
+ * eq. 61) over a 64 x 384 grid in (h, mu), and the largest absolute error
+ * over that grid and the tangent sweeps (models/tangent_sweep.h) of the
+ * ground and of the ozone-like shells' boundaries. */
 void sf_baseline_measure(const sf_baseline *b, const sf_scene_domain *domain, double *rmse,
                          double *max_abs);
 

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "fit/linear_lsq.h"
+#include "models/tangent_sweep.h"
 #include "models/optical_depth.h"
 #include "models/ray_geometry.h"
 #include "util/clock.h"
@@ -91,6 +92,17 @@ static void full_ray_error(const sf_atmosphere *atm, const sf_sigmoid_model *mod
       error_max(ground ? &rep->full_ground : &rep->full_sky, d, h, mu, k);
     }
   }
+}
+
+typedef struct horizon_job {
+  const sf_atmosphere *atm;
+  const sf_sigmoid_model *model;
+  sf_sigmoid_fit_report *rep;
+} horizon_job;
+
+static void horizon_visit(void *ctx, double h, double mu) {
+  const horizon_job *j = ctx;
+  full_ray_error(j->atm, j->model, h, mu, j->rep, NULL, NULL, NULL);
 }
 
 /* The to-top grid (fit_sigmoid.h): only rays with mu >= 0 are asked for. */
@@ -214,21 +226,11 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
     }
     if (o->progress) o->progress(o->progress_ctx, "full-ray error", (double)(i + 1) / o->n_h);
   }
-  /* The model errs most at the horizon, peaking a few hundred metres up
-   * (0.655 at 0.36 km for the built-in Earth): the grid's rows and
-   * columns miss it (0.467). The horizon cosine and 1e-6 either side
-   * (SPEC §10), on rows squared-spaced in h to resolve the peak, enter the
-   * maximum; the RMSE stays the box's mean over the domain. */
-  enum { HORIZON_ROWS = 512 };
-  static const double horizon_offset[] = {-1e-6, 0.0, 1e-6};
-  for (int i = 0; status == SF_OK && i < HORIZON_ROWS; ++i) {
-    double u = (double)i / (HORIZON_ROWS - 1), hh = h0 + (h1 - h0) * u * u;
-    double mu_h = sf_horizon_mu(atm->bottom_radius_km + hh, atm->bottom_radius_km);
-    for (int j = 0; j < 3; ++j) {
-      double mm = mu_h + horizon_offset[j];
-      if (mm >= domain->mu_min && mm <= domain->mu_max) full_ray_error(atm, out, hh, mm, rep, NULL, NULL, NULL);
-    }
-  }
+  /* The horizon, where the model errs most, enters the maximum
+   * (models/tangent_sweep.h): the box's rows and columns miss it. */
+  horizon_job hj = {atm, out, rep};
+  if (status == SF_OK)
+    sf_tangent_sweep(atm->bottom_radius_km, 0.0, h0, h1, domain->mu_min, domain->mu_max, horizon_visit, &hj);
   if (status == SF_OK) {
     rep->full.rmse = sqrt(sse_full / rep->full.n_points);
     if (rep->full_ground.n_points) rep->full_ground.rmse = sqrt(sse_ground / rep->full_ground.n_points);

@@ -22,8 +22,9 @@
  * Evaluation (the report): the to-top fit on its grid, and full rays (to
  * the ground or the top, models/sigmoid_transmittance.h) on the domain's
  * n_h x n_mu (h, mu) box against the exact optical depth; the maximum of
- * the full-ray error also visits each row's horizon cosine and 1e-6 either
- * side (where the model errs most), the RMSE only the box. */
+ * the full-ray error also visits the tangent sweep of the ground
+ * (models/tangent_sweep.h: the horizon, where the model errs most), the
+ * RMSE only the box. */
 #ifndef SKYFIT_FIT_FIT_SIGMOID_H
 #define SKYFIT_FIT_FIT_SIGMOID_H
 
