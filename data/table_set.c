@@ -121,9 +121,16 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   }
   const sf_table_params *p = &set->params;
 
-  /* descriptions and keys; multiple scattering depends on the orders */
-  char version_multiple[128];
+  /* descriptions and keys; multiple scattering depends on the orders, and
+   * the irradiance also on the internal scattering grid it is gathered on
+   * (precompute_multiple.h), which its own axes do not show */
+  char version_multiple[128], version_irradiance[192];
   snprintf(version_multiple, sizeof version_multiple, "%s; stop %.17g", SF_TABLES_CODE_VERSION, o->stop_fraction);
+  sf_table_params internal_grid;
+  sf_multiple_internal_params(p, &internal_grid);
+  snprintf(version_irradiance, sizeof version_irradiance, "%s; scattering grid %dx%dx%dx%d", version_multiple,
+           internal_grid.res.scattering_h, internal_grid.res.scattering_mu, internal_grid.res.scattering_mu_s,
+           internal_grid.res.scattering_nu);
   sf_table_desc desc[SF_TABLE_SET_MAX_TABLES];
   int n = 0, status = SF_OK;
   status |= sf_params_transmittance_desc(p, atm, &desc[n], err);
@@ -152,7 +159,9 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   int single_missing = 0, multiple_missing = 0;
   for (int t = 0; t < n; ++t) {
     int orders = t >= i_multiple ? o->orders : 0;
-    const char *version = t >= i_multiple ? version_multiple : SF_TABLES_CODE_VERSION;
+    const char *version = set->tables[t] == &set->irradiance ? version_irradiance
+                          : t >= i_multiple                  ? version_multiple
+                                                             : SF_TABLES_CODE_VERSION;
     set->from_cache[t] = try_cache(o, &desc[t], json, orders, version, set->tables[t], set->paths[t],
                                    sizeof set->paths[t]);
     if (set->from_cache[t]) continue;

@@ -625,6 +625,22 @@ static void test_threads_and_cache(void) {
     CHECK(files_equal(a.paths[1], saved));
     remove(saved);
     if (status == SF_OK) sf_table_set_free(&fixed);
+
+    /* The irradiance is gathered on the scattering grid, which its own
+     * axes do not show: another scattering grid must not load it from the
+     * cache (it differed by up to 200x relative at 64x16,8x32x8x4). */
+    sf_table_set other;
+    if (make_set(&other, &atm, (sf_parameterization)kind, "32x8,8x12x6x4", 3, 2, dir1) == 0) {
+      int last = a.n_tables - 1;
+      CHECK(a.tables[last] == &a.irradiance && other.tables[last] == &other.irradiance);
+      printf("%s: irradiance for another scattering grid: %s (from the cache: %d), not %s\n", kind_name(kind),
+             strrchr(other.paths[last], '/') + 1, other.from_cache[last], strrchr(a.paths[last], '/') + 1);
+      CHECK(!other.from_cache[last] && strcmp(other.paths[last], a.paths[last]) != 0);
+      CHECK(other.from_cache[0]);
+      sf_table_set_free(&other);
+    } else {
+      CHECK(0);
+    }
     sf_table_set_free(&a);
     sf_table_set_free(&b);
   }
