@@ -15,11 +15,13 @@
  *  - the standard views (models/views_standard.h; RGB atmospheres only):
  *    sky radiance on the 12 views of seed 000 App. A/B at their exposures
  *    with the sun at SF_VIEW_SUN_IRRADIANCE x the atmosphere's, and
- *    transmittance on the 5 views of App. C/D; per view and model the RMSE
- *    of the exposed linear values (seed 000 eq. 61, all pixels and
- *    channels), the mean ΔE2000 of the displayed colours (exposure, tone
- *    map 1 - exp(-x), CIELAB: models/color_space.h, models/ciede2000.h),
- *    a tonemapped PNG and an EXR map of |model - reference| per channel.
+ *    transmittance on the 5 views of App. C/D; per view and model, over
+ *    the pixels where both pictures hold data (codegen/report_views.h),
+ *    the RMSE of the exposed linear values (seed 000 eq. 61, every
+ *    channel), the mean ΔE2000 of the colours the PNGs show (sky: exposure
+ *    and tone map 1 - exp(-x); transmittance: as is; CIELAB:
+ *    models/color_space.h, models/ciede2000.h), a PNG and an EXR map of
+ *    |model - reference| per channel.
  * Selecting (sf_report_select): per quantity, among the candidates that may
  * ship (baselines and fitted models) and that are valid over the whole
  * domain, the cheapest (median ns) whose budget metric — transmittance:
@@ -37,12 +39,16 @@
 #include "util/error.h"
 
 #define SF_REPORT_MAX_VIEWS 12
+/* A view compared on at least this share of its pixels counts as whole:
+ * the writers give the share of the others. */
+#define SF_REPORT_VIEW_WHOLE 0.9995
 #define SF_REPORT_PATH_LEN 4096
 
 typedef struct sf_report_view {
   char name[32];
-  int rendered;              /* 0: the model is not valid for this view */
-  double rmse, mean_delta_e;
+  int rendered;              /* 0: no pixel of the view is compared (codegen/report_views.h) */
+  double compared_fraction;  /* share of the view's pixels compared: both pictures hold data */
+  double rmse, mean_delta_e; /* over those pixels */
   char png[128], error_exr[128];   /* file names in the report folder */
 } sf_report_view;
 
@@ -124,7 +130,7 @@ typedef struct sf_report {
   double naive16_ns_f32, naive16_ns_f64;      /* the cost unit, this run */
   sf_report_selection selection[SF_CANDIDATE_N_QUANTITIES];
   int views_rendered;
-  char views_note[512];
+  char views_note[1024];
   double seconds_total;                       /* filled by the caller (build) */
   sf_report_spectral4 spectral4;              /* filled by the caller (build) */
   char notes[4096];                           /* models not fitted or skipped, and why; one per line */

@@ -1,6 +1,7 @@
 /* sf_report_evaluate: errors over the domain, cost, and the standard views
  * (see codegen/report.h). */
 #include "codegen/report.h"
+#include "codegen/report_views.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -9,18 +10,11 @@
 
 #include <cjson/cJSON.h>
 
-#include "data/parallel_rows.h"
 #include "fit/candidate_cache.h"
-#include "fit/candidate_builtin.h"
 #include "models/atmosphere_file.h"
-#include "models/ciede2000.h"
-#include "models/color_space.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
 #include "util/cache_prune.h"
-#include "util/exr_image.h"
-#include "util/make_folders.h"
-#include "util/png_write.h"
 
 void sf_report_options_default(sf_report_options *o) {
   memset(o, 0, sizeof *o);
@@ -235,150 +229,6 @@ static int measure_costs(sf_report *rep, const sf_report_options *o, sf_error *e
   return status;
 }
 
-/* ---- the standard views ---- */
-
-typedef struct render_job {
-  const sf_candidate *c;
-  const sf_view_camera *cam;
-  const sf_atmosphere *atm;
-  double scale;     /* exposure x sun irradiance (sky radiance), 1 (transmittance) */
-  float *pixels;
-} render_job;
-
-static void render_row(void *ctx, int thread, long row) {
-  (void)thread;
-  const render_job *j = ctx;
-  double in[4], out[SF_MAX_CHANNELS];
-  for (int i = 0; i < j->cam->width; ++i) {
-    sf_view_pixel_inputs(j->cam, j->atm, i, (int)row, in);
-    j->c->eval(j->c->ctx, in, out);
-    float *p = j->pixels + 3 * ((size_t)row * (size_t)j->cam->width + (size_t)i);
-    for (int k = 0; k < 3; ++k) p[k] = (float)(j->scale * out[k]);
-  }
-}
-
-static void render(const sf_candidate *c, const sf_view_camera *cam, const sf_atmosphere *atm, double scale,
-                   float *pixels, const sf_report_options *o) {
-  render_job job = {c, cam, atm, scale, pixels};
-  sf_precompute_options quiet = {.n_threads = o->run.n_threads};
-  sf_parallel_rows(cam->height, &quiet, NULL, render_row, &job);
-}
-
-static int write_png(const char *dir, const char *name, const float *pixels, int w, int h, int tonemap,
-                     sf_error *err) {
-  size_t n = (size_t)w * (size_t)h;
-  unsigned char *rgb = malloc(3 * n);
-  if (!rgb) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-  sf_view_to_srgb8(pixels, n, tonemap, rgb);
-  char path[SF_REPORT_PATH_LEN + 160];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  int status = sf_png_write_rgb8(path, w, h, rgb, err);
-  free(rgb);
-  return status;
-}
-
-static int compare_view(sf_report_view *v, const float *model, const float *truth, int w, int h,
-                        const char *dir, float *scratch, sf_error *err) {
-  size_t n = (size_t)w * (size_t)h;
-  double sq = 0.0, de = 0.0;
-  for (size_t p = 0; p < n; ++p) {
-    double a[3], b[3], la[3], lb[3];
-    for (int k = 0; k < 3; ++k) {
-      double mv = isfinite(model[3 * p + k]) ? model[3 * p + k] : 0.0;
-      double e = mv - truth[3 * p + k];
-      sq += e * e;
-      scratch[3 * p + k] = (float)fabs(e);
-      a[k] = mv;
-      b[k] = truth[3 * p + k];
-    }
-    /* Values are already exposed: exposure 1 here. */
-    sf_display_lab(a, 1.0, la);
-    sf_display_lab(b, 1.0, lb);
-    de += sf_ciede2000(la, lb);
-  }
-  v->rmse = sqrt(sq / (3.0 * (double)n));   /* seed 000 eq. 61 */
-  v->mean_delta_e = de / (double)n;
-  char path[SF_REPORT_PATH_LEN + 160];
-  snprintf(path, sizeof path, "%s/%s", dir, v->error_exr);
-  static const char *const names[3] = {"R", "G", "B"};
-  return sf_exr_write_image(path, w, h, 3, names, scratch, err);
-}
-
-static int render_views(sf_report *rep, const sf_scene *scene, const sf_report_options *o, sf_error *err) {
-  const sf_atmosphere *atm = &scene->atmosphere;
-  int w = o->view_width, h = o->view_height;
-  size_t n = (size_t)w * (size_t)h;
-  char dir[SF_REPORT_PATH_LEN + 16];
-  snprintf(dir, sizeof dir, "%s/views", rep->out_dir);
-  if (sf_make_folders(dir, "report folder", err) != SF_OK) return err->status;
-  float *truth = malloc(sizeof(float) * 3 * n), *model = malloc(sizeof(float) * 3 * n),
-        *scratch = malloc(sizeof(float) * 3 * n);
-  if (!truth || !model || !scratch) {
-    free(truth); free(model); free(scratch);
-    return sf_fail(err, SF_ERR_INTERNAL, "out of memory for %dx%d views", w, h);
-  }
-  int status = SF_OK;
-  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q) {
-    if (rep->reference[q] < 0) continue;
-    const sf_view_def *views;
-    int nv = q == SF_CANDIDATE_TRANSMITTANCE ? sf_standard_transmittance_views(&views)
-                                             : sf_standard_radiance_views(&views);
-    const char *qname = sf_candidate_quantity_name((sf_candidate_quantity)q);
-    for (int vi = 0; vi < nv && status == SF_OK; ++vi) {
-      progress(o, q == SF_CANDIDATE_TRANSMITTANCE ? "views (transmittance)" : "views (sky radiance)",
-               (double)vi / nv);
-      sf_view_camera cam;
-      sf_view_camera_make(&views[vi], atm, w, h, &cam);
-      double scale = q == SF_CANDIDATE_SKY_RADIANCE ? views[vi].exposure * SF_VIEW_SUN_IRRADIANCE : 1.0;
-      double in[4];
-      sf_view_pixel_inputs(&cam, atm, w / 2, h / 2, in);
-      double h_clamped = fmin(in[0], atm->top_radius_km - atm->bottom_radius_km);
-      /* The sky-radiance reference (the tables) covers the scene's domain
-       * only: a view whose viewer or sun lies outside it is not rendered. */
-      const double tol = 1e-6;
-      int outside = q == SF_CANDIDATE_SKY_RADIANCE &&
-                    (h_clamped < rep->domain.h_min_km - tol || h_clamped > rep->domain.h_max_km + tol ||
-                     in[2] < rep->domain.mu_s_min - tol || in[2] > rep->domain.mu_s_max + tol);
-      if (outside) {
-        size_t len = strlen(rep->views_note);
-        snprintf(rep->views_note + len, sizeof rep->views_note - len, "%s%s", len ? ", " : "Outside the scene's domain, not rendered: ",
-                 views[vi].name);
-      }
-      for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
-        sf_report_model *m = &rep->models[i];
-        const sf_candidate *c = m->candidate;
-        if ((int)c->quantity != q || m->n_views >= SF_REPORT_MAX_VIEWS) continue;
-        sf_report_view *v = &m->views[m->n_views++];
-        snprintf(v->name, sizeof v->name, "%s", views[vi].name);
-        /* Sun-dependent validity only matters for sky radiance. */
-        int valid = c->role == SF_ROLE_REFERENCE ||
-                    sf_candidate_valid_for(c, h_clamped, q == SF_CANDIDATE_SKY_RADIANCE ? in[2] : c->valid.mu_s_min);
-        if (!valid || outside) continue;
-        v->rendered = 1;
-        snprintf(v->png, sizeof v->png, "views/%s-%s-%s.png", qname, views[vi].name, c->name);
-        if (c->role != SF_ROLE_REFERENCE) continue;
-        render(c, &cam, atm, scale, truth, o);
-        status = write_png(rep->out_dir, v->png, truth, w, h, q == SF_CANDIDATE_SKY_RADIANCE, err);
-      }
-      /* Now that the reference image exists: every other model once. */
-      for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
-        sf_report_model *m = &rep->models[i];
-        const sf_candidate *c = m->candidate;
-        if ((int)c->quantity != q || c->role == SF_ROLE_REFERENCE) continue;
-        sf_report_view *v = &m->views[m->n_views - 1];
-        if (!v->rendered) continue;
-        render(c, &cam, atm, scale, model, o);
-        status = write_png(rep->out_dir, v->png, model, w, h, q == SF_CANDIDATE_SKY_RADIANCE, err);
-        if (status != SF_OK) break;
-        snprintf(v->error_exr, sizeof v->error_exr, "views/%s-%s-%s-error.exr", qname, views[vi].name, c->name);
-        status = compare_view(v, model, truth, w, h, rep->out_dir, scratch, err);
-      }
-    }
-  }
-  free(truth); free(model); free(scratch);
-  return status;
-}
-
 int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate_list *list,
                        const sf_report_options *opt, const char *out_dir, sf_error *err) {
   memset(rep, 0, sizeof *rep);
@@ -412,7 +262,7 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
   if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
   if (status == SF_OK && opt->render_views) {
     if (rep->n_channels == 3) {
-      status = render_views(rep, scene, opt, err);
+      status = sf_report_render_views(rep, scene, opt, err);
       rep->views_rendered = status == SF_OK;
     } else {
       snprintf(rep->views_note, sizeof rep->views_note,

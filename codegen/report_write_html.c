@@ -178,7 +178,10 @@ static void views_section(FILE *f, const sf_report *rep, int q) {
       const sf_report_model *m = &rep->models[i];
       if ((int)m->candidate->quantity != q || m->candidate->role == SF_ROLE_REFERENCE) continue;
       if (v < m->n_views && m->views[v].rendered) {
-        fputs("<td>", f); num(f, m->views[v].rmse); fputs(" (", f); num(f, m->views[v].mean_delta_e); fputs(")</td>", f);
+        fputs("<td>", f); num(f, m->views[v].rmse); fputs(" (", f); num(f, m->views[v].mean_delta_e); fputs(")", f);
+        if (m->views[v].compared_fraction < SF_REPORT_VIEW_WHOLE)
+          fprintf(f, " <span class=\"note\">[%.0f %%]</span>", 100.0 * m->views[v].compared_fraction);
+        fputs("</td>", f);
       } else {
         fputs("<td>&ndash;</td>", f);
       }
@@ -216,7 +219,7 @@ static void views_section(FILE *f, const sf_report *rep, int q) {
         fprintf(f, "<td><img src=\"%s\" width=\"%d\" height=\"%d\" alt=\"%s %s\"></td>", m->views[v].png,
                 rep->options.view_width, rep->options.view_height, m->candidate->name, views[v].name);
       } else {
-        fputs("<td class=\"note\">not valid here</td>", f);
+        fputs("<td class=\"note\">no pixel compared</td>", f);
       }
     }
     fputs("</tr>\n", f);

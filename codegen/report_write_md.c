@@ -98,6 +98,8 @@ static void write_md(FILE *f, const sf_report *rep) {
         fputs(" ", f);
         if (v < m->n_views && m->views[v].rendered) {
           num(f, m->views[v].rmse); fputs(" (", f); num(f, m->views[v].mean_delta_e); fputs(")", f);
+          if (m->views[v].compared_fraction < SF_REPORT_VIEW_WHOLE)
+            fprintf(f, " [%.0f %%]", 100.0 * m->views[v].compared_fraction);
         } else {
           fputs("-", f);
         }

@@ -59,13 +59,18 @@ void sf_xyz_to_lab(const double xyz[3], const double white_xyz[3], double lab[3]
   lab[2] = 200.0 * (fy - fz);
 }
 
-void sf_display_lab(const double linear_srgb[3], double exposure, double lab[3]) {
-  double shown[3], xyz[3], white[3];
-  /* seed 000 §11.5: t(x) = 1 - exp(-x); -expm1 keeps small values exact */
-  for (int i = 0; i < 3; ++i) shown[i] = -expm1(-exposure * linear_srgb[i]);
-  sf_linear_srgb_to_xyz(shown, xyz);
+void sf_linear_lab(const double linear_srgb[3], double lab[3]) {
+  double xyz[3], white[3];
+  sf_linear_srgb_to_xyz(linear_srgb, xyz);
   sf_srgb_white_xyz(white);
   sf_xyz_to_lab(xyz, white, lab);
+}
+
+void sf_display_lab(const double linear_srgb[3], double exposure, double lab[3]) {
+  double shown[3];
+  /* seed 000 §11.5: t(x) = 1 - exp(-x); -expm1 keeps small values exact */
+  for (int i = 0; i < 3; ++i) shown[i] = -expm1(-exposure * linear_srgb[i]);
+  sf_linear_lab(shown, lab);
 }
 
 double sf_standard_exposure(double sun_elevation_deg, int viewer_in_space) {

@@ -33,6 +33,9 @@ void sf_xyz_to_lab(const double xyz[3], const double white_xyz[3], double lab[3]
  * t(x) = 1 - exp(-x), then converted to L*a*b* relative to the sRGB white
  * (so display white (1,1,1) is L* = 100, a* = b* = 0). */
 void sf_display_lab(const double linear_srgb[3], double exposure, double lab[3]);
+/* The same without exposure or tone map: a colour already in [0, 1], as a
+ * transmittance picture shows it. */
+void sf_linear_lab(const double linear_srgb[3], double lab[3]);
 
 /* SPEC §12's exposures (seed 000 §11.4): 16 at dawn (sun below the
  * horizon), 2 for a viewer in space (above the top of the atmosphere),

@@ -55,6 +55,23 @@ for ground_only in ("preetham", "hosek"):
     d = m["errors"]["domain"]
     assert d["h_max_km"] == 0 and d["mu_s_min"] >= 0, d
     print(f"{ground_only}: rel RMSE {m['errors']['rel_rmse']:.3g} on the ground, sun up ({m['errors']['values']} values)")
+    # Its views are compared on the sky alone (codegen/report_views.h):
+    # only ground views with the sun up, on the pixels above the horizon
+    # (the ground camera looks 3 deg up: a little over half the picture).
+    views = {v["view"]: v for v in m["views"]}
+    assert set(views) == {"ground-sunrise", "ground-noon"}, f"FAIL {ground_only} views {sorted(views)}"
+    for v in views.values():
+        assert 0.5 < v["compared_fraction"] < 0.65, f"FAIL {ground_only} {v}"
+    print(f"  views {sorted(views)} on {views['ground-noon']['compared_fraction']:.3f} of the pixels")
+# The sky network is valid for every sun, the reference only for the
+# scene's (sun -10..90 deg): orbit-dawn is compared where the local sun is
+# in the domain, the views of the ground and the plane whole.
+views = {v["view"]: v for v in by["mlp-scattering"]["views"]}
+assert len(views) == 12, f"FAIL mlp-scattering views {sorted(views)}"
+assert 0.3 < views["orbit-dawn"]["compared_fraction"] < 0.8, views["orbit-dawn"]
+for name in ("ground-noon", "ground-dawn", "plane-sunrise"):
+    assert views[name]["compared_fraction"] == 1, views[name]
+print(f"mlp-scattering: orbit-dawn compared on {views['orbit-dawn']['compared_fraction']:.3f} of its pixels")
 PY
 for w in sigmoid mlp-transmittance preetham hosek mlp-scattering; do
   [ -s "$tmp/out/weights/$w.json" ] || { echo "FAIL no weights file for $w"; fail=1; }
@@ -135,6 +152,52 @@ grep "chose" "$tmp/ground.out"
 grep -q '"normalise":[[:space:]]*"none"' "$tmp/ground/weights/mlp-scattering.json" &&
   ! grep -q '"norm_coef"' "$tmp/ground/weights/mlp-scattering.json" ||
   { echo "FAIL ground scene: --mlp-normalise none still normalised the sky network"; fail=1; }
+# The same scene's views: its reference tables hold the sky above the
+# horizon alone (they had been extrapolated into a bright ground), so the
+# ground views' reference pictures are black below it and every figure is
+# over the sky (codegen/report_views.h).
+"$bin" report "$src/examples/scenes/ground.json" --resolution 32x16,8x16x8x4 --views 48x27 --samples 2000 \
+  --timing-points 2000 --repetitions 1 --mlp-epochs 10,1 --quick --quiet --out "$tmp/ground" > "$tmp/ground-report.out" 2>&1 ||
+  { echo "FAIL ground scene report"; cat "$tmp/ground-report.out"; fail=1; }
+python3 - "$tmp/ground" <<'PY' || fail=1
+import json, struct, sys, zlib
+def png_rows(path):
+    data = open(path, "rb").read()
+    pos, idat = 8, b""
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h = struct.unpack(">II", body[:8])
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride, rows, prev = zlib.decompress(idat), 3 * w + 1, [], bytearray(3 * w)
+    for y in range(h):   # undo the PNG filters (RGB, 8 bits: 3 bytes a pixel)
+        f, line = raw[y * stride], bytearray(raw[y * stride + 1:(y + 1) * stride])
+        for i in range(len(line)):
+            a = line[i - 3] if i >= 3 else 0
+            b, c = prev[i], prev[i - 3] if i >= 3 else 0
+            p = a + b - c
+            pred = [0, a, b, (a + b) // 2, a if abs(p - a) <= min(abs(p - b), abs(p - c)) else (b if abs(p - b) <= abs(p - c) else c)][f]
+            line[i] = (line[i] + pred) & 255
+        rows.append(bytes(line))
+        prev = line
+    return rows
+doc = json.load(open(sys.argv[1] + "/metrics.json"))
+ref = [m for m in doc["models"] if m["name"] == "reference" and m["quantity"] == "sky_radiance"][0]
+for v in ref["views"]:
+    if not v["view"].startswith("ground-"):
+        continue
+    rows = png_rows(sys.argv[1] + "/" + v["png"])
+    print(f"ground scene {v['view']}: reference over {v['compared_fraction']:.3f} of the pixels; "
+          f"bottom row max {max(rows[-1])}, top row max {max(rows[0])}")
+    assert 0.4 < v["compared_fraction"] < 0.7 and max(rows[-1]) == 0 and max(rows[0]) > 0, f"FAIL {v}"
+for m in doc["models"]:
+    for v in m["views"]:
+        if m["quantity"] == "sky_radiance" and v["view"].startswith("ground-"):
+            assert v["compared_fraction"] < 0.7, f"FAIL {m['name']} {v}"
+PY
 "$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --out "$tmp/mars" > "$tmp/mars.out" 2>&1
 rc=$?
 grep "chose" "$tmp/mars.out"

@@ -1,0 +1,26 @@
+/* The report's standard views (SPEC §12; codegen/report.h): pictures of the
+ * reference and of every model of each quantity, compared pixel by pixel.
+ *
+ * A pixel is compared where both pictures hold data. Its ray starts at the
+ * viewer or, for a viewer above the top, where it enters the atmosphere
+ * (data/sky_lookup.h); the start must lie in the model's valid box (Hosek:
+ * a viewer on the ground looking up, the sun up) and, for sky radiance, in
+ * the scene's domain, the only part the reference tables cover. Below the
+ * domain they are extrapolated: an above-horizon scene's ground view had
+ * been scored on a made-up bright ground, and Preetham on the ground
+ * pixels it does not model. A ray that never enters the atmosphere
+ * (radiance 0, transmittance 1) is compared where the viewer, moved down
+ * to the top, lies in the box. Pixels a picture has
+ * no data for are black in it and 0 in the error map; each view records
+ * the share of its pixels compared, and a view with none is not rendered
+ * for that model. */
+#ifndef SKYFIT_CODEGEN_REPORT_VIEWS_H
+#define SKYFIT_CODEGEN_REPORT_VIEWS_H
+
+#include "codegen/report.h"
+
+/* Renders the views of every quantity rep measures into rep->out_dir/views
+ * and fills each model's views[]; RGB atmospheres only. */
+int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_report_options *o, sf_error *err);
+
+#endif
