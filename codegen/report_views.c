@@ -1,9 +1,12 @@
 #include "codegen/report_views.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "data/parallel_rows.h"
 #include "data/sky_lookup.h"
@@ -231,5 +234,42 @@ int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_repor
              "data); they are black in that picture and 0 in its error map.",
              len ? ". " : "");
   }
+  return status;
+}
+
+static int ends_with(const char *s, const char *end) {
+  size_t n = strlen(s), m = strlen(end);
+  return n >= m && strcmp(s + n - m, end) == 0;
+}
+
+static int named_by(const sf_report *rep, const char *file) {
+  for (int i = 0; i < rep->n_models; ++i)
+    for (int v = 0; v < rep->models[i].n_views; ++v) {
+      const sf_report_view *rv = &rep->models[i].views[v];
+      if (!rv->rendered) continue;
+      if (strcmp(rv->png + strlen("views/"), file) == 0) return 1;
+      if (rv->error_exr[0] && strcmp(rv->error_exr + strlen("views/"), file) == 0) return 1;
+    }
+  return 0;
+}
+
+int sf_report_remove_stale_views(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err) {
+  *n_removed = 0;
+  char dir[SF_REPORT_PATH_LEN + 16];
+  snprintf(dir, sizeof dir, "%s/views", out_dir);
+  DIR *d = opendir(dir);
+  if (!d) return SF_OK;
+  int status = SF_OK;
+  for (struct dirent *e; (e = readdir(d)) != NULL;) {
+    const char *name = e->d_name;
+    int ours = (strncmp(name, "transmittance-", 14) == 0 || strncmp(name, "sky_radiance-", 13) == 0) &&
+               (ends_with(name, ".png") || ends_with(name, ".exr"));
+    if (!ours || named_by(rep, name)) continue;
+    char path[SF_REPORT_PATH_LEN + 300];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (unlink(path) == 0) ++*n_removed;
+    else if (status == SF_OK) status = sf_fail(err, SF_ERR_INTERNAL, "%s: cannot remove: %s", path, strerror(errno));
+  }
+  closedir(d);
   return status;
 }

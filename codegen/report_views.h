@@ -23,4 +23,12 @@
  * and fills each model's views[]; RGB atmospheres only. */
 int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_report_options *o, sf_error *err);
 
+/* Removes from out_dir/views the pictures and error maps an earlier run
+ * left that rep does not name (another scene's views, a model this run did
+ * not have), so the folder shows this report alone. Only names a report
+ * writes are touched: "transmittance-" or "sky_radiance-" followed by
+ * anything ending in ".png" or ".exr". *n_removed counts them; on a
+ * failure the rest are still tried and err names the first. */
+int sf_report_remove_stale_views(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err);
+
 #endif

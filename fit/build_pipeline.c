@@ -4,9 +4,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "codegen/codegen_file.h"
+#include "codegen/report_views.h"
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
 #include "fit/build_stale_weights.h"
@@ -232,17 +235,21 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   /* Bad input (an impossible resolution, tables larger than memory allows)
    * is refused before anything is created: nothing written on bad input. */
   if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;
-  if (sf_make_folders(o->out_dir, "--out", err) != SF_OK || sf_make_folders(cache, "--out", err) != SF_OK ||
-      sf_make_folders(work, "--out", err) != SF_OK)
+  struct stat out_stat;
+  int out_existed = stat(o->out_dir, &out_stat) == 0;
+  if (sf_make_folders(o->out_dir, "--out", err) != SF_OK) return err->status;
+  /* The outputs' paths, checked before the work and before anything else
+   * is created: a scene naming a missing folder, or a folder where the
+   * report goes, fails now, not after the fits. */
+  char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
+  if ((o->emit && (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
+                   sf_codegen_check_files(c_path, glsl_path, err) != SF_OK)) ||
+      sf_build_staging_check_out(o->out_dir, err) != SF_OK) {
+    if (!out_existed) rmdir(o->out_dir);
     return err->status;
-  /* The headers' paths, checked before the work: a scene naming a missing
-   * folder fails now, not after the fits. */
-  if (o->emit) {
-    char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
-    if (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
-        sf_codegen_check_files(c_path, glsl_path, err) != SF_OK)
-      return err->status;
   }
+  if (sf_make_folders(cache, "--out", err) != SF_OK || sf_make_folders(work, "--out", err) != SF_OK)
+    return err->status;
   sf_table_set set;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];
@@ -370,6 +377,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   if (status == SF_OK) status = sf_report_write_all(&rep, err);
   /* Everything written: the headers and the staged outputs into place
    * together; otherwise none of them, the previous outputs untouched. */
+  if (status == SF_OK) status = sf_build_staging_check(&stage, err);
   if (status == SF_OK) status = sf_codegen_commit_files(&headers, err);
   if (status == SF_OK) status = sf_build_staging_publish(&stage, err);
   sf_codegen_abort_files(&headers);
@@ -384,6 +392,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     }
     prune_cache(cache, o, run_start, res);
     remove_stale_weights(work, &list, &rep.spectral4, res);
+    sf_error problem = {0};
+    if (sf_report_remove_stale_views(&rep, o->out_dir, &res->views_removed, &problem) != SF_OK)
+      snprintf(res->views_problem, sizeof res->views_problem, "%s", problem.message);
   }
   sf_report_free(&rep);
   sf_candidate_list_free(&list);

@@ -58,6 +58,9 @@ typedef struct sf_build_result {
   int weights_removed;               /* OUT/weights files of models this run did not fit, removed
                                         (fit/build_stale_weights.h) */
   char weights_problem[1024];        /* one that could not be removed (the build still succeeds) */
+  int views_removed;                 /* OUT/views pictures an earlier run left that this report does not name
+                                        (codegen/report_views.h) */
+  char views_problem[1024];          /* one that could not be removed (the build still succeeds) */
 } sf_build_result;
 
 /* The table options a build uses for a scene: base with cache_dir and the

@@ -18,6 +18,12 @@ typedef struct sf_build_staging {
   char dir[4096];   /* OUT/.staging.PID */
 } sf_build_staging;
 
+/* Whether a build's outputs can be published into out_dir (which exists):
+ * report.html, report.md and metrics.json not folders, views/ and
+ * weights/ not files (SF_ERR_INPUT naming the path). For a check before
+ * the work; the publish checks every path again. */
+int sf_build_staging_check_out(const char *out_dir, sf_error *err);
+
 /* Removes stale staging folders in out_dir (which exists) and creates this
  * process's. */
 int sf_build_staging_open(sf_build_staging *s, const char *out_dir, sf_error *err);
@@ -26,8 +32,18 @@ int sf_build_staging_open(sf_build_staging *s, const char *out_dir, sf_error *er
  * same path under OUT. Paths elsewhere are copied as they are. */
 void sf_build_staging_final_path(const sf_build_staging *s, const char *staged, char *out, size_t n);
 
+/* Whether every file of the staging folder can be moved into place: no
+ * folder where a file goes, no file where a folder goes (SF_ERR_INPUT
+ * naming the path). The publish checks this itself; a caller with other
+ * files to move first (the headers) checks before moving them. */
+int sf_build_staging_check(const sf_build_staging *s, sf_error *err);
+
 /* Moves every file of the staging folder to the same place under OUT
- * (creating folders there as needed), then removes the staging folder. */
+ * (creating folders there as needed), then removes the staging folder.
+ * Every move is checked first (a folder where a file goes, or a file
+ * where a folder goes: SF_ERR_INPUT, nothing moved), and a move that
+ * still fails undoes the ones before it: the previous files are kept
+ * under the staging folder until the last move has succeeded. */
 int sf_build_staging_publish(sf_build_staging *s, sf_error *err);
 
 /* Removes the staging folder and everything in it (a failed run). */

@@ -195,5 +195,28 @@ echo "$mid_write of $((trials + extra)) kills interrupted a write (a temporary w
 echo "$mixed of $((trials + extra)) kills left the outputs part old, part new (killed while moving them into place)"
 [ "$mixed" -le 2 ] || fail "$mixed kills left the outputs part old, part new (want at most 2: the renames are a burst)"
 
+# A publish that cannot complete moves nothing (fit/build_staging.h): a
+# folder where one of the new run's pictures goes is found before the first
+# move; the run exits 2 and every previous output stays as it was (a
+# report.md made a folder had left metrics.json, report.html, views and
+# weights replaced).
+cp -a "$tmp/old" "$tmp/blocked"
+cp -n "$tmp/new/cache/costs/"* "$tmp/blocked/cache/costs/"
+picture=$(cd "$tmp/new/views" && ls | head -1)
+rm -f "$tmp/blocked/views/$picture"
+mkdir "$tmp/blocked/views/$picture"
+"$BIN" build "$tmp/scene.json" --out "$tmp/blocked" "${common[@]}" "${new_args[@]}" >"$tmp/log" 2>&1
+rc=$?
+changed=0
+while IFS= read -r -d '' f; do
+  rel=${f#"$tmp/old/"}
+  [ "$rel" = "views/$picture" ] && continue
+  case $rel in cache/*) continue ;; esac
+  cmp -s "$f" "$tmp/blocked/$rel" || changed=$((changed + 1))
+done < <(find "$tmp/old" -type f -print0)
+leftovers=$(find "$tmp/blocked" -name '.staging.*' -o -name '*.tmp.*' | wc -l)
+echo "publish blocked by views/$picture/: exit $rc ($(tail -1 "$tmp/log")); $changed previous outputs changed, $leftovers leftovers"
+[ $rc -eq 2 ] && [ $changed -eq 0 ] && [ "$leftovers" -eq 0 ] || fail "a blocked publish changed the previous outputs"
+
 echo "$failures failed"
 [ $failures -eq 0 ]

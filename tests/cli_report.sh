@@ -155,7 +155,9 @@ grep -q '"normalise":[[:space:]]*"none"' "$tmp/ground/weights/mlp-scattering.jso
 # The same scene's views: its reference tables hold the sky above the
 # horizon alone (they had been extrapolated into a bright ground), so the
 # ground views' reference pictures are black below it and every figure is
-# over the sky (codegen/report_views.h).
+# over the sky (codegen/report_views.h). The default scene's pictures,
+# copied in first, go: views/ shows this report's alone.
+cp -r "$tmp/out/views" "$tmp/ground/"
 "$bin" report "$src/examples/scenes/ground.json" --resolution 32x16,8x16x8x4 --views 48x27 --samples 2000 \
   --timing-points 2000 --repetitions 1 --mlp-epochs 10,1 --quick --quiet --out "$tmp/ground" > "$tmp/ground-report.out" 2>&1 ||
   { echo "FAIL ground scene report"; cat "$tmp/ground-report.out"; fail=1; }
@@ -193,10 +195,16 @@ for v in ref["views"]:
     print(f"ground scene {v['view']}: reference over {v['compared_fraction']:.3f} of the pixels; "
           f"bottom row max {max(rows[-1])}, top row max {max(rows[0])}")
     assert 0.4 < v["compared_fraction"] < 0.7 and max(rows[-1]) == 0 and max(rows[0]) > 0, f"FAIL {v}"
+named = set()
 for m in doc["models"]:
     for v in m["views"]:
+        named |= {v["png"], v.get("error_exr", v["png"])}
         if m["quantity"] == "sky_radiance" and v["view"].startswith("ground-"):
             assert v["compared_fraction"] < 0.7, f"FAIL {m['name']} {v}"
+import os
+present = {"views/" + f for f in os.listdir(sys.argv[1] + "/views")}
+print(f"ground scene views/: {len(present)} files, {len(named)} named by metrics.json")
+assert present == named, f"FAIL views/ holds files the report does not name: {sorted(present - named)[:5]}"
 PY
 "$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --out "$tmp/mars" > "$tmp/mars.out" 2>&1
 rc=$?
