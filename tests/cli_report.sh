@@ -308,6 +308,13 @@ for outputs in '{"c": "nodir/sky.h"}' '{"glsl": "nodir/sky.glsl"}' '{"c": "same.
   [ $rc -eq 2 ] && ! grep -q "chose" "$tmp/named-bad.out" && cmp -s "$tmp/named-before" "$tmp/named-after" ||
     { echo "FAIL outputs $outputs: should exit 2 before fitting, the previous outputs untouched"; fail=1; }
 done
+# Into a new folder: refused before anything is written (it had left
+# DIR/cache and DIR/weights behind).
+sed "s|\"outputs\": {[^}]*}|\"outputs\": {\"c\": \"nodir/sky.h\"}|" "$tmp/named/scene.json" > "$tmp/named/bad.json"
+"$bin" build "$tmp/named/bad.json" "${tiny[@]}" --out "$tmp/named/fresh" > /dev/null 2>&1
+rc=$?
+[ $rc -eq 2 ] && [ ! -e "$tmp/named/fresh" ] ||
+  { echo "FAIL outputs in a missing folder, --out a new folder: exit $rc, $(ls -R "$tmp/named/fresh" 2>&1 | head -3)"; fail=1; }
 
 # An impossible budget is not an error: the best available, said so.
 printf '{"quantities": ["transmittance"], "error_budget": {"transmittance_rmse": 1e-12}}' > "$tmp/tight.json"
