@@ -353,6 +353,7 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
       cJSON_AddNumberToObject(mt, "worst_gamma_deg", rep->worst_gamma * 180 / SF_PI);
       cJSON_AddNumberToObject(mt, "per_elevation_rmse", rep->per_elevation_rmse);
       cJSON_AddNumberToObject(mt, "samples", rep->n_samples);
+      cJSON_AddNumberToObject(mt, "metric_samples", (double)rep->n_metric_samples);
       cJSON_AddNumberToObject(mt, "sun_elevations", rep->n_elevations);
       if (isfinite(rep->preetham_rmse)) {
         cJSON_AddNumberToObject(mt, "published_preetham_rmse", rep->preetham_rmse);

@@ -132,6 +132,7 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_o
       cJSON_AddNumberToObject(metrics, "rel_rmse", rep->rel_rmse);
       cJSON_AddNumberToObject(metrics, "max_abs", rep->max_abs);
       cJSON_AddNumberToObject(metrics, "samples", rep->n_samples);
+      cJSON_AddNumberToObject(metrics, "metric_samples", (double)rep->n_metric_samples);
       cJSON *training = sf_weights_training(doc);
       cJSON_AddNumberToObject(training, "elevations", o->n_elevations);
       cJSON_AddNumberToObject(training, "n_theta", o->n_theta);

@@ -185,6 +185,69 @@ static void baseline_scan(const sf_sky_samples *samples, int n_e, const sf_atmos
   *best_rmse = sqrt(fmax(best_sse, 0.0) / (double)(n_total * nk));
 }
 
+/* Step 4's samples (fit_sky_elevation.h) at each fit elevation: grid[e]
+ * at the midpoints of 4 n_theta equal steps of the view zenith angle over
+ * [0, 90] deg (the fit's 16 rows end at 87.2 deg, and a Hosek fit erred
+ * 0.031 at 89.3 deg where they found 0.0079), band[e] the horizon band's
+ * rows at mu = 0.03 down to 1e-4, where these models err most. */
+static int metric_samples(const sf_sky_tables *sky, const sf_sky_elevation_options *o, int n_e,
+                          const double *elevation_rad, sf_sky_samples *grid, sf_sky_samples *band, sf_error *err) {
+  static const double horizon_mu[] = {0.03, 0.02, 0.015, 0.01, 0.007, 0.005, 0.003, 0.002, 0.001, 1e-4};
+  enum { N_HORIZON = sizeof horizon_mu / sizeof horizon_mu[0] };
+  int n_grid = 4 * o->n_theta;
+  double *theta = malloc(sizeof *theta * (size_t)n_grid), band_theta[N_HORIZON];
+  if (!theta) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  for (int i = 0; i < n_grid; ++i) theta[i] = (i + 0.5) / n_grid * 0.5 * SF_PI;
+  for (int i = 0; i < N_HORIZON; ++i) band_theta[i] = acos(horizon_mu[i]);
+  int status = SF_OK;
+  for (int e = 0; e < n_e && status == SF_OK; ++e) {
+    status = sf_sky_samples_at(sky, elevation_rad[e], n_grid, theta, o->n_phi, &grid[e], err);
+    if (status == SF_OK) status = sf_sky_samples_at(sky, elevation_rad[e], N_HORIZON, band_theta, o->n_phi, &band[e], err);
+  }
+  free(theta);
+  return status;
+}
+
+/* The fitted model's errors: RMSE, relative and normalised RMSE over the
+ * grid, the largest error over the grid and the band. */
+static void sky_metrics(const sf_elevation_sky_model *model, int n_e, const sf_sky_samples *grid,
+                        const sf_sky_samples *band, const double *weights, sf_sky_elevation_report *rep) {
+  int nk = model->n_channels;
+  double sse = 0, sse_rel = 0, sse_norm = 0, max_abs = 0;
+  long n = 0, n_rel = 0;
+  for (int e = 0; e < n_e; ++e)
+    for (int part = 0; part < 2; ++part) {
+      const sf_sky_samples *s = part == 0 ? &grid[e] : &band[e];
+      for (int i = 0; i < s->n; ++i) {
+        double m[SF_MAX_CHANNELS];
+        sf_elevation_sky_radiance(model, s->elevation_rad, s->theta[i], s->gamma[i], m);
+        for (int k = 0; k < nk; ++k) {
+          double ref = s->radiance[(size_t)i * nk + k], d = m[k] - ref;
+          if (part == 0) {
+            sse += d * d;
+            sse_norm += d * d * weights[e * nk + k] * weights[e * nk + k];
+            ++n;
+            if (ref > 0) {
+              sse_rel += (d / ref) * (d / ref);
+              ++n_rel;
+            }
+          }
+          if (!(fabs(d) <= max_abs)) {
+            max_abs = fabs(d);
+            rep->worst_elevation_rad = s->elevation_rad;
+            rep->worst_theta = s->theta[i];
+            rep->worst_gamma = s->gamma[i];
+          }
+        }
+      }
+    }
+  rep->n_metric_samples = n / nk;
+  rep->rmse = sqrt(sse / (double)n);
+  rep->normalised_rmse = sqrt(sse_norm / (double)n);
+  rep->rel_rmse = n_rel ? sqrt(sse_rel / (double)n_rel) : NAN;
+  rep->max_abs = max_abs;
+}
+
 int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_options *o,
                          const sf_hosek_dataset *published, sf_elevation_sky_model *out,
                          sf_sky_elevation_report *rep, sf_error *err) {
@@ -363,43 +426,22 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     if (o->progress) o->progress(o->progress_ctx, "elevation Bezier fit", (double)(k + 1) / nk);
   }
 
-  /* Step 4: metrics and baselines on the same samples. */
+  /* Step 4: metrics over the domain, and the baselines on the same grid. */
+  sf_sky_samples *grid = calloc((size_t)n_e, sizeof *grid), *band = calloc((size_t)n_e, sizeof *band);
+  if (status == SF_OK && (!grid || !band)) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  if (status == SF_OK) status = metric_samples(sky, o, n_e, rep->elevation_rad, grid, band, err);
   if (status == SF_OK) {
-    double sse = 0, sse_rel = 0, sse_norm = 0, max_abs = 0;
-    long n_rel = 0;
-    for (int e = 0; e < n_e; ++e) {
-      const sf_sky_samples *s = &samples[e];
-      for (int i = 0; i < s->n; ++i) {
-        double m[SF_MAX_CHANNELS];
-        sf_elevation_sky_radiance(out, s->elevation_rad, s->theta[i], s->gamma[i], m);
-        for (int k = 0; k < nk; ++k) {
-          double ref = s->radiance[(size_t)i * nk + k], d = m[k] - ref;
-          sse += d * d;
-          sse_norm += d * d * weights[e * nk + k] * weights[e * nk + k];
-          if (ref > 0) {
-            sse_rel += (d / ref) * (d / ref);
-            ++n_rel;
-          }
-          if (!(fabs(d) <= max_abs)) {
-            max_abs = fabs(d);
-            rep->worst_elevation_rad = s->elevation_rad;
-            rep->worst_theta = s->theta[i];
-            rep->worst_gamma = s->gamma[i];
-          }
-        }
-      }
-    }
-    double n = (double)rep->n_samples * nk;
-    rep->rmse = sqrt(sse / n);
-    rep->normalised_rmse = sqrt(sse_norm / n);
-    rep->rel_rmse = n_rel ? sqrt(sse_rel / (double)n_rel) : NAN;
-    rep->max_abs = max_abs;
-    if (!isfinite(rep->rmse))
-      status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: the fitted model is not finite");
-    baseline_scan(samples, n_e, atm, published, 1, &rep->preetham_rmse, &rep->preetham_turbidity);
-    baseline_scan(samples, n_e, atm, published, 0, &rep->hosek_published_rmse,
-                  &rep->hosek_published_turbidity);
+    sky_metrics(out, n_e, grid, band, weights, rep);
+    if (!isfinite(rep->rmse)) status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: the fitted model is not finite");
+    baseline_scan(grid, n_e, atm, published, 1, &rep->preetham_rmse, &rep->preetham_turbidity);
+    baseline_scan(grid, n_e, atm, published, 0, &rep->hosek_published_rmse, &rep->hosek_published_turbidity);
   }
+  for (int e = 0; e < n_e; ++e) {
+    if (grid) sf_sky_samples_free(&grid[e]);
+    if (band) sf_sky_samples_free(&band[e]);
+  }
+  free(grid);
+  free(band);
   for (int e = 0; samples && e < n_e; ++e) sf_sky_samples_free(&samples[e]);
   free(samples);
   free(weights);

@@ -29,7 +29,11 @@
  *    the elevations it passes through; the report counts the winners).
  *    Bounds on the control points (models' physical bounds) bound the curve
  *    (a Bezier curve lies in the convex hull of its control points).
- * 4. Metrics on the same samples, and the published baselines on them:
+ * 4. Metrics over the domain: RMSE (relative, normalised as in step 1)
+ *    at each fit elevation over view zenith angles at the midpoints of
+ *    4 n_theta equal steps of [0, 90] deg (the fit's rows stop short of
+ *    the horizon), the largest error over those and the horizon band (mu
+ *    0.03 down to 1e-4), and the published baselines on the same grid:
  *    Preetham 1999 (in linear sRGB) and Hosek 2012 RGB, each at its best
  *    turbidity (scan) with its best per-channel scale factor (closed form)
  *    to map its units onto ours — the most favourable reading of them. */
@@ -59,7 +63,8 @@ typedef struct sf_sky_elevation_options {
 void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form form);
 
 typedef struct sf_sky_elevation_report {
-  int n_elevations, n_channels, n_samples;
+  int n_elevations, n_channels, n_samples;   /* n_samples: the fit's */
+  long n_metric_samples;                     /* step 4's grid */
   double elevation_rad[SF_SKY_MAX_ELEVATIONS];
   int n_starts;
   char start_names[SF_SKY_MAX_STARTS][32];

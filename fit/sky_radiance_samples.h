@@ -30,6 +30,11 @@ void sf_sky_samples_free(sf_sky_samples *s);
  * cos gamma = cos theta sin e + sin theta cos e cos phi. */
 void sf_sky_sample_set_angles(sf_sky_samples *s, int i, double theta, double cos_gamma);
 
+/* Reference samples at the view zenith angles theta[0..n_theta-1] (each
+ * with the n_phi azimuths above; n = n_theta * n_phi). */
+int sf_sky_samples_at(const sf_sky_tables *sky, double elevation_rad, int n_theta, const double *theta,
+                      int n_phi, sf_sky_samples *out, sf_error *err);
+
 /* Reference samples on the grid above (n = n_theta * n_phi). */
 int sf_sky_samples_from_tables(const sf_sky_tables *sky, double elevation_rad, int n_theta,
                                int n_phi, sf_sky_samples *out, sf_error *err);

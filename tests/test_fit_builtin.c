@@ -1,12 +1,15 @@
 /* Fits on the built-in atmosphere (SPEC §7.1, §7.2), on small tables:
- * - the refit Hosek model (Bezier over the sun range) has an RMSE on the
- *   ground-level sky radiance samples at least 5x lower than the published
- *   Preetham model on the same samples (at its best turbidity and best
- *   per-channel scale); both printed;
+ * - the refit Hosek model (Bezier over the sun range, default options)
+ *   has an RMSE on the ground-level sky radiance of its metric grid at
+ *   least 5x lower than the published Preetham model on the same samples
+ *   (at its best turbidity and best per-channel scale); both printed; the
+ *   RMSE recomputed independently, the stated maximum against a dense
+ *   sweep reaching the horizon;
  * - the evaluated model file agrees with the report (the weights round
  *   trip through the SPEC §8 writer and the model loader);
  * - the sigmoid transmittance: its fit RMSE stated, and recomputed on a
- *   held-out grid (cell midpoints) against the exact optical depth. */
+ *   held-out grid (cell midpoints) against the exact optical depth; its
+ *   stated maximum against a dense sweep through the horizon. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -143,9 +146,6 @@ int main(void) {
   sf_elevation_sky_model *m = malloc(sizeof *m);
   sf_sky_elevation_options o;
   sf_sky_elevation_options_default(&o, SF_SKY_FORM_HOSEK);
-  o.n_elevations = 6;
-  o.n_theta = 8;
-  o.n_phi = 12;
   int rc = sf_fit_sky_elevation(&sky, &o, ds, m, rep, &err);
   CHECK(rc == SF_OK);
   if (rc) printf("%s\n", err.message);
@@ -159,10 +159,10 @@ int main(void) {
   double sse2 = 0;
   long n2 = 0;
   for (int e = 0; e < rep->n_elevations; ++e)
-    for (int i = 0; i < o.n_theta; ++i)
+    for (int i = 0; i < 4 * o.n_theta; ++i)
       for (int j = 0; j < o.n_phi; ++j) {
         double el = rep->elevation_rad[e];
-        double th = (i + 0.5) / o.n_theta * 0.5 * SF_PI, ph = (double)j / (o.n_phi - 1) * SF_PI;
+        double th = (i + 0.5) / (4 * o.n_theta) * 0.5 * SF_PI, ph = (double)j / (o.n_phi - 1) * SF_PI;
         double cg = cos(th) * sin(el) + sin(th) * cos(el) * cos(ph);
         cg = fmin(1, fmax(-1, cg));
         sf_sky_sample smp;
@@ -172,6 +172,34 @@ int main(void) {
         for (int k = 0; k < 3; ++k, ++n2) sse2 += (mod[k] - smp.radiance[k]) * (mod[k] - smp.radiance[k]);
       }
   CHECK_REL(sqrt(sse2 / n2), rep->rmse, 1e-9);
+  {
+    /* The stated maximum against a dense sweep of the domain's view
+     * directions at the fitted suns: zenith angles every 0.5 deg, the
+     * horizon band at mu 0.05 down to 0, azimuths every 2.5 deg. The fit's
+     * own rows stop at 87.2 deg: the default build's Hosek fit had stated
+     * 0.0079 on them where a sweep like this one finds 0.145. */
+    static const double band[] = {0.05, 0.03, 0.02, 0.01, 0.005, 0.002, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 0.0};
+    double dense = 0, dense_th = 0;
+    for (int e = 0; e < rep->n_elevations; ++e)
+      for (int i = 0; i < 180 + 12; ++i)
+        for (int j = 0; j <= 72; ++j) {
+          double el = rep->elevation_rad[e];
+          double th = i < 180 ? (i + 0.25) / 180 * 0.5 * SF_PI : acos(band[i - 180]), ph = j * 2.5 * SF_PI / 180;
+          double cg = fmin(1, fmax(-1, cos(th) * sin(el) + sin(th) * cos(el) * cos(ph)));
+          sf_sky_sample smp;
+          sf_sky_lookup(&sky, 0, cos(th), sin(el), cg, &smp);
+          double mod[SF_MAX_CHANNELS];
+          sf_elevation_sky_radiance(m, el, th, acos(cg), mod);
+          for (int k = 0; k < 3; ++k)
+            if (fabs(mod[k] - smp.radiance[k]) > dense) {
+              dense = fabs(mod[k] - smp.radiance[k]);
+              dense_th = th;
+            }
+        }
+    printf("hosek refit: stated max %.4g at theta %.4f deg; dense sweep %.4g at theta %.4f deg\n", rep->max_abs,
+           rep->worst_theta * 180 / SF_PI, dense, dense_th * 180 / SF_PI);
+    CHECK(rep->max_abs >= 0.98 * dense);
+  }
 
   sf_sky_elevation_options_default(&o, SF_SKY_FORM_PEREZ);
   o.n_elevations = 6;
