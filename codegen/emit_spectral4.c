@@ -3,6 +3,35 @@
 #include <stdio.h>
 #include <string.h>
 
+/* What an atmosphere file refuses (SPEC §4) is refused here too: the
+ * wavelengths positive and increasing, their weights, the coefficients and
+ * the sun's irradiance not negative, the ground albedo in [0, 1]. */
+static int check_physical(const char *source, const sf_spectral4_emit *m, sf_error *err) {
+  for (int j = 0; j < 4; ++j) {
+    if (!(m->wavelengths_nm[j] > 0.0) || (j > 0 && !(m->wavelengths_nm[j] > m->wavelengths_nm[j - 1])))
+      return sf_fail(err, SF_ERR_INPUT, "%s: params.wavelengths_nm[%d]: wavelengths must be positive and strictly "
+                     "increasing, got %.15g", source, j, m->wavelengths_nm[j]);
+    if (!(m->weights_nm[j] >= 0.0))
+      return sf_fail(err, SF_ERR_INPUT, "%s: params.weights_nm[%d]: must not be negative, got %.15g", source, j,
+                     m->weights_nm[j]);
+    if (!(m->sun_irradiance[j] >= 0.0))
+      return sf_fail(err, SF_ERR_INPUT, "%s: params.sun_irradiance[%d]: must not be negative, got %.15g", source, j,
+                     m->sun_irradiance[j]);
+    if (!(m->ground_albedo[j] >= 0.0 && m->ground_albedo[j] <= 1.0))
+      return sf_fail(err, SF_ERR_INPUT, "%s: params.ground_albedo[%d]: must be in [0, 1], got %.15g", source, j,
+                     m->ground_albedo[j]);
+    for (int c = 0; c < m->n_constituents; ++c) {
+      if (!(m->scattering[c][j] >= 0.0))
+        return sf_fail(err, SF_ERR_INPUT, "%s: params.scattering[%d][%d]: must not be negative, got %.15g", source,
+                       c, j, m->scattering[c][j]);
+      if (!(m->absorption[c][j] >= 0.0))
+        return sf_fail(err, SF_ERR_INPUT, "%s: params.absorption[%d][%d]: must not be negative, got %.15g", source,
+                       c, j, m->absorption[c][j]);
+    }
+  }
+  return SF_OK;
+}
+
 int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error *err) {
   memset(out, 0, sizeof *out);
   int nc = w->atmosphere.n_constituents;
@@ -21,7 +50,7 @@ int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error
   if (sf_weights_param(w, "absorption", 2, sc4, flat, nc * 4, err)) return err->status;
   for (int c = 0; c < nc; ++c) memcpy(out->absorption[c], flat + 4 * c, sizeof out->absorption[c]);
   for (int c = 0; c < nc; ++c) snprintf(out->names[c], sizeof out->names[c], "%s", w->atmosphere.constituents[c].name);
-  return SF_OK;
+  return check_physical(w->source, out, err);
 }
 
 static void emit_matrix_fn(sf_code_writer *w, const char *name, const double m[3][4]) {

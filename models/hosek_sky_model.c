@@ -78,6 +78,8 @@ int sf_elevation_sky_load(const char *path, sf_sky_form form, sf_elevation_sky_m
   if (strcmp(w.quantity, "sky_radiance") != 0)
     status = sf_fail(err, SF_ERR_INPUT, "%s: quantity: expected \"sky_radiance\", got \"%s\"", path,
                      w.quantity);
+  static const sf_weights_input inputs[1] = {{"sun_elevation_rad", 0.0, 2.0 / SF_PI}};
+  if (status == SF_OK) status = sf_weights_check_fixed_inputs(&w, inputs, 1, err);
   out->form = form;
   out->n_coeffs = sf_sky_form_n_coeffs(form);
   out->n_channels = w.atmosphere.n_channels;

@@ -88,6 +88,8 @@ int sf_sigmoid_model_load(const char *path, sf_sigmoid_model *out, sf_weights *w
   out->n_channels = w.atmosphere.n_channels;
   out->bottom_radius_km = w.atmosphere.bottom_radius_km;
   out->top_radius_km = w.atmosphere.top_radius_km;
+  static const sf_weights_input inputs[2] = {{"h_km", 0.0, 1.0}, {"mu", 0.0, 1.0}};
+  if (status == SF_OK) status = sf_weights_check_fixed_inputs(&w, inputs, 2, err);
   int shape[3] = {out->n_constituents, out->n_channels, SF_SIGMOID_N_COEFFS};
   int n_values = SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS * SF_SIGMOID_N_COEFFS;
   double *values = malloc(sizeof *values * (size_t)n_values);

@@ -447,3 +447,22 @@ double sf_weights_metric(const sf_weights *w, const char *name) {
   const cJSON *v = sf_json_get(sf_json_get(w->root, "metrics"), name);
   return cJSON_IsNumber(v) ? v->valuedouble : NAN;
 }
+
+int sf_weights_check_fixed_inputs(const sf_weights *w, const sf_weights_input *expected, int n, sf_error *err) {
+  if (w->n_inputs == 0) return SF_OK;
+  if (w->n_inputs != n)
+    return sf_fail(err, SF_ERR_INPUT, "%s: inputs: a %s model has %d input(s), the file declares %d", w->source,
+                   w->model, n, w->n_inputs);
+  for (int i = 0; i < n; ++i) {
+    const sf_weights_input *got = &w->inputs[i], *want = &expected[i];
+    if (strcmp(got->name, want->name) != 0)
+      return sf_fail(err, SF_ERR_INPUT, "%s: inputs[%d].name: expected \"%s\" for a %s model, got \"%s\"",
+                     w->source, i, want->name, w->model, got->name);
+    if (got->offset != want->offset || got->scale != want->scale)
+      return sf_fail(err, SF_ERR_INPUT,
+                     "%s: inputs[%d]: a %s model's %s is normalised with offset %.15g and scale %.15g, not "
+                     "offset %.15g and scale %.15g",
+                     w->source, i, w->model, want->name, want->offset, want->scale, got->offset, got->scale);
+  }
+  return SF_OK;
+}

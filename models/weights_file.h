@@ -54,6 +54,13 @@ typedef struct sf_weights {
   cJSON *root;     /* the whole document; params/metrics/training read from it */
 } sf_weights;
 
+/* For a model whose inputs are not learnt (sigmoid, Perez, Hosek): the
+ * file's "inputs" must be exactly these n (names, offsets and scales, as
+ * its writer writes them), or be absent; SF_ERR_INPUT naming the file and
+ * the key otherwise (a file that declared another normalisation had been
+ * read as if it declared this one). */
+int sf_weights_check_fixed_inputs(const sf_weights *w, const sf_weights_input *expected, int n, sf_error *err);
+
 /* ---- writing ---- */
 
 /* A new document with the header keys filled in (model, quantity, the

@@ -25,7 +25,7 @@ expect() {  # expect CODE DESCRIPTION PATTERN -- command...
 expect 0 "sigmoid fit" "wrote" -- "$bin" fit sigmoid --grid 12x24 --out "$tmp/s.json"
 expect 0 "sigmoid --check" "valid sigmoid" -- "$bin" fit sigmoid --check "$tmp/s.json"
 python3 - "$tmp" <<'PY'
-import json, sys, copy
+import json, math, sys, copy
 d = sys.argv[1]
 w = json.load(open(d + "/s.json"))
 def dump(name, doc, text=None):
@@ -36,12 +36,16 @@ bad = copy.deepcopy(w); bad["atmosphere_hash"] = "0123456789abcdef"; dump("hash.
 bad = copy.deepcopy(w); bad["atmosphere"]["constituents"][0]["scattering"][0] *= 2; dump("atm.json", bad)
 # a hosek weights file: same header, hosek params
 h = copy.deepcopy(w); h["model"] = "hosek"; h["quantity"] = "sky_radiance"
+h["inputs"] = [{"name": "sun_elevation_rad", "offset": 0, "scale": 2 / math.pi}]
 h["params"] = {"coefficients": [[[-1, -0.1, 1, 0.5, -2, 0.3, 0.2, 0.6, 1] for j in range(6)] for k in range(3)],
                "radiance": [[1] * 6 for k in range(3)], "sun_elevation_rad": [0, 1.5]}
 dump("h.json", h)
 bad = copy.deepcopy(h); bad["params"]["coefficients"][1] = bad["params"]["coefficients"][1][:5]; dump("hshape.json", bad)
 bad = copy.deepcopy(h); del bad["params"]["radiance"]; dump("hmissing.json", bad)
 bad = copy.deepcopy(h); bad["params"]["sun_elevation_rad"] = [0, 2.5]; dump("hrange.json", bad)
+# inputs that are not the model's own normalisation (they had been ignored)
+bad = copy.deepcopy(h); bad["inputs"] = w["inputs"]; dump("hinputs.json", bad)
+bad = copy.deepcopy(w); bad["inputs"][0]["scale"] = 2; dump("sinputs.json", bad)
 PY
 expect 2 "sigmoid wrong shape" "params.a" -- "$bin" fit sigmoid --check "$tmp/shape.json"
 expect 2 "sigmoid non-finite" "nan.json" -- "$bin" fit sigmoid --check "$tmp/nan.json"
@@ -49,6 +53,8 @@ expect 2 "sigmoid hash mismatch" "hash" -- "$bin" fit sigmoid --check "$tmp/hash
 expect 2 "sigmoid atmosphere edited" "hash" -- "$bin" fit sigmoid --check "$tmp/atm.json"
 expect 2 "sigmoid file as hosek" "model" -- "$bin" fit hosek --check "$tmp/s.json"
 expect 0 "hosek --check" "valid hosek" -- "$bin" fit hosek --check "$tmp/h.json"
+expect 2 "hosek with another model's inputs" "inputs" -- "$bin" fit hosek --check "$tmp/hinputs.json"
+expect 2 "sigmoid inputs rescaled" "inputs\[0\]" -- "$bin" fit sigmoid --check "$tmp/sinputs.json"
 expect 2 "hosek wrong shape" "params.coefficients" -- "$bin" fit hosek --check "$tmp/hshape.json"
 expect 2 "hosek missing radiance" "params.radiance" -- "$bin" fit hosek --check "$tmp/hmissing.json"
 expect 2 "hosek elevation range" "sun_elevation_rad" -- "$bin" fit hosek --check "$tmp/hrange.json"

@@ -245,6 +245,23 @@ print(f"spectral4: {s4['wavelengths_nm']} nm; mean dE2000 {fit['mean_delta_e2000
 assert fit["mean_delta_e2000"] < rgb["mean_delta_e2000"], s4
 PY
 grep -q "Colour: 4 wavelengths" "$tmp/s4/report.md" || { echo "FAIL no spectral4 section in the report"; fail=1; }
+# Its weights file is checked as an atmosphere is (SPEC §4): impossible
+# physics exits 2 naming the key, nothing emitted (codegen had emitted them).
+for edit in "ground_albedo 0 7" "scattering 0 -1" "wavelengths_nm 0 -5" "sun_irradiance 2 -1"; do
+  read -r key index value <<<"$edit"
+  python3 - "$tmp/s4/weights/spectral4.json" "$tmp/s4-bad.json" "$key" "$index" "$value" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1]))
+p = w["params"][sys.argv[3]]
+(p[0] if isinstance(p[0], list) else p)[int(sys.argv[4])] = float(sys.argv[5])
+json.dump(w, open(sys.argv[2], "w"))
+PY
+  rm -rf "$tmp/s4-cg"
+  "$bin" codegen --weights "$tmp/s4-bad.json" --lang both --out "$tmp/s4-cg" 2> "$tmp/err"
+  rc=$?
+  [ $rc -eq 2 ] && grep -q "params.$key" "$tmp/err" && [ -z "$(ls -A "$tmp/s4-cg" 2>/dev/null)" ] ||
+    { echo "FAIL spectral4 weights with $key = $value: exit $rc: $(cat "$tmp/err")"; fail=1; }
+done
 # The headers ship the 4-wavelength model beside the selected sky model.
 for f in "$tmp/s4/sky.h" "$tmp/s4/sky.glsl"; do
   grep -q "skyfit_spectral4_to_linear_srgb" "$f" || { echo "FAIL $f lacks the spectral4 functions"; fail=1; }

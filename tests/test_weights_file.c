@@ -158,6 +158,25 @@ int main(void) {
   expect_refused("[1, 2]", "object");
   expect_refused("{\"skyfit_weights\": 1}", "model");
 
+  /* A model whose inputs are not learnt (sigmoid, Perez, Hosek) refuses a
+   * file declaring another normalisation than its own; absent inputs, or
+   * its own, pass. The sample declares h_km scaled 1/15. */
+  {
+    static const sf_weights_input sigmoid_inputs[2] = {{"h_km", 0.0, 1.0}, {"mu", 0.0, 1.0}};
+    static const sf_weights_input scaled_inputs[2] = {{"h_km", 0.0, 1.0 / 15.0}, {"mu", 0.0, 1.0}};
+    sf_weights fixed;
+    sf_error load_err = {0}, fixed_err = {0}, own_err = {0}, names_err = {0};
+    CHECK(sf_weights_load_string(text, "fixed.json", NULL, &fixed, &load_err) == SF_OK);
+    int rc = sf_weights_check_fixed_inputs(&fixed, sigmoid_inputs, 2, &fixed_err);
+    printf("fixed inputs: %s\n", fixed_err.message);
+    CHECK(rc == SF_ERR_INPUT && strstr(fixed_err.message, "fixed.json") && strstr(fixed_err.message, "inputs[0]"));
+    CHECK(sf_weights_check_fixed_inputs(&fixed, scaled_inputs, 2, &own_err) == SF_OK);
+    CHECK(sf_weights_check_fixed_inputs(&fixed, scaled_inputs, 1, &names_err) == SF_ERR_INPUT);
+    fixed.n_inputs = 0;
+    CHECK(sf_weights_check_fixed_inputs(&fixed, sigmoid_inputs, 2, &own_err) == SF_OK);
+    sf_weights_free(&fixed);
+  }
+
   /* Writing refuses a NaN parameter (cJSON would print it as null). */
   double nan_value = NAN;
   CHECK(sf_weights_add_param(doc2, "bad", 0, NULL, &nan_value) != SF_OK);
