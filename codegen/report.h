@@ -127,7 +127,7 @@ typedef struct sf_report {
   int n_models;
   sf_report_model *models;
   int reference[SF_CANDIDATE_N_QUANTITIES];   /* index of each quantity's reference, -1 */
-  double naive16_ns_f32, naive16_ns_f64;      /* the cost unit, this run */
+  double naive16_ns_f32, naive16_ns_f64;      /* the cost unit, timed in the same run as the others */
   sf_report_selection selection[SF_CANDIDATE_N_QUANTITIES];
   int views_rendered;
   char views_note[1024];

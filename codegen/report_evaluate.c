@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -141,8 +143,10 @@ static int cost_cache_path(const sf_report *rep, const sf_candidate *c, int prec
   return sf_cache_path(o->cost_cache_dir, "costs", c->name, &k, path, n, err);
 }
 
-static int cost_cache_read(const char *path, sf_cost *out) {
-  if (!sf_cache_exists(path)) return 0;
+/* A cached timing and the run that measured it ("" when unusable). */
+static int cost_cache_read(const char *path, sf_cost *out, char *run, size_t run_size) {
+  run[0] = '\0';
+  if (!path[0] || !sf_cache_exists(path)) return 0;
   FILE *f = fopen(path, "rb");
   if (!f) return 0;
   char text[1024];
@@ -158,6 +162,9 @@ static int cost_cache_read(const char *path, sf_cost *out) {
     ok = cJSON_IsNumber(item) && isfinite(item->valuedouble) && item->valuedouble >= 0.0;
     if (ok) v[i] = item->valuedouble;
   }
+  const cJSON *id = doc ? cJSON_GetObjectItemCaseSensitive(doc, "run") : NULL;
+  ok = ok && cJSON_IsString(id) && id->valuestring[0] && strlen(id->valuestring) < run_size;
+  if (ok) snprintf(run, run_size, "%s", id->valuestring);
   cJSON_Delete(doc);
   if (!ok || !(v[0] > 0.0) || (v[5] != 32.0 && v[5] != 64.0)) return 0;   /* unusable: time again */
   out->ns_median = v[0];
@@ -166,30 +173,29 @@ static int cost_cache_read(const char *path, sf_cost *out) {
   out->repetitions = (int)v[3];
   out->n_points = (size_t)v[4];
   out->precision_bits = (int)v[5];
-  sf_cache_entry_used(path);
   return 1;
 }
 
-static int cost_cache_write(const char *path, const sf_cost *c, sf_error *err) {
+static int cost_cache_write(const char *path, const sf_cost *c, const char *run, sf_error *err) {
   if (!path[0]) return SF_OK;
   sf_atomic_file f;
   if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
   fprintf(f.stream,
           "{\"ns_median\": %.17g, \"ns_min\": %.17g, \"ns_max\": %.17g, \"repetitions\": %d, "
-          "\"n_points\": %zu, \"precision_bits\": %d}\n",
-          c->ns_median, c->ns_min, c->ns_max, c->repetitions, c->n_points, c->precision_bits);
+          "\"n_points\": %zu, \"precision_bits\": %d, \"run\": \"%s\"}\n",
+          c->ns_median, c->ns_min, c->ns_max, c->repetitions, c->n_points, c->precision_bits, run);
   return sf_atomic_commit(&f, err);
 }
 
-/* Times c (or takes its cached timing). */
-static int cost_of(const sf_report *rep, const sf_candidate *c, const sf_domain_samples *s,
-                   const sf_report_options *o, sf_cost *out, sf_error *err) {
+/* What is timed: the naive raymarch in double (the unit of a candidate
+ * timed in double), then every candidate but the references. */
+typedef struct timed {
+  const sf_candidate *candidate;
+  sf_candidate as_double;   /* the naive raymarch's double twin */
+  sf_cost *cost;
+  sf_cost naive_f64;
   char path[4400];
-  if (cost_cache_path(rep, c, c->eval_f32 ? 32 : 64, o, path, sizeof path, err) != SF_OK) return err->status;
-  if (cost_cache_read(path, out)) return SF_OK;
-  if (sf_candidate_measure_cost(c, s, o->timing_repetitions, out, err) != SF_OK) return err->status;
-  return cost_cache_write(path, out, err);
-}
+} timed;
 
 static int measure_costs(sf_report *rep, const sf_report_options *o, sf_error *err) {
   sf_domain_samples s[SF_CANDIDATE_N_QUANTITIES];
@@ -202,26 +208,61 @@ static int measure_costs(sf_report *rep, const sf_report_options *o, sf_error *e
     if (rep->models[i].candidate->quantity == SF_CANDIDATE_TRANSMITTANCE &&
         strcmp(rep->models[i].candidate->name, "naive16") == 0)
       naive = i;
+  timed *jobs = calloc((size_t)rep->n_models + 1, sizeof *jobs);
+  if (!jobs) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  int n = 0;
+  sf_cost naive_f64 = {0};
   if (status == SF_OK && naive >= 0) {
-    /* The unit at both precisions, so a candidate timed in double is
-     * compared with the naive raymarch timed in double. */
-    sf_candidate as_double = *rep->models[naive].candidate;
-    as_double.eval_f32 = NULL;
-    sf_cost c64;
-    status = cost_of(rep, &as_double, &s[SF_CANDIDATE_TRANSMITTANCE], o, &c64, err);
-    rep->naive16_ns_f64 = c64.ns_median;
+    jobs[n].as_double = *rep->models[naive].candidate;
+    jobs[n].as_double.eval_f32 = NULL;
+    jobs[n].candidate = &jobs[n].as_double;
+    jobs[n].cost = &naive_f64;
+    ++n;
   }
   for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
     sf_report_model *m = &rep->models[i];
     if (m->candidate->role == SF_ROLE_REFERENCE) continue;
-    progress(o, "timing (1 thread)", (double)i / rep->n_models);
-    status = cost_of(rep, m->candidate, &s[m->candidate->quantity], o, &m->cost, err);
-    m->has_cost = status == SF_OK;
-    if (i == naive) rep->naive16_ns_f32 = m->cost.ns_median;
+    jobs[n].candidate = m->candidate;
+    jobs[n].cost = &m->cost;
+    ++n;
+  }
+  /* SPEC §12's ratios are of timings taken in one run: the cache serves
+   * them only if it holds every one, all from the same run; otherwise all
+   * are timed now (a cached naive raymarch beside a freshly timed network
+   * had mixed two runs). */
+  char first_run[64] = "", run[64];
+  int all_cached = status == SF_OK && o->cost_cache_dir != NULL;
+  for (int j = 0; j < n && status == SF_OK; ++j) {
+    const sf_candidate *c = jobs[j].candidate;
+    status = cost_cache_path(rep, c, c->eval_f32 ? 32 : 64, o, jobs[j].path, sizeof jobs[j].path, err);
+    if (status != SF_OK || !all_cached) continue;
+    if (!cost_cache_read(jobs[j].path, jobs[j].cost, run, sizeof run) || (j > 0 && strcmp(run, first_run) != 0))
+      all_cached = 0;
+    else if (j == 0)
+      snprintf(first_run, sizeof first_run, "%s", run);
+  }
+  if (status == SF_OK && all_cached && n > 0) {
+    for (int j = 0; j < n; ++j) sf_cache_entry_used(jobs[j].path);
+  } else if (status == SF_OK) {
+    struct timespec now;
+    clock_gettime(CLOCK_REALTIME, &now);
+    snprintf(run, sizeof run, "%lld.%09ld.%ld", (long long)now.tv_sec, now.tv_nsec, (long)getpid());
+    for (int j = 0; j < n && status == SF_OK; ++j) {
+      progress(o, "timing (1 thread)", (double)j / n);
+      const sf_candidate *c = jobs[j].candidate;
+      status = sf_candidate_measure_cost(c, &s[c->quantity], o->timing_repetitions, jobs[j].cost, err);
+      if (status == SF_OK) status = cost_cache_write(jobs[j].path, jobs[j].cost, run, err);
+    }
+  }
+  free(jobs);
+  if (status == SF_OK && naive >= 0) {
+    rep->naive16_ns_f64 = naive_f64.ns_median;
+    rep->naive16_ns_f32 = rep->models[naive].cost.ns_median;
   }
   for (int i = 0; i < rep->n_models && status == SF_OK; ++i) {
     sf_report_model *m = &rep->models[i];
-    if (!m->has_cost) continue;
+    if (m->candidate->role == SF_ROLE_REFERENCE) continue;
+    m->has_cost = 1;
     double unit = m->cost.precision_bits == 32 ? rep->naive16_ns_f32 : rep->naive16_ns_f64;
     m->cost_ratio_naive16 = unit > 0.0 ? m->cost.ns_median / unit : 0.0;
   }

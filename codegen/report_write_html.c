@@ -243,7 +243,8 @@ static void write_page(FILE *f, const sf_report *rep) {
   fprintf(f, "</b> (hash %s), %d channels. Domain: h %.4g&ndash;%.4g km, &mu; %.4g&ndash;%.4g, &mu;<sub>s</sub> "
              "%.4g&ndash;%.4g. Errors on %zu seeded in-domain samples (seed %llu); cost: median of %d runs over "
              "%zu in-domain inputs on one thread; the naive 16-step raymarch took %.3g ns (float32) / %.3g ns "
-             "(double) per evaluation in this run.</p>\n",
+             "(double) per evaluation, timed in the same run as every model here (this one, or the earlier one whose "
+             "timings the cache holds, all of them).</p>\n",
           rep->atmosphere_hash, rep->n_channels, rep->domain.h_min_km, rep->domain.h_max_km, rep->domain.mu_min,
           rep->domain.mu_max, rep->domain.mu_s_min, rep->domain.mu_s_max, rep->options.domain_samples,
           rep->options.seed, rep->options.timing_repetitions, rep->options.timing_points, rep->naive16_ns_f32,

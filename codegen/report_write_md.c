@@ -17,7 +17,8 @@ static void write_md(FILE *f, const sf_report *rep) {
   fprintf(f, "# skyfit fit-quality report: %s\n\n", rep->scene_name);
   fprintf(f, "Atmosphere **%s** (hash %s), %d channels. Domain: h %.4g..%.4g km, mu %.4g..%.4g, mu_s %.4g..%.4g. "
              "Errors on %zu seeded in-domain samples; cost: median of %d runs over %zu inputs, one thread. "
-             "Naive 16-step raymarch: %.3g ns (float32), %.3g ns (double) per evaluation in this run.\n\n",
+             "Naive 16-step raymarch: %.3g ns (float32), %.3g ns (double) per evaluation, timed in the same run as "
+             "every model here (this one, or the earlier one whose timings the cache holds, all of them).\n\n",
           rep->atmosphere_name, rep->atmosphere_hash, rep->n_channels, rep->domain.h_min_km, rep->domain.h_max_km,
           rep->domain.mu_min, rep->domain.mu_max, rep->domain.mu_s_min, rep->domain.mu_s_max,
           rep->options.domain_samples, rep->options.timing_repetitions, rep->options.timing_points,

@@ -105,6 +105,19 @@ grep -q "tables 5/5 from the cache" "$tmp/stdout2" || { echo "FAIL rerun did not
 cmp -s "$tmp/metrics-first.json" "$tmp/out/metrics.json" || { echo "FAIL metrics.json differs on a rerun"; diff "$tmp/metrics-first.json" "$tmp/out/metrics.json" | head -5; fail=1; }
 cmp -s "$tmp/report-first.md" "$tmp/out/report.md" || { echo "FAIL report.md differs on a rerun"; fail=1; }
 
+# The ratios to the naive raymarch are of timings from one run (SPEC §12):
+# with one model's timing gone from the cache, every model is timed again
+# (a cached naive raymarch had stood beside a freshly timed model).
+gone=$(ls "$tmp/out/cache/costs/"mlp-transmittance-*.json | head -1)
+rm -f "$gone"
+"$bin" build "${small[@]}" --out "$tmp/out" > "$tmp/stdout3" 2>&1 || { echo "FAIL rerun without one timing"; fail=1; }
+python3 - "$tmp/out/cache/costs" <<'PY' || fail=1
+import glob, json, sys
+runs = {json.load(open(f)).get("run") for f in glob.glob(sys.argv[1] + "/*.json")}
+print(f"timings after one was removed: {len(glob.glob(sys.argv[1] + '/*.json'))} entries from {len(runs)} run(s)")
+assert len(runs) == 1 and None not in runs, f"FAIL the timings come from several runs: {runs}"
+PY
+
 # Headless Chromium: a screenshot that is not blank, and no script errors.
 if command -v chromium >/dev/null; then
   timeout 120 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir="$tmp/chrome" \
