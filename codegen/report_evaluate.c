@@ -302,13 +302,15 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
     if (rep->reference[q] >= 0) status = measure_errors(rep, list, (sf_candidate_quantity)q, opt, err);
   if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
   if (status == SF_OK && opt->render_views) {
-    if (rep->n_channels == 3) {
+    /* The pictures are linear sRGB: an atmosphere of wavelengths (even 3
+     * of them, whose first, 440 nm, would be drawn red) has none. */
+    if (!scene->atmosphere.spectral && rep->n_channels == 3) {
       status = sf_report_render_views(rep, scene, opt, err);
       rep->views_rendered = status == SF_OK;
     } else {
       snprintf(rep->views_note, sizeof rep->views_note,
-               "the standard views are rendered for RGB atmospheres only; this one has %d channels",
-               rep->n_channels);
+               "The standard views are rendered for RGB atmospheres only; this one has %d %s.", rep->n_channels,
+               scene->atmosphere.spectral ? "wavelengths" : "channels");
     }
   }
   return status;

@@ -301,8 +301,9 @@ static void write_page(FILE *f, const sf_report *rep) {
   }
   fputs("<p class=\"note\">RMSE: seed 000 eq. 61 over every sample and channel; relative RMSE: RMSE / RMS of the "
         "reference; mean rel: mean |model &minus; reference| / max(|reference|, 1e-3 RMS). View RMSE on the exposed "
-        "linear values, ΔE2000 on the displayed colours (exposure, 1 &minus; exp(&minus;x), CIELAB). Timings are "
-        "wall-clock on a shared machine: compare the ratios. Error maps: views/*-error.exr.</p>\n</body></html>\n", f);
+        "linear values, ΔE2000 on the displayed colours (sky: exposure, 1 &minus; exp(&minus;x); transmittance: as "
+        "shown; CIELAB). Timings are wall-clock on a shared machine: compare the ratios.", f);
+  fputs(rep->views_rendered ? " Error maps: views/*-error.exr.</p>\n</body></html>\n" : "</p>\n</body></html>\n", f);
 }
 
 int sf_report_write_html(const sf_report *rep, const char *path, sf_error *err) {

@@ -136,7 +136,8 @@ static void write_md(FILE *f, const sf_report *rep) {
     fprintf(f, "\nLoss (eq. 5.13): spectral4 %.3g, plain RGB 680/550/440 nm %.3g, 4 uniform wavelengths %.3g.\n",
             sp->loss, sp->rgb_loss, sp->uniform_loss);
   }
-  fputs("\nPictures, the speed-against-error plot and the Pareto front: report.html. Error maps: views/*-error.exr.\n", f);
+  fprintf(f, "\nPictures, the speed-against-error plot and the Pareto front: report.html.%s\n",
+          rep->views_rendered ? " Error maps: views/*-error.exr." : "");
 }
 
 int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *err) {

@@ -280,6 +280,26 @@ for f in "$tmp/s4/sky.h" "$tmp/s4/sky.glsl"; do
   grep -q "skyfit_spectral4_to_linear_srgb" "$f" || { echo "FAIL $f lacks the spectral4 functions"; fail=1; }
 done
 
+# An atmosphere of wavelengths has no pictures (they are linear sRGB): 3 of
+# them had been drawn as if 440 nm were red.
+cat > "$tmp/spec3_atm.json" <<'EOF'
+{"base": "default", "name": "spec3", "channels": {"wavelengths_nm": [440, 550, 680]},
+ "ground_albedo": [0, 0, 0], "sun_irradiance": [1, 1, 1],
+ "constituents": [
+  {"name": "rayleigh", "scattering": [0.0331, 0.01356, 0.0058], "absorption": [0, 0, 0]},
+  {"name": "mie", "scattering": [0.003996, 0.003996, 0.003996], "absorption": [0.000444, 0.000444, 0.000444]},
+  {"name": "ozone", "scattering": [0, 0, 0], "absorption": [0.000085, 0.001881, 0.00065]}]}
+EOF
+printf '{"name": "spec3", "atmosphere": "spec3_atm.json", "quantities": ["transmittance"]}' > "$tmp/spec3.json"
+"$bin" report "$tmp/spec3.json" --resolution 32x16,8x16x8x4 --views 48x27 --samples 2000 --timing-points 2000 \
+  --repetitions 1 --mlp-epochs 10,1 --quick --quiet --out "$tmp/spec3" > "$tmp/spec3.out" 2>&1
+rc=$?
+n_views=$(ls "$tmp/spec3/views" 2>/dev/null | wc -l)
+echo "3-wavelength atmosphere: exit $rc, $n_views view files; $(grep -o 'The standard views[^.]*' "$tmp/spec3/report.md")"
+[ $rc -eq 0 ] && [ "$n_views" -eq 0 ] && grep -q "3 wavelengths" "$tmp/spec3/report.md" &&
+  ! grep -q "Error maps" "$tmp/spec3/report.md" ||
+  { echo "FAIL a 3-wavelength atmosphere's views"; cat "$tmp/spec3.out"; fail=1; }
+
 # Bad input: exit 2 with a message, nothing written.
 printf '{"atmosphere": "no-such-file.json"}' > "$tmp/missing.json"
 printf '{"quantities": ["sky_radiance", "colour"]}' > "$tmp/quantity.json"
