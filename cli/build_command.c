@@ -241,7 +241,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
            res.weights_removed);
   if (res.weights_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.weights_problem);
   if (res.views_removed > 0)
-    printf("%s: views: removed %d picture(s) an earlier run left that this report does not show\n", command,
+    printf("%s: views: removed %d picture(s) or plot(s) an earlier run left that this report does not show\n", command,
            res.views_removed);
   if (res.views_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.views_problem);
   if (res.header_c[0]) printf("%s: headers: %s %s\n", command, res.header_c, res.header_glsl);

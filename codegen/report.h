@@ -31,6 +31,7 @@
 #define SKYFIT_CODEGEN_REPORT_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "data/precompute_options.h"
 #include "fit/candidate.h"
@@ -70,6 +71,7 @@ typedef struct sf_report_model {
   sf_report_view views[SF_REPORT_MAX_VIEWS];
   double budget_metric;            /* RMSE or relative RMSE, per quantity */
   int meets_budget, selectable, selected;
+  int on_front;                    /* on the Pareto front of cost and error among the models that can ship */
 } sf_report_model;
 
 typedef struct sf_report_selection {
@@ -143,7 +145,8 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
                        const sf_report_options *opt, const char *out_dir, sf_error *err);
 void sf_report_free(sf_report *rep);
 
-/* Fills rep->selection (and each model's meets_budget / selected). */
+/* Fills rep->selection (and each model's meets_budget / selectable /
+ * selected / on_front: the front is of the models that can ship). */
 void sf_report_select(sf_report *rep, const sf_scene *scene);
 
 /* out_dir/metrics.json, report.md, report.html (atomically). */
@@ -151,6 +154,16 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err);
 int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *err);
 int sf_report_write_html(const sf_report *rep, const char *path, sf_error *err);
 int sf_report_write_all(const sf_report *rep, sf_error *err);
+/* The speed-against-error plot of quantity q as one <svg> element
+ * (codegen/report_plot.c); 0 and nothing written when no model has both a
+ * cost and an error. */
+int sf_report_write_plot(FILE *f, const sf_report *rep, int q);
+/* Whether quantity q's plot has a point (the report measured it, and a
+ * model has both a cost and an error). */
+int sf_report_plot_has_points(const sf_report *rep, int q);
+/* The same as a standalone SVG file at path (*written 0: none to draw,
+ * nothing written). */
+int sf_report_write_plot_file(const sf_report *rep, int q, const char *path, int *written, sf_error *err);
 
 /* seed 000 App. B (sky-radiance views) and App. D (transmittance views),
  * typed from the paper. Rows follow sf_standard_radiance_views /

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void append(char *buf, size_t n, const char *fmt, ...) {
@@ -28,6 +29,40 @@ static const char *why_not_selectable(const sf_report_model *m) {
   if (m->non_finite) return "it gave non-finite values";
   if (!m->has_cost) return "its cost was not measured";
   return NULL;
+}
+
+/* The Pareto front of cost and error among the models of quantity q that
+ * can ship (a table lookup or a model valid on part of the domain only
+ * had pushed the selection off it). */
+static void mark_front(sf_report *rep, int q) {
+  int n = 0;
+  for (int i = 0; i < rep->n_models; ++i) {
+    sf_report_model *m = &rep->models[i];
+    if ((int)m->candidate->quantity != q) continue;
+    m->on_front = 0;
+    if (m->selectable && isfinite(m->budget_metric) && isfinite(m->cost_ratio_naive16)) ++n;
+  }
+  if (n == 0) return;
+  double *cost = malloc(sizeof *cost * (size_t)n), *error = malloc(sizeof *error * (size_t)n);
+  int *idx = malloc(sizeof *idx * (size_t)n), *front = malloc(sizeof *front * (size_t)n);
+  if (cost && error && idx && front) {
+    int k = 0;
+    for (int i = 0; i < rep->n_models; ++i) {
+      const sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity != q || !m->selectable || !isfinite(m->budget_metric) ||
+          !isfinite(m->cost_ratio_naive16))
+        continue;
+      cost[k] = m->cost_ratio_naive16;
+      error[k] = m->budget_metric;
+      idx[k++] = i;
+    }
+    sf_pareto_front(n, cost, error, front);
+    for (int k2 = 0; k2 < n; ++k2) rep->models[idx[k2]].on_front = front[k2];
+  }
+  free(cost);
+  free(error);
+  free(idx);
+  free(front);
 }
 
 void sf_report_select(sf_report *rep, const sf_scene *scene) {
@@ -105,5 +140,6 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
       sel->meets_budget = rep->models[sel->model].meets_budget;
       rep->models[sel->model].selected = 1;
     }
+    mark_front(rep, q);
   }
 }

@@ -253,14 +253,13 @@ static int named_by(const sf_report *rep, const char *file) {
   return 0;
 }
 
-int sf_report_remove_stale_views(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err) {
+int sf_report_remove_stale_pictures(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err) {
   *n_removed = 0;
   char dir[SF_REPORT_PATH_LEN + 16];
   snprintf(dir, sizeof dir, "%s/views", out_dir);
   DIR *d = opendir(dir);
-  if (!d) return SF_OK;
   int status = SF_OK;
-  for (struct dirent *e; (e = readdir(d)) != NULL;) {
+  for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
     const char *name = e->d_name;
     int ours = (strncmp(name, "transmittance-", 14) == 0 || strncmp(name, "sky_radiance-", 13) == 0) &&
                (ends_with(name, ".png") || ends_with(name, ".exr"));
@@ -270,6 +269,15 @@ int sf_report_remove_stale_views(const sf_report *rep, const char *out_dir, int 
     if (unlink(path) == 0) ++*n_removed;
     else if (status == SF_OK) status = sf_fail(err, SF_ERR_INTERNAL, "%s: cannot remove: %s", path, strerror(errno));
   }
-  closedir(d);
+  if (d) closedir(d);
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    if (sf_report_plot_has_points(rep, q)) continue;
+    char path[SF_REPORT_PATH_LEN + 64];
+    snprintf(path, sizeof path, "%s/plots/%s-cost-error.svg", out_dir,
+             sf_candidate_quantity_name((sf_candidate_quantity)q));
+    if (unlink(path) == 0) ++*n_removed;
+    else if (errno != ENOENT && status == SF_OK)
+      status = sf_fail(err, SF_ERR_INTERNAL, "%s: cannot remove: %s", path, strerror(errno));
+  }
   return status;
 }

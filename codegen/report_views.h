@@ -25,10 +25,12 @@ int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_repor
 
 /* Removes from out_dir/views the pictures and error maps an earlier run
  * left that rep does not name (another scene's views, a model this run did
- * not have), so the folder shows this report alone. Only names a report
- * writes are touched: "transmittance-" or "sky_radiance-" followed by
- * anything ending in ".png" or ".exr". *n_removed counts them; on a
- * failure the rest are still tried and err names the first. */
-int sf_report_remove_stale_views(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err);
+ * not have), and from out_dir/plots the plot of a quantity rep does not
+ * plot, so the folders show this report alone. Only names a report writes
+ * are touched: "transmittance-" or "sky_radiance-" followed by anything
+ * ending in ".png" or ".exr", and "<quantity>-cost-error.svg". *n_removed
+ * counts them; on a failure the rest are still tried and err names the
+ * first. */
+int sf_report_remove_stale_pictures(const sf_report *rep, const char *out_dir, int *n_removed, sf_error *err);
 
 #endif

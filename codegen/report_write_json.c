@@ -77,6 +77,8 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
     add_number(o, "budget_metric", m->budget_metric);
     cJSON_AddBoolToObject(o, "meets_budget", m->meets_budget);
     cJSON_AddBoolToObject(o, "selected", m->selected);
+    cJSON_AddBoolToObject(o, "can_ship", m->selectable);
+    cJSON_AddBoolToObject(o, "on_pareto_front", m->on_front);
   }
   return o;
 }

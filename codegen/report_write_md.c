@@ -7,6 +7,7 @@
 #include "codegen/report.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
+#include "util/make_folders.h"
 
 static void num(FILE *f, double v) {
   if (isfinite(v)) fprintf(f, "%.3g", v);
@@ -64,6 +65,18 @@ static void write_md(FILE *f, const sf_report *rep) {
         fputs("reference | | | | |\n", f);
       }
     }
+    int on_front = 0;
+    for (int i = 0; i < rep->n_models; ++i) {
+      const sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity != q || !m->on_front) continue;
+      if (on_front++ == 0)
+        fprintf(f, "\nPareto front of cost and error among the models that can ship (`plots/%s-cost-error.svg`): ",
+                sf_candidate_quantity_name((sf_candidate_quantity)q));
+      else
+        fputs(", ", f);
+      fputs(m->candidate->name, f);
+    }
+    if (on_front) fputs(".\n", f);
     for (int i = 0; i < rep->n_models; ++i) {
       const sf_report_model *m = &rep->models[i];
       if ((int)m->candidate->quantity != q || !m->errors_over_valid_part) continue;
@@ -136,7 +149,7 @@ static void write_md(FILE *f, const sf_report *rep) {
     fprintf(f, "\nLoss (eq. 5.13): spectral4 %.3g, plain RGB 680/550/440 nm %.3g, 4 uniform wavelengths %.3g.\n",
             sp->loss, sp->rgb_loss, sp->uniform_loss);
   }
-  fprintf(f, "\nPictures, the speed-against-error plot and the Pareto front: report.html.%s\n",
+  fprintf(f, "\nPictures, the speed-against-error plots and the Pareto fronts: report.html and plots/.%s\n",
           rep->views_rendered ? " Error maps: views/*-error.exr." : "");
 }
 
@@ -148,7 +161,16 @@ int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *e
 }
 
 int sf_report_write_all(const sf_report *rep, sf_error *err) {
-  char path[SF_REPORT_PATH_LEN + 32];
+  char path[SF_REPORT_PATH_LEN + 64];
+  snprintf(path, sizeof path, "%s/plots", rep->out_dir);
+  if (sf_make_folders(path, "report folder", err) != SF_OK) return err->status;
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
+    if (rep->reference[q] < 0) continue;
+    int written;
+    snprintf(path, sizeof path, "%s/plots/%s-cost-error.svg", rep->out_dir,
+             sf_candidate_quantity_name((sf_candidate_quantity)q));
+    if (sf_report_write_plot_file(rep, q, path, &written, err) != SF_OK) return err->status;
+  }
   snprintf(path, sizeof path, "%s/metrics.json", rep->out_dir);
   if (sf_report_write_json(rep, path, err) != SF_OK) return err->status;
   snprintf(path, sizeof path, "%s/report.md", rep->out_dir);

@@ -393,7 +393,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     prune_cache(cache, o, run_start, res);
     remove_stale_weights(work, &list, &rep.spectral4, res);
     sf_error problem = {0};
-    if (sf_report_remove_stale_views(&rep, o->out_dir, &res->views_removed, &problem) != SF_OK)
+    if (sf_report_remove_stale_pictures(&rep, o->out_dir, &res->views_removed, &problem) != SF_OK)
       snprintf(res->views_problem, sizeof res->views_problem, "%s", problem.message);
   }
   sf_report_free(&rep);

@@ -61,8 +61,8 @@ static void remove_stale(const char *out_dir) {
 
 int sf_build_staging_check_out(const char *out_dir, sf_error *err) {
   static const char *const files[] = {"report.html", "report.md", "metrics.json"};
-  static const char *const folders[] = {"views", "weights"};
-  for (int i = 0; i < 5; ++i) {
+  static const char *const folders[] = {"views", "weights", "plots"};
+  for (int i = 0; i < 6; ++i) {
     int folder = i >= 3;
     const char *name = folder ? folders[i - 3] : files[i];
     char path[4096];

@@ -1,5 +1,5 @@
-/* A build's outputs inside OUT (weights/, views/, report.html, report.md,
- * metrics.json) are written under a staging folder, OUT/.staging.PID, and
+/* A build's outputs inside OUT (weights/, views/, plots/, report.html,
+ * report.md, metrics.json) are written under a staging folder, OUT/.staging.PID, and
  * moved into place together once the run has succeeded: a failed or
  * interrupted run never touches the previous outputs (SPEC §11). The
  * moves are renames within OUT's file system, one per file, in a burst at
@@ -19,8 +19,8 @@ typedef struct sf_build_staging {
 } sf_build_staging;
 
 /* Whether a build's outputs can be published into out_dir (which exists):
- * report.html, report.md and metrics.json not folders, views/ and
- * weights/ not files (SF_ERR_INPUT naming the path). For a check before
+ * report.html, report.md and metrics.json not folders, views/, weights/
+ * and plots/ not files (SF_ERR_INPUT naming the path). For a check before
  * the work; the publish checks every path again. */
 int sf_build_staging_check_out(const char *out_dir, sf_error *err);
 
