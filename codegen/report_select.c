@@ -119,7 +119,7 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
       sel->model = best_error;
       const sf_report_model *m = &rep->models[best_error];
       append(sel->reason, sizeof sel->reason,
-             "NO MODEL MEETS THE BUDGET. Emitting the best available instead: %s, with the smallest error "
+             "NO MODEL MEETS THE BUDGET. Selected the best available instead: %s, with the smallest error "
              "(%s %.3g, %.3gx the budget; %.3gx naive-16 cost). ",
              m->candidate->name, sel->metric, m->budget_metric, m->budget_metric / sel->budget,
              m->cost_ratio_naive16);
@@ -136,6 +136,16 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
                m->candidate->name, why);
     }
     if (others) append(sel->reason, sizeof sel->reason, ".");
+    /* A fitted model whose error exceeds the reference's RMS did worse
+     * than a black sky: its fit failed (Hosek's on --quick's few samples
+     * has reached a relative RMSE of 300), which "misses" understates. */
+    for (int i = 0; i < rep->n_models; ++i) {
+      const sf_report_model *m = &rep->models[i];
+      if ((int)m->candidate->quantity == q && m->candidate->role == SF_ROLE_FITTED && m->has_errors &&
+          m->errors.rel_rmse > 1.0)
+        append(sel->reason, sizeof sel->reason, "%s%s FAILED: its relative RMSE is %.3g, an error larger than the "
+               "reference itself.", others ? " " : "", m->candidate->name, m->errors.rel_rmse);
+    }
     if (sel->model >= 0) {
       sel->meets_budget = rep->models[sel->model].meets_budget;
       rep->models[sel->model].selected = 1;

@@ -55,7 +55,8 @@ static void model_table(FILE *f, const sf_report *rep, int q) {
       fputs("</td><td>", f); num(f, m->errors.max_abs);
       fputs("</td><td>", f); num(f, m->errors.mean_rel);
       fputs("</td><td>", f); num(f, m->errors.rel_rmse);
-      fprintf(f, "</td><td>%s</td>", !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
+      fprintf(f, "</td><td>%s</td>", !rep->selection[q].asked ? "not asked"
+                                      : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                       : m->meets_budget ? "meets" : "misses");
     } else {
       fputs("<td colspan=\"5\">reference</td>", f);

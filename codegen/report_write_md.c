@@ -59,7 +59,8 @@ static void write_md(FILE *f, const sf_report *rep) {
         num(f, m->errors.max_abs); fputs(" | ", f);
         num(f, m->errors.mean_rel); fputs(" | ", f);
         num(f, m->errors.rel_rmse);
-        fprintf(f, " | %s |\n", !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
+        fprintf(f, " | %s |\n", !rep->selection[q].asked ? "not asked"
+                                : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                 : m->meets_budget ? "meets" : "misses");
       } else {
         fputs("reference | | | | |\n", f);
