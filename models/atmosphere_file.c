@@ -63,12 +63,17 @@ static int read_name(const sf_json_ctx *c, const cJSON *v, const char *path, siz
 /* A constituent's name heads columns of CSV (skyfit eval: "ozone",
  * "mie_r") and names it in emitted comments: printable ASCII without the
  * comma and the double quote that CSV would split or quote on. */
+/* A constituent's name heads CSV columns and names its single-scattering
+ * table's file (data/precompute_single.h): letters, digits, '_', '.' and
+ * '-' only ("a,b" had split eval's header; "../x" had been refused only
+ * when its table was named, without the file or the key). */
 static int check_constituent_name(const sf_json_ctx *c, const char *name, const char *path) {
   for (const char *p = name; *p; ++p)
-    if (*p < 0x20 || *p > 0x7e || *p == ',' || *p == '"')
+    if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_' ||
+          *p == '.' || *p == '-'))
       return sf_json_fail(c, path,
-                          "constituent name \"%s\": printable ASCII without ',' or '\"' only (it heads CSV "
-                          "columns)",
+                          "constituent name \"%s\": letters, digits, '_', '.' and '-' only (it heads CSV columns "
+                          "and names its table's file)",
                           name);
   return 0;
 }

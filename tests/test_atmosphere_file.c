@@ -497,10 +497,14 @@ static void test_invalid_files(void) {
                "constituents[2].name", "duplicate");
   expect_error("empty constituent name", ATM("", NC("")), "constituents[0].name", "empty");
   /* a name heads CSV columns (skyfit eval): no comma, quote or control character */
-  expect_error("comma in a constituent name", ATM("", NC("a,b")), "constituents[0].name", "printable ASCII");
-  expect_error("quote in a constituent name", ATM("", NC("a\\\"b")), "constituents[0].name", "printable ASCII");
+  expect_error("comma in a constituent name", ATM("", NC("a,b")), "constituents[0].name", "letters, digits");
+  expect_error("quote in a constituent name", ATM("", NC("a\\\"b")), "constituents[0].name", "letters, digits");
   expect_error("comma in a merged name", "{'base': 'default', 'constituents': [{'name': 'dust,2', 'base': 'mie'}]}",
-               "constituents[0].name", "printable ASCII");
+               "constituents[0].name", "letters, digits");
+  /* it names a table's file: a path had been refused only later, without
+   * the file or the key */
+  expect_error("path in a constituent name", ATM("", NC("../x")), "constituents[0].name", "letters, digits");
+  expect_error("space in a constituent name", ATM("", NC("dust 2")), "constituents[0].name", "letters, digits");
   expect_error("top radius beyond 1e12 km", "{'base': 'default', 'top_radius_km': 1e308}", "top_radius_km", "at most");
   expect_error("ground albedo above 1", "{'base': 'default', 'ground_albedo': [0.1, 1.5, 0.1]}", "ground_albedo",
                "at most 1");
