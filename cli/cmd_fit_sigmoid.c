@@ -11,6 +11,7 @@
 #include "cli/fit_commands.h"
 #include "cli/progress_bar.h"
 #include "fit/fit_sigmoid.h"
+#include "fit/fit_weights_doc.h"
 #include "models/atmosphere_file.h"
 #include "models/scene_file.h"
 #include "models/weights_file.h"
@@ -121,62 +122,7 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
   if (status == SF_OK) status = sf_fit_sigmoid(&scene->atmosphere, &domain, &opt, model, rep, &err);
   sf_progress_bar_finish(&bar);
   const sf_atmosphere *atm = &scene->atmosphere;
-  if (status == SF_OK) {
-    cJSON *doc = sf_weights_new("sigmoid", "transmittance", atm, &domain);
-    int nc = model->n_constituents, nk = model->n_channels;
-    double *a = malloc(sizeof *a * (size_t)(nc * nk * 4));
-    if (!doc || !a) {
-      status = sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
-    } else {
-      for (int c = 0; c < nc; ++c)
-        for (int k = 0; k < nk; ++k)
-          for (int j = 0; j < 4; ++j) a[(c * nk + k) * 4 + j] = model->a[c][k][j];
-      int shape[3] = {nc, nk, 4};
-      sf_weights_add_input(doc, "h_km", 0.0, 1.0);
-      sf_weights_add_input(doc, "mu", 0.0, 1.0);
-      sf_weights_add_param(doc, "a", 3, shape, a);
-      cJSON *mt = sf_weights_metrics(doc);
-      cJSON_AddNumberToObject(mt, "rmse", rep->rmse);
-      cJSON_AddNumberToObject(mt, "max_abs", rep->max_abs);
-      cJSON_AddNumberToObject(mt, "worst_h_km", rep->worst_h_km);
-      cJSON_AddNumberToObject(mt, "worst_mu", rep->worst_mu);
-      cJSON_AddStringToObject(mt, "worst_channel", atm->channel_names[rep->worst_channel]);
-      cJSON_AddNumberToObject(mt, "points", rep->full.n_points / nk);
-      cJSON_AddNumberToObject(mt, "rmse_ground_rays", rep->full_ground.rmse);
-      cJSON_AddNumberToObject(mt, "rmse_sky_rays", rep->full_sky.rmse);
-      cJSON_AddNumberToObject(mt, "top_rmse", rep->top.rmse);
-      cJSON_AddNumberToObject(mt, "top_max_abs", rep->top.max_abs);
-      cJSON_AddNumberToObject(mt, "top_worst_h_km", rep->top.worst_h_km);
-      cJSON_AddNumberToObject(mt, "top_worst_mu", rep->top.worst_mu);
-      cJSON_AddNumberToObject(mt, "top_points", rep->n_points);
-      cJSON *per = cJSON_AddObjectToObject(mt, "per_constituent");
-      for (int c = 0; c < nc; ++c) {
-        cJSON *cj = cJSON_AddObjectToObject(per, atm->constituents[c].name);
-        for (int k = 0; k < nk; ++k) {
-          const sf_sigmoid_fit_entry *e = &rep->entry[c][k];
-          cJSON *kj = cJSON_AddObjectToObject(cj, atm->channel_names[k]);
-          cJSON_AddNumberToObject(kj, "rmse", e->rmse);
-          cJSON_AddNumberToObject(kj, "max_abs", e->max_abs);
-          cJSON_AddNumberToObject(kj, "worst_h_km", e->worst_h_km);
-          cJSON_AddNumberToObject(kj, "worst_mu", e->worst_mu);
-        }
-      }
-      cJSON *tr = sf_weights_training(doc);
-      cJSON_AddStringToObject(tr, "loss", "least squares on T_top (rays to the top, mu >= 0)");
-      cJSON_AddNumberToObject(tr, "fit_h_min_km", rep->fit_h_min_km);
-      cJSON_AddNumberToObject(tr, "fit_h_max_km", rep->fit_h_max_km);
-      cJSON_AddNumberToObject(tr, "fit_mu_min", rep->fit_mu_min);
-      cJSON_AddNumberToObject(tr, "fit_mu_max", rep->fit_mu_max);
-      cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
-      cJSON_AddStringToObject(tr, "start", "weighted logit linear least squares");
-      cJSON_AddStringToObject(tr, "reference", "exact optical depth (models/optical_depth.h)");
-      cJSON_AddNumberToObject(tr, "grid_h", opt.n_h);
-      cJSON_AddNumberToObject(tr, "grid_mu", opt.n_mu);
-      status = sf_weights_write(doc, out, &err);
-    }
-    free(a);
-    cJSON_Delete(doc);
-  }
+  if (status == SF_OK) status = sf_sigmoid_weights_write(atm, &domain, &opt, model, rep, out, &err);
   if (status == SF_OK && !quiet) {
     for (int c = 0; c < model->n_constituents; ++c)
       for (int k = 0; k < model->n_channels; ++k) {

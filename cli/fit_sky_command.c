@@ -15,6 +15,7 @@
 #include "data/table_set.h"
 #include "fit/fit_sky_config.h"
 #include "fit/fit_sky_elevation.h"
+#include "fit/fit_weights_doc.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/atmosphere_file.h"
 #include "models/hosek_dataset.h"
@@ -334,53 +335,12 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
     opt.progress = sf_progress_bar_update;
     opt.progress_ctx = &bar;
     status = sf_fit_sky_elevation(&sky, &opt, published, model, rep, &err);
-  }
-  sf_progress_bar_finish(&bar);
-  if (status == SF_OK) {
-    sf_scene_domain wd = {0.0, 0.0, 0.0, 1.0, sin(model->elevation_min_rad),
-                          sin(model->elevation_max_rad)};
-    cJSON *doc = sf_weights_new(sf_sky_form_model_name(form), "sky_radiance", atm, &wd);
-    if (!doc || sf_elevation_sky_add_params(doc, model)) {
-      status = sf_fail(&err, SF_ERR_INTERNAL, "out of memory");
-    } else {
-      cJSON *mt = sf_weights_metrics(doc);
-      cJSON_AddNumberToObject(mt, "rmse", rep->rmse);
-      cJSON_AddNumberToObject(mt, "rel_rmse", rep->rel_rmse);
-      cJSON_AddNumberToObject(mt, "normalised_rmse", rep->normalised_rmse);
-      cJSON_AddNumberToObject(mt, "max_abs", rep->max_abs);
-      cJSON_AddNumberToObject(mt, "worst_sun_elevation_deg", rep->worst_elevation_rad * 180 / SF_PI);
-      cJSON_AddNumberToObject(mt, "worst_theta_deg", rep->worst_theta * 180 / SF_PI);
-      cJSON_AddNumberToObject(mt, "worst_gamma_deg", rep->worst_gamma * 180 / SF_PI);
-      cJSON_AddNumberToObject(mt, "per_elevation_rmse", rep->per_elevation_rmse);
-      cJSON_AddNumberToObject(mt, "samples", rep->n_samples);
-      cJSON_AddNumberToObject(mt, "metric_samples", (double)rep->n_metric_samples);
-      cJSON_AddNumberToObject(mt, "sun_elevations", rep->n_elevations);
-      if (isfinite(rep->preetham_rmse)) {
-        cJSON_AddNumberToObject(mt, "published_preetham_rmse", rep->preetham_rmse);
-        cJSON_AddNumberToObject(mt, "published_preetham_turbidity", rep->preetham_turbidity);
-      }
-      if (isfinite(rep->hosek_published_rmse)) {
-        cJSON_AddNumberToObject(mt, "published_hosek_rmse", rep->hosek_published_rmse);
-        cJSON_AddNumberToObject(mt, "published_hosek_turbidity", rep->hosek_published_turbidity);
-      }
-      cJSON *wins = cJSON_AddObjectToObject(mt, "start_wins");
-      for (int q = 0; q < rep->n_starts; ++q)
-        cJSON_AddNumberToObject(wins, rep->start_names[q], rep->start_wins[q]);
-      static const char *const global_names[4] = {
-          "curve through per-elevation fits", "constant from elevation n/4",
-          "constant from elevation n/2", "constant from elevation 3n/4"};
-      cJSON *gw = cJSON_AddObjectToObject(mt, "elevation_fit_start_wins");
-      for (int q = 0; q < 4; ++q) cJSON_AddNumberToObject(gw, global_names[q], rep->global_start_wins[q]);
-      cJSON *tr = sf_weights_training(doc);
-      cJSON_AddStringToObject(tr, "loss", "least squares, residuals normalised per elevation and channel");
-      cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
-      cJSON_AddNumberToObject(tr, "global_initial_cost", rep->global_initial_cost);
-      cJSON_AddNumberToObject(tr, "global_final_cost", rep->global_final_cost);
-      cJSON_AddNumberToObject(tr, "global_iterations", rep->global_iterations);
-      cJSON_AddStringToObject(tr, "tables", sf_parameterization_name(set.params.kind));
-      status = sf_weights_write(doc, out_path, &err);
-    }
-    cJSON_Delete(doc);
+    sf_progress_bar_finish(&bar);
+    if (status == SF_OK)
+      status = sf_sky_form_weights_write(atm, &opt, sf_parameterization_name(set.params.kind), model, rep, out_path,
+                                         &err);
+  } else {
+    sf_progress_bar_finish(&bar);
   }
   if (status == SF_OK && !o->quiet) {
     fprintf(stderr, "%s: %d sun elevations %.3g..%.3g deg, %d samples per channel\n", command,

@@ -10,6 +10,7 @@
 #include "fit/candidate_cache.h"
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sigmoid.h"
+#include "fit/fit_weights_doc.h"
 #include "util/cache_prune.h"
 
 typedef struct sigmoid_ctx {
@@ -55,31 +56,7 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sigmoid_fit_opt
   sf_sigmoid_fit_report *rep = calloc(1, sizeof *rep);
   if (!rep) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   int status = sf_fit_sigmoid(in->atm, &in->domain, o, m, rep, err);
-  if (status == SF_OK && path[0]) {
-    cJSON *doc = sf_weights_new("sigmoid", "transmittance", in->atm, &in->domain);
-    double *a = malloc(sizeof(double) * SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS * SF_SIGMOID_N_COEFFS);
-    if (!doc || !a) {
-      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-    } else {
-      size_t n = 0;
-      for (int c = 0; c < m->n_constituents; ++c)
-        for (int k = 0; k < m->n_channels; ++k)
-          for (int j = 0; j < SF_SIGMOID_N_COEFFS; ++j) a[n++] = m->a[c][k][j];
-      int shape[3] = {m->n_constituents, m->n_channels, SF_SIGMOID_N_COEFFS};
-      sf_weights_add_input(doc, "h_km", 0.0, 1.0);
-      sf_weights_add_input(doc, "mu", 0.0, 1.0);
-      sf_weights_add_param(doc, "a", 3, shape, a);
-      cJSON *metrics = sf_weights_metrics(doc);
-      cJSON_AddNumberToObject(metrics, "rmse", rep->rmse);
-      cJSON_AddNumberToObject(metrics, "max_abs", rep->max_abs);
-      cJSON *training = sf_weights_training(doc);
-      cJSON_AddNumberToObject(training, "n_h", o->n_h);
-      cJSON_AddNumberToObject(training, "n_mu", o->n_mu);
-      status = sf_weights_write(doc, path, err);
-    }
-    free(a);
-    cJSON_Delete(doc);
-  }
+  if (status == SF_OK && path[0]) status = sf_sigmoid_weights_write(in->atm, &in->domain, o, m, rep, path, err);
   free(rep);
   return status;
 }

@@ -19,6 +19,7 @@
 #include "fit/candidate_cache.h"
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sky_elevation.h"
+#include "fit/fit_weights_doc.h"
 #include "models/hosek_dataset.h"
 #include "util/cache_prune.h"
 #include "util/constants.h"
@@ -103,9 +104,8 @@ int sf_candidate_applies_preetham(const sf_candidate_inputs *in, char *why, size
 }
 
 /* Fits the model and writes its weights file to path (if not ""). */
-static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_options *o,
-                         const sf_scene_domain *valid, const char *path, sf_elevation_sky_model *m,
-                         sf_error *err) {
+static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_options *o, const char *path,
+                         sf_elevation_sky_model *m, sf_error *err) {
   sf_hosek_dataset *published = NULL;
   if (in->atm->n_channels == SF_HOSEK_DATASET_CHANNELS) {
     published = malloc(sizeof *published);
@@ -122,25 +122,9 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_o
   }
   int status = sf_fit_sky_elevation(in->sky, o, published, m, rep, err);
   free(published);
-  if (status == SF_OK && path[0]) {
-    cJSON *doc = sf_weights_new(sf_sky_form_model_name(o->form), "sky_radiance", in->atm, valid);
-    if (!doc || sf_elevation_sky_add_params(doc, m) != SF_OK) {
-      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-    } else {
-      cJSON *metrics = sf_weights_metrics(doc);
-      cJSON_AddNumberToObject(metrics, "rmse", rep->rmse);
-      cJSON_AddNumberToObject(metrics, "rel_rmse", rep->rel_rmse);
-      cJSON_AddNumberToObject(metrics, "max_abs", rep->max_abs);
-      cJSON_AddNumberToObject(metrics, "samples", rep->n_samples);
-      cJSON_AddNumberToObject(metrics, "metric_samples", (double)rep->n_metric_samples);
-      cJSON *training = sf_weights_training(doc);
-      cJSON_AddNumberToObject(training, "elevations", o->n_elevations);
-      cJSON_AddNumberToObject(training, "n_theta", o->n_theta);
-      cJSON_AddNumberToObject(training, "n_phi", o->n_phi);
-      status = sf_weights_write(doc, path, err);
-    }
-    cJSON_Delete(doc);
-  }
+  if (status == SF_OK && path[0])
+    status = sf_sky_form_weights_write(in->atm, o, sf_parameterization_name(in->tables->params.kind), m, rep, path,
+                                       err);
   free(rep);
   return status;
 }
@@ -188,7 +172,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
     }
   }
   /* Fresh fits too are evaluated as loaded from the file: a rerun computes the same. */
-  if (!loaded && (fit_and_store(in, &o, &valid, path, &s->model, err) != SF_OK ||
+  if (!loaded && (fit_and_store(in, &o, path, &s->model, err) != SF_OK ||
                   (path[0] && sf_elevation_sky_load(path, form, &s->model, NULL, err) != SF_OK))) {
     free(s);
     return err->status;
