@@ -14,6 +14,7 @@
 #include "models/spectral_reference.h"
 #include "models/weights_file.h"
 #include "util/clock.h"
+#include "util/constants.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -162,6 +163,10 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   sf_scene_domain domain;
   sf_error derr = {0};
   if (sf_scene_get_domain(scene, &domain, &derr)) memset(&domain, 0, sizeof domain);
+  /* The samples' suns: the scene's range within the fit's
+   * (fit/spectral4_samples.h), not all of the scene's. */
+  domain.mu_s_min = fmax(domain.mu_s_min, sin(SF_SPECTRAL4_SUN_MIN_DEG * SF_PI / 180.0));
+  domain.mu_s_max = fmin(domain.mu_s_max, sin(SF_SPECTRAL4_SUN_MAX_DEG * SF_PI / 180.0));
   cJSON *doc = sf_weights_new("spectral4", "sky_radiance", &scene->atmosphere, &domain);
   if (!doc) return NULL;
   const sf_spectral4_params *p = &rep->fit.best;

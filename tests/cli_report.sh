@@ -277,9 +277,22 @@ import json, sys
 s4 = json.load(open(sys.argv[1]))["spectral4"]
 fit, rgb = s4["without_aerosols"]["spectral4"], s4["without_aerosols"]["rgb_680_550_440"]
 print(f"spectral4: {s4['wavelengths_nm']} nm; mean dE2000 {fit['mean_delta_e2000']:.3g} vs plain RGB {rgb['mean_delta_e2000']:.3g}")
+
 assert fit["mean_delta_e2000"] < rgb["mean_delta_e2000"], s4
 PY
 grep -q "Colour: 4 wavelengths" "$tmp/s4/report.md" || { echo "FAIL no spectral4 section in the report"; fail=1; }
+# Its weights file's domain holds the suns it was fitted on, -2..90 deg,
+# for a scene whose suns go lower (it had copied the scene's -10).
+sed 's/"sun_elevation_deg": \[-2, 90\]/"sun_elevation_deg": [-10, 90]/' "$src/examples/scenes/spectral4.json" > "$tmp/s4low.json"
+"$bin" fit spectral4 --scene "$tmp/s4low.json" --resolution 32x8,6x16x6x4 --orders 2 --quiet --out "$tmp/s4low-w.json" ||
+  { echo "FAIL fit spectral4 on sun -10..90"; fail=1; }
+python3 - "$tmp/s4low.json" "$tmp/s4low-w.json" <<'PY' || fail=1
+import json, math, sys
+assert json.load(open(sys.argv[1]))["sun_elevation_deg"] == [-10, 90]
+d = json.load(open(sys.argv[2]))["domain"]
+print(f"spectral4 on sun -10..90 deg: weights domain mu_s {d['mu_s']}")
+assert abs(d["mu_s"][0] - math.sin(math.radians(-2))) < 1e-12, f"FAIL spectral4 domain {d}"
+PY
 # Its weights file is checked as an atmosphere is (SPEC §4): impossible
 # physics exits 2 naming the key, nothing emitted (codegen had emitted them).
 for edit in "ground_albedo 0 7" "scattering 0 -1" "wavelengths_nm 0 -5" "sun_irradiance 2 -1"; do
