@@ -314,6 +314,12 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (job.mlp.out && t->resume &&
       (status = sf_mlp_cli_check_resume(command, ckpt, scattering ? checkpoint_g : NULL)))
     goto done;
+  if (job.mlp.out) {
+    const char *inputs[4] = {job.scene_path, job.tables.atmosphere_path, job.mlp.init_weights, job.dump_path};
+    if ((status = sf_mlp_cli_check_run(command, &job.mlp, ckpt, inputs, 4)) ||
+        (scattering && (status = sf_mlp_cli_check_run(command, &job.mlp, checkpoint_g, inputs, 4))))
+      goto done;
+  }
 
   /* tables */
   sf_table_set_options *so = &job.tables.set;
@@ -632,6 +638,8 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
   /* before the CSV is read (seconds for a million rows) */
   if (t->resume && sf_mlp_cli_check_resume(command, t->checkpoint_path, NULL)) return 2;
+  const char *inputs[2] = {data_path, o.init_weights};
+  if (sf_mlp_cli_check_run(command, &o, t->checkpoint_path, inputs, 2)) return 2;
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);
@@ -710,7 +718,7 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
          "\"cpu_seconds_per_epoch\": %s, \"epochs\": %d, \"epochs_this_run\": %d, \"samples\": %ld, "
          "\"batch\": %ld, \"threads\": %d}\n",
          train_mse, result.train_loss, wall, cpu, result.epochs_run, result.epochs_this_call, train.n, t->batch,
-         t->n_threads);
+         result.n_threads);
   goto done;
 fail:
   if (err.status == SF_OK) sf_fail(&err, SF_ERR_INTERNAL, "out of memory");

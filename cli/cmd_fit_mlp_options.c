@@ -4,12 +4,15 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "fit/candidate_cache.h"
 #include "models/atmosphere_file.h"
 #include "models/weights_file.h"
+#include "util/atomic_file.h"
 #include "util/clock.h"
+#include "util/memory_limit.h"
 
 void sf_mlp_cli_default(sf_mlp_cli *o) {
   memset(o, 0, sizeof *o);
@@ -77,7 +80,8 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     }
   } else if (strcmp(a, "--output") == 0) {
     if (sf_mlp_activation_parse(v, &t->shape.output)) {
-      fprintf(stderr, "%s: --output: expected exp_neg, exp_neg_exp, sigmoid or linear, got '%s'\n", command, v);
+      fprintf(stderr, "%s: --output: expected exp_neg, exp_neg_exp, sigmoid, linear, tanh or relu, got '%s'\n",
+              command, v);
       return -1;
     }
   } else if (strcmp(a, "--loss") == 0) {
@@ -101,8 +105,10 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     char *end;
     errno = 0;
     unsigned long long s = strtoull(v, &end, 10);
-    if (end == v || *end != '\0' || errno == ERANGE || v[0] == '-') {
-      fprintf(stderr, "%s: --seed: expected a whole number >= 0, got '%s'\n", command, v);
+    /* at most 2^53: the weights file records it as a JSON number (a double:
+     * 2^53 + 1 had been recorded as 2^53, another run's seed) */
+    if (end == v || *end != '\0' || errno == ERANGE || v[0] == '-' || s > (1ULL << 53)) {
+      fprintf(stderr, "%s: --seed: expected a whole number in 0..2^53 (9007199254740992), got '%s'\n", command, v);
       return -1;
     }
     t->seed = (uint64_t)s;
@@ -111,8 +117,11 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
                       strcmp(a, "--polish-samples") == 0
                   ? 0
                   : 1;
-    if (sf_mlp_cli_parse_long(v, lo, 1000000000L, &n)) {
-      fprintf(stderr, "%s: %s: expected a whole number >= %ld, got '%s'\n", command, a, lo, v);
+    /* threads: each holds a workspace (10000 had taken 750 MB for a 2-8-2
+     * network) */
+    long hi = strcmp(a, "--threads") == 0 ? SF_MLP_CLI_MAX_THREADS : 1000000000L;
+    if (sf_mlp_cli_parse_long(v, lo, hi, &n)) {
+      fprintf(stderr, "%s: %s: expected a whole number in %ld..%ld, got '%s'\n", command, a, lo, hi, v);
       return -1;
     }
     if (strcmp(a, "--epochs") == 0) t->epochs = (int)n;
@@ -138,22 +147,71 @@ int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const c
   return 2;
 }
 
+/* The same file: the same path, or the same inode of an existing one. */
+static int same_file(const char *a, const char *b) {
+  if (strcmp(a, b) == 0) return 1;
+  struct stat sa, sb;
+  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int sf_mlp_cli_check_run(const char *command, const sf_mlp_cli *o, const char *checkpoint,
+                         const char *const *inputs, int n_inputs) {
+  sf_error err = {0};
+  if ((o->out && sf_atomic_check(o->out, &err) != SF_OK) ||
+      (checkpoint && sf_atomic_check(checkpoint, &err) != SF_OK)) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    return 2;
+  }
+  if (checkpoint && o->out && same_file(checkpoint, o->out)) {
+    fprintf(stderr, "%s: --checkpoint %s: the same file as --out (the checkpoint goes once the weights are "
+                    "written)\n", command, checkpoint);
+    return 2;
+  }
+  for (int i = 0; checkpoint && i < n_inputs; ++i)
+    if (inputs[i] && same_file(checkpoint, inputs[i])) {
+      fprintf(stderr, "%s: --checkpoint %s: the same file as another of the run's files (%s)\n", command, checkpoint,
+              inputs[i]);
+      return 2;
+    }
+  if (o->train.patience > 0 && !(o->validation_fraction > 0.0)) {
+    fprintf(stderr, "%s: --patience %d: early stopping watches the validation loss; give --validation F\n",
+            command, o->train.patience);
+    return 2;
+  }
+  if (o->polish.iterations > 0) {
+    char source[256];
+    size_t need = sf_mlp_lm_bytes(&o->train.shape, o->train.n_threads);
+    size_t limit = sf_memory_limit_bytes(source, sizeof source);
+    if (need > limit) {
+      fprintf(stderr, "%s: --polish %d: a network of %d parameters needs %.3g GB for the polish's normal "
+                      "equations, more than the %.3g GB available (%s); --polish 0 skips it\n",
+              command, o->polish.iterations, sf_mlp_param_count(&o->train.shape), need / 1e9, limit / 1e9, source);
+      return 2;
+    }
+  }
+  return 0;
+}
+
 void sf_mlp_cli_help(FILE *out) {
   fprintf(out,
           "training options:\n"
           "  --layers A,B,...        layer sizes, inputs first, outputs last\n"
           "  --hidden ACT            hidden activation: sigmoid, tanh, relu, linear\n"
-          "  --output ACT            output activation: exp_neg (e^-x), exp_neg_exp (e^-e^-x), sigmoid, linear\n"
+          "  --output ACT            output activation: exp_neg (e^-x), exp_neg_exp (e^-e^-x), sigmoid,\n"
+          "                          linear, tanh, relu\n"
           "  --loss mse|rel|log      loss (rel/log: floor F * max|target| per output)\n"
           "  --loss-floor F          default 1e-4\n"
           "  --epochs N              epochs per restart\n"
           "  --batch N               mini-batch size (0: the whole training set)\n"
           "  --lr X, --lr-decay D    Adam learning rate (default 0.01), x D per epoch (default 1)\n"
-          "  --restarts N            independent restarts; the best validation loss is kept\n"
+          "  --restarts N            independent restarts; the best validation loss is kept (the best\n"
+          "                          training loss without a validation set)\n"
           "  --patience N            early stopping after N epochs without a better validation loss\n"
-          "  --validation F          held-out fraction (default 0.1)\n"
+          "                          (needs a validation set)\n"
+          "  --validation F          held-out fraction (default 0.1; fit mlp: 0)\n"
           "  --seed S                seed of initialisation, split and shuffling (default 1)\n"
-          "  --threads N             worker threads; results do not depend on it\n"
+          "  --threads N             worker threads, at most 256 (default: all cores); results do not\n"
+          "                          depend on it\n"
           "  --out W.json            weights file (SPEC §8)\n"
           "  --checkpoint FILE       Ctrl-C saves here (default W.json.checkpoint)\n"
           "  --resume                continue from the checkpoint to the uninterrupted result\n"
@@ -200,6 +258,7 @@ void sf_mlp_progress_init(sf_mlp_progress *p, int quiet) {
   sf_progress_bar_init(&p->bar, stderr, !quiet);
   p->start = sf_wall_seconds();
   p->last = 0.0;
+  p->done_before = -1.0;
 }
 
 /* Whether to draw now (at most every 0.1 s, and the last step); sets *now. */
@@ -223,11 +282,14 @@ void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, i
   double t;
   if (!progress_due(p, epoch == n_epochs, &t)) return;
   double done = ((double)restart * n_epochs + epoch) / ((double)n_restarts * n_epochs);
-  double elapsed = t - p->start;
+  /* what this call has done: a resumed run starts part way (its ETA had
+   * counted the epochs before the interruption as done in no time) */
+  if (p->done_before < 0.0) p->done_before = ((double)restart * n_epochs + epoch - 1) / ((double)n_restarts * n_epochs);
+  double elapsed = t - p->start, done_here = done - p->done_before;
   char validation[48];
   validation_text(validation_loss, validation, sizeof validation);
   fprintf(stderr, "\r  restart %d/%d  epoch %d/%d  train %.4g%s  ETA %.0f s   ", restart + 1, n_restarts, epoch,
-          n_epochs, train_loss, validation, done > 0.0 ? elapsed * (1.0 - done) / done : 0.0);
+          n_epochs, train_loss, validation, done_here > 0.0 ? elapsed * (1.0 - done) / done_here : 0.0);
   fflush(stderr);
   p->bar.drawn = 1;
 }

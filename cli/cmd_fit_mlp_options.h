@@ -32,6 +32,19 @@ void sf_mlp_cli_help(FILE *out);
  * checkpoint is NULL) and returns the exit code 2. */
 int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const char *other);
 
+/* Worker threads --threads takes at most. */
+#define SF_MLP_CLI_MAX_THREADS 256
+
+/* Before any long work (SPEC §11: a bad path exits 2 at once, nothing
+ * written): --out and the checkpoint can be written; the checkpoint is
+ * neither --out nor any of the inputs[0..n_inputs-1] (the files the run
+ * reads; it had overwritten a --data CSV, and been deleted as --out after
+ * the weights were written there); --patience has a validation set to
+ * watch; the polish's normal equations fit in memory (fit/mlp_lm.h).
+ * Says what is wrong and returns the exit code 2, else 0. */
+int sf_mlp_cli_check_run(const char *command, const sf_mlp_cli *o, const char *checkpoint,
+                         const char *const *inputs, int n_inputs);
+
 /* The whole of text as a finite number in [lo, hi]: 0; else -1. */
 int sf_mlp_cli_parse_double(const char *text, double lo, double hi, double *out);
 /* The whole of text as an integer in [lo, hi]: 0; else -1. */
@@ -50,6 +63,7 @@ int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dat
 typedef struct sf_mlp_progress {
   sf_progress_bar bar;
   double start, last;
+  double done_before;   /* the share done before this call's first epoch (a resumed run); -1 until known */
 } sf_mlp_progress;
 void sf_mlp_progress_init(sf_mlp_progress *p, int quiet);
 void sf_mlp_progress_update(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,

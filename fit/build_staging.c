@@ -177,12 +177,17 @@ static int move_file(move_log *log, const char *from, const char *to, sf_error *
     if (link(to, kept) != 0 && rename(to, kept) != 0)
       return sf_fail(err, SF_ERR_INTERNAL, "%s: cannot keep the previous file: %s", to, strerror(errno));
   }
+  /* logged before the move, so that the undo covers every moved file */
+  if (log_add(log, to, kept, 0) != 0) {
+    if (kept[0]) rename(kept, to);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory publishing %s", to);
+  }
   if (rename(from, to) != 0) {
     int e = errno;
+    --log->n;
     if (kept[0]) rename(kept, to);
     return sf_fail(err, SF_ERR_INTERNAL, "%s: cannot move into place: %s", to, strerror(e));
   }
-  if (log_add(log, to, kept, 0) != 0) return sf_fail(err, SF_ERR_INTERNAL, "out of memory publishing %s", to);
   return SF_OK;
 }
 

@@ -246,6 +246,16 @@ static void chunk_normal_equations(const sf_mlp_shape *shape, const double *para
   if (filled) add_block(shape, t, filled);
 }
 
+size_t sf_mlp_lm_bytes(const sf_mlp_shape *shape, int n_threads) {
+  int threads = n_threads > 0 ? n_threads : omp_get_max_threads();
+  if (threads > LM_CHUNKS) threads = LM_CHUNKS;
+  size_t P = (size_t)sf_mlp_param_count(shape), K = (size_t)shape->sizes[shape->n_layers];
+  size_t per_thread = (P * P + P + (size_t)sf_lm_gram_units(shape) * K * SF_LM_GRAM_BLOCK +
+                       (size_t)sf_lm_gram_input_rows(shape) * SF_LM_GRAM_BLOCK + (size_t)sf_lm_gram_scratch_size(shape)) *
+                      sizeof(double);
+  return 3 * P * P * sizeof(double) + 4 * P * sizeof(double) + (size_t)threads * per_thread;
+}
+
 int sf_mlp_lm_polish(const sf_mlp_shape *shape, double *params, const sf_mlp_loss *loss, const sf_dataset *train,
                      const sf_dataset *validation, const sf_mlp_lm_options *o, sf_mlp_lm_result *result,
                      sf_error *err) {

@@ -69,6 +69,13 @@ typedef struct sf_mlp_lm_result {
   int interrupted;         /* stopped by o->interrupt: params are a partial polish */
 } sf_mlp_lm_result;
 
+/* The bytes the polish allocates for shape with n_threads threads (0: all
+ * cores): its normal equations are P x P (P parameters), three of them and
+ * one per thread, so they grow with P^2 (2-128-128-3: 12 GB), and a step's
+ * solve with P^3. For a check before the training whose result it
+ * polishes. */
+size_t sf_mlp_lm_bytes(const sf_mlp_shape *shape, int n_threads);
+
 /* Polishes params (in place; the best iterate by validation loss if
  * validation is given and not empty, else the last accepted one). loss as
  * in training (delta per output for rel and log). SF_ERR_INTERNAL when out

@@ -262,6 +262,35 @@ static void start_restart(train_state *st, const sf_train_options *o, int np) {
   st->best_restart_epoch = 0;
 }
 
+/* Targets the loss can measure (SF_ERR_INPUT naming the column otherwise;
+ * they had ended as "training diverged in every restart"): rel and log
+ * measure against the target, so a column that is 0 everywhere has no
+ * scale (its floor is 0); log takes log(target + floor), undefined at or
+ * below -floor. */
+static int check_targets(const sf_dataset *train, const sf_dataset *val, sf_mlp_loss_kind kind, const double *delta,
+                         sf_error *err) {
+  if (kind == SF_LOSS_MSE) return SF_OK;
+  const char *name = kind == SF_LOSS_REL ? "rel" : "log";
+  for (int k = 0; k < train->n_out; ++k) {
+    const char *column = train->names[train->n_in + k];
+    if (!(delta[k] > 1e-300))
+      return sf_fail(err, SF_ERR_INPUT,
+                     "target column '%s' is 0 throughout: --loss %s measures errors relative to the target; "
+                     "use --loss mse",
+                     column, name);
+    for (int part = 0; kind == SF_LOSS_LOG && part < 2; ++part) {
+      const sf_dataset *d = part == 0 ? train : val;
+      for (long i = 0; d && i < d->n; ++i)
+        if (!(d->y[i * d->n_out + k] + delta[k] > 0.0))
+          return sf_fail(err, SF_ERR_INPUT,
+                         "target column '%s' holds %.6g: --loss log takes log(target + %.3g), defined for "
+                         "targets above -%.3g; use --loss mse or rel",
+                         column, d->y[i * d->n_out + k], delta[k], delta[k]);
+    }
+  }
+  return SF_OK;
+}
+
 int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_options *o,
                  sf_train_result *result, sf_error *err) {
   memset(result, 0, sizeof *result);
@@ -316,6 +345,8 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
     delta[k] = o->loss_floor * m > 1e-300 ? o->loss_floor * m : 1e-300;
   }
+  if ((status = check_targets(train, has_val ? val : NULL, o->loss, delta, err)) != SF_OK) goto done;
+  result->n_threads = thread_count(o->n_threads);
   sf_mlp_loss loss = {o->loss, delta};
   /* Hashing the data costs about a second per 100 MB: only checkpoints need it. */
   uint64_t fingerprint = o->checkpoint_path ? run_fingerprint(train, val, o) : 0;

@@ -95,6 +95,7 @@ typedef struct sf_train_result {
    * interrupted (see interrupted) or failed */
   double seconds_per_epoch; /* wall clock, in this call */
   double cpu_seconds_per_epoch;   /* process CPU time (all threads), in this call */
+  int n_threads;                  /* worker threads used (o->n_threads, or all cores for 0) */
   int interrupted;          /* 1: stopped early, checkpoint written */
 } sf_train_result;
 

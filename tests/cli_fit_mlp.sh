@@ -321,6 +321,32 @@ expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" -
 expect_error "missing resume" "checkpoint" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --resume --out "$TMP/bad.json"
 expect_error "resume without a checkpoint path" "needs --out or --checkpoint" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 \
   --layers 2,4,3 --resume
+# from the audit: each had run the whole training first, or destroyed a file
+cp "$TMP/t.csv" "$TMP/t-copy.csv"
+expect_error "checkpoint is the data" "the same file as another of the run's files" "$BIN" fit mlp --data "$TMP/t-copy.csv" \
+  --inputs 2 --layers 2,4,3 --checkpoint "$TMP/t-copy.csv" --out "$TMP/bad.json"
+cmp -s "$TMP/t.csv" "$TMP/t-copy.csv" && pass "checkpoint is the data: the data untouched" || fail "the data were overwritten"
+expect_error "checkpoint is --out" "the same file as --out" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 \
+  --checkpoint "$TMP/bad.json" --out "$TMP/bad.json"
+expect_error "--out in a missing folder" "cannot write here" "$BIN" fit mlp-transmittance "${TAB[@]}" \
+  --out "$TMP/no-such-folder/w.json"
+expect_error "--patience without validation" "give --validation" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 \
+  --layers 2,4,3 --patience 3 --out "$TMP/bad.json"
+expect_error "a polish beyond memory" "normal equations" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 \
+  --layers 2,256,256,256,3 --polish 1 --out "$TMP/bad.json"
+expect_error "--threads beyond 256" "--threads" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 \
+  --threads 10000 --out "$TMP/bad.json"
+expect_error "--seed beyond 2^53" "--seed" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 \
+  --seed 9007199254740993 --out "$TMP/bad.json"
+# targets the loss cannot measure: exit 2 naming the column (they had ended
+# as "training diverged in every restart", exit 1)
+awk -F, 'BEGIN { OFS = "," } NR == 1 { print; next } { $3 = -$3; print }' "$TMP/t.csv" >"$TMP/neg.csv"
+awk -F, 'BEGIN { OFS = "," } NR == 1 { print; next } { $4 = 0; print }' "$TMP/t.csv" >"$TMP/zero.csv"
+col3=$(head -1 "$TMP/t.csv" | cut -d, -f3) col4=$(head -1 "$TMP/t.csv" | cut -d, -f4)
+expect_error "log loss of negative targets" "target column '$col3'" "$BIN" fit mlp --data "$TMP/neg.csv" --inputs 2 \
+  --layers 2,4,3 --loss log --output linear --out "$TMP/bad.json"
+expect_error "rel loss of a zero column" "target column '$col4' is 0 throughout" "$BIN" fit mlp --data "$TMP/zero.csv" \
+  --inputs 2 --layers 2,4,3 --loss rel --out "$TMP/bad.json"
 # --resume without a checkpoint fails before the tables are sampled: the
 # empty tables folder stays empty
 for q in transmittance scattering; do
