@@ -448,16 +448,21 @@ void sf_emit_mlp_scattering(sf_code_writer *w, const sf_mlp_sky *s, const sf_mlp
     }
     net_outputs o;
     emit_network(w, half ? &s->net_ground_f : &s->net_f, s->net.shape.output, separate ? n : 0, &o);
+    /* an output that can go negative (linear, tanh) is held at 0: a
+     * radiance (models/mlp_sky.h) */
+    int clamp = sf_mlp_activation_can_be_negative(s->net.shape.output);
     sf_cw_emit(w, "  %sreturn %C", indent, n);
     for (int c = 0; c < n; ++c) {
       char name[32];
       if (c) sf_cw_emit(w, ",\n              %s", indent);
       out_name(w, &o, separate ? s->n_single * n + c : c, name, sizeof name);
+      if (clamp) sf_cw_emit(w, "@max(");
       sf_cw_emit(w, "%s%s", name, norm->active ? " * brightness" : "");
       for (int k = 0; separate && k < s->n_single; ++k) {
         out_name(w, &o, k * n + c, name, sizeof name);
         sf_cw_emit(w, norm->active ? " + p%d * (%s * brightness)" : " + p%d * %s", k, name);
       }
+      if (clamp) sf_cw_emit(w, ", 0.0f)");
     }
     sf_cw_emit(w, ");\n");
     if (split) sf_cw_emit(w, "  }\n");

@@ -21,6 +21,8 @@ int sf_mlp_activation_parse(const char *name, sf_mlp_activation *out) {
   return -1;
 }
 
+int sf_mlp_activation_can_be_negative(sf_mlp_activation a) { return a == SF_ACT_LINEAR || a == SF_ACT_TANH; }
+
 int sf_mlp_shape_parse_layers(const char *text, sf_mlp_shape *shape, sf_error *err) {
   int sizes[SF_MLP_MAX_LAYERS + 2];
   int n = 0;

@@ -84,6 +84,9 @@ typedef struct sf_mlp {
 const char *sf_mlp_activation_name(sf_mlp_activation a);
 /* Returns 0 and sets *out, or -1 for an unknown name. */
 int sf_mlp_activation_parse(const char *name, sf_mlp_activation *out);
+/* 1 for linear and tanh, whose values can be negative (sigmoid, relu and
+ * the exponentials cannot). */
+int sf_mlp_activation_can_be_negative(sf_mlp_activation a);
 /* "4,8,8,3" -> shape sizes (activations untouched). SF_ERR_INPUT naming the
  * text when it is not 2..SF_MLP_MAX_LAYERS+1 sizes in 1..SF_MLP_MAX_WIDTH. */
 int sf_mlp_shape_parse_layers(const char *text, sf_mlp_shape *shape, sf_error *err);

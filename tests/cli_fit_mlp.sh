@@ -294,6 +294,46 @@ if command -v glslangValidator >/dev/null; then
     { cat "$TMP/glslang.log"; fail "glslangValidator rejected the x_r, x_mu GLSL"; }
 fi
 
+# A sky network whose output can go negative (linear) is held at 0, in the
+# double evaluator (eval --model) and in the emitted float32 C (they had
+# given L = -0.0196 near the ground looking down, sun below the horizon).
+"$BIN" fit mlp-scattering "${TAB[@]}" --epochs 1 --batch 64 --polish 0 --output linear --hidden relu \
+  --out "$TMP/lin.json" --quiet
+mkdir -p "$TMP/lin" && "$BIN" codegen --weights "$TMP/lin.json" --lang c --name lin --out "$TMP/lin" >/dev/null
+python3 - "$TMP/pts.csv" <<'PY'
+import itertools, sys
+with open(sys.argv[1], "w") as f:
+    f.write("h_km,mu,mu_s,nu\n")
+    for h, mu, ms in itertools.product([1e-6, 0.5, 5, 40, 99.9], [-1, -0.5, -0.05, 0, 0.05, 0.5, 1], [-0.5, -0.1, 0, 0.1, 0.6, 1]):
+        for nu in (-1, 0, 1):
+            f.write(f"{h},{mu},{ms},{nu}\n")
+PY
+"$BIN" eval sky_radiance --model "$TMP/lin.json" <"$TMP/pts.csv" >"$TMP/lin-eval.csv" 2>/dev/null
+neg=$(awk -F, 'NR > 1 && ($5 < 0 || $6 < 0 || $7 < 0)' "$TMP/lin-eval.csv" | wc -l)
+[ "$neg" = 0 ] && [ "$(wc -l <"$TMP/lin-eval.csv")" -gt 600 ] && pass "linear sky network: no negative radiance in double" ||
+  fail "linear sky network: $neg negative radiances in double"
+cat >"$TMP/lin-main.c" <<'C'
+#include <stdio.h>
+#include "lin.h"
+int main(void) {
+  float h, mu, ms, nu;
+  int bad = 0, n = 0;
+  char line[256];
+  fgets(line, sizeof line, stdin);
+  while (scanf("%f,%f,%f,%f", &h, &mu, &ms, &nu) == 4) {
+    skyfit_vec3 l = skyfit_mlp_sky_radiance(h, mu, ms, nu);
+    bad += !(l.x >= 0.0f && l.y >= 0.0f && l.z >= 0.0f);
+    ++n;
+  }
+  printf("%d of %d\n", bad, n);
+  return bad != 0;
+}
+C
+out=
+cc -std=c99 -O2 -I"$TMP/lin" "$TMP/lin-main.c" -o "$TMP/lin-main" -lm && out=$("$TMP/lin-main" <"$TMP/pts.csv") &&
+  pass "linear sky network: no negative radiance in the emitted float32 C ($out)" ||
+  fail "linear sky network: negative radiance in the emitted float32 C ($out)"
+
 # bad input: exit 2, message, nothing written
 expect_error() {
   local name=$1 pattern=$2
