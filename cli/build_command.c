@@ -61,8 +61,10 @@ static void usage(FILE *out, const char *command, int emit) {
           emit ? "The whole pipeline (SPEC §5, §11): sample, fit, select, emit, report.\n"
                : "The report stage on its own (SPEC §12): like `skyfit build` without emitting code.\n",
           emit ? "fits\nevery model valid in the scene's domain, selects per quantity the cheapest that meets\n"
-                 "the budget among those it can emit, emits GLSL and C for it (the scene's outputs, or\n"
-                 "DIR/sky.h and DIR/sky.glsl),\n"
+                 "the budget among those it can emit, emits GLSL and C for it (to --header-c F and\n"
+                 "--header-glsl F, else the scene's outputs, else DIR/sky.h and DIR/sky.glsl; besides\n"
+                 "the models' own functions, skyfit_transmittance(h_km, mu) and skyfit_sky_radiance(h_km,\n"
+                 "mu, mu_s, nu) call the selected ones, so a renderer's code outlives a new selection),\n"
                : "builds\nthe candidates,\n",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
           SF_BUILD_MLP_RESTARTS, SF_BUILD_RESTART_MAX_MISS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
@@ -109,6 +111,10 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       o.report.render_views = 0;
     } else if (!strcmp(a, "--out") && v) {
       o.out_dir = argv[++i];
+    } else if (emit && !strcmp(a, "--header-c") && v) {
+      o.header_c = argv[++i];
+    } else if (emit && !strcmp(a, "--header-glsl") && v) {
+      o.header_glsl = argv[++i];
     } else if (!strcmp(a, "--resolution") && v) {
       if (sf_table_resolution_parse(argv[++i], &o.tables.res, &perr) != SF_OK) {
         fprintf(stderr, "%s: %s\n", command, perr.message);

@@ -1,13 +1,32 @@
 # skyfit_generate(TARGET <target> SCENE <scene.json> OUTPUT_DIR <dir>
-#                 LANG <glsl|c>... [NAME <base>] [BASELINES <list>])
+#                 LANG <glsl|c>... [NAME <base>] [BUILD_OPTIONS <option>...]
+#                 [BASELINES <list>])
 #
 # Adds a build step that writes <dir>/<base>.glsl and/or <dir>/<base>.h
 # (base defaults to "skyfit") from the scene file (SPEC §5, §9), makes
-# <target> depend on it and puts <dir> on its include path. The step runs
-# again when the scene file, the atmosphere file it names, or the skyfit
-# tool changes, and not otherwise. Editing which atmosphere the scene names
-# re-runs CMake's configure (the scene is a configure dependency), which
-# picks up the new atmosphere file as a dependency.
+# <target> depend on it and puts <dir> on its include path.
+#
+# By default the step is `skyfit build`: it fits the models the scene's
+# domain allows, selects per quantity the cheapest that meets its budget
+# and emits it, with skyfit_transmittance(h_km, mu) and
+# skyfit_sky_radiance(h_km, mu, mu_s, nu) calling the selected models, so
+# the renderer's code stays the same whichever model a new atmosphere
+# selects. Its tables, fits and report are kept in
+# <binary dir>/skyfit-<target>-<base>/ (report.html says what was chosen
+# and why), so a rebuild after an edit reuses what still applies. The
+# first build samples the tables and trains the networks: minutes at the
+# default resolution; BUILD_OPTIONS are passed on to `skyfit build` (e.g.
+# --resolution or --quick for a smaller, faster sky). With BASELINES the
+# step only writes those analytic transmittance baselines (naive, chapman,
+# taylor, flat, spline: `skyfit codegen --baselines`), in seconds.
+#
+# The step runs again when the scene file, the atmosphere file it names, or
+# the skyfit tool changes, and not otherwise. Editing which atmosphere the
+# scene names re-runs CMake's configure (the scene is a configure
+# dependency), which picks up the new atmosphere file as a dependency.
+# One target may call it several times with different NAMEs (two scenes'
+# headers must differ in NAME; their functions share names, so one
+# translation unit includes one of them).
 include_guard(GLOBAL)
 
 # Reads the scene's "atmosphere" path (relative to the scene's folder);
@@ -25,7 +44,7 @@ function(_skyfit_scene_atmosphere scene out_var)
 endfunction()
 
 function(skyfit_generate)
-  cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME" "LANG;BASELINES" ${ARGN})
+  cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME" "LANG;BASELINES;BUILD_OPTIONS" ${ARGN})
   foreach(required TARGET SCENE OUTPUT_DIR LANG)
     if(NOT SG_${required})
       message(FATAL_ERROR "skyfit_generate: ${required} is required")
@@ -33,9 +52,6 @@ function(skyfit_generate)
   endforeach()
   if(NOT SG_NAME)
     set(SG_NAME skyfit)
-  endif()
-  if(NOT SG_BASELINES)
-    set(SG_BASELINES naive chapman taylor)
   endif()
   get_filename_component(scene "${SG_SCENE}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
   get_filename_component(out_dir "${SG_OUTPUT_DIR}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_BINARY_DIR}")
@@ -58,12 +74,25 @@ function(skyfit_generate)
     list(APPEND langs ${lang})
   endforeach()
   string(REPLACE ";" "," lang_arg "${langs}")
-  string(REPLACE ";" "," baselines_arg "${SG_BASELINES}")
 
-  # The one command that turns the scene into headers. To run the whole
-  # pipeline instead, replace this line by
-  #   set(command skyfit::skyfit build "${scene}" --out "${out_dir}" --quiet)
-  set(command skyfit::skyfit codegen --scene "${scene}" --baselines ${baselines_arg} --lang ${lang_arg} --out "${out_dir}" --name ${SG_NAME} --quiet)
+  if(SG_BASELINES)
+    string(REPLACE ";" "," baselines_arg "${SG_BASELINES}")
+    set(command skyfit::skyfit codegen --scene "${scene}" --baselines ${baselines_arg} --lang ${lang_arg}
+        --out "${out_dir}" --name ${SG_NAME} --quiet)
+  else()
+    # The header of a language not asked for stays in the work folder.
+    set(work "${CMAKE_CURRENT_BINARY_DIR}/skyfit-${SG_TARGET}-${SG_NAME}")
+    set(c_header "${work}/${SG_NAME}.h")
+    set(glsl_header "${work}/${SG_NAME}.glsl")
+    if("c" IN_LIST langs)
+      set(c_header "${out_dir}/${SG_NAME}.h")
+    endif()
+    if("glsl" IN_LIST langs)
+      set(glsl_header "${out_dir}/${SG_NAME}.glsl")
+    endif()
+    set(command skyfit::skyfit build "${scene}" --out "${work}" --header-c "${c_header}" --header-glsl
+        "${glsl_header}" --no-views --quiet ${SG_BUILD_OPTIONS})
+  endif()
 
   add_custom_command(
     OUTPUT ${outputs}
@@ -72,7 +101,7 @@ function(skyfit_generate)
     DEPENDS "${scene}" ${atmosphere} "$<TARGET_FILE:skyfit::skyfit>"
     COMMENT "skyfit: generating ${SG_NAME} headers from ${scene}"
     VERBATIM)
-  add_custom_target(${SG_TARGET}_skyfit_headers DEPENDS ${outputs})
-  add_dependencies(${SG_TARGET} ${SG_TARGET}_skyfit_headers)
+  add_custom_target(${SG_TARGET}_skyfit_${SG_NAME} DEPENDS ${outputs})
+  add_dependencies(${SG_TARGET} ${SG_TARGET}_skyfit_${SG_NAME})
   target_include_directories(${SG_TARGET} PRIVATE "${out_dir}")
 endfunction()

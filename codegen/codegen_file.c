@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "codegen/emit_helpers.h"
+#include "data/hash64.h"
 #include "util/atomic_file.h"
 
 /* Comment text must not close the comment, nor open one inside it (GCC's
@@ -142,7 +143,11 @@ int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang la
   if (dot && dot != base) *dot = '\0';
   header_comment(&file, parts, n_parts, file_name);
   guard_of(base, guard_name, sizeof guard_name);
-  snprintf(guard, sizeof guard, "SKYFIT_GENERATED_%s_%s", guard_name,
+  /* The guard names the content too: two scenes' sky.h in one program had
+   * shared a guard, and the second was dropped without a word (now, with
+   * the same function names, the compiler says so). */
+  uint64_t content = sf_fnv1a64(SF_FNV1A64_OFFSET, body.text ? body.text : "", body.text ? strlen(body.text) : 0);
+  snprintf(guard, sizeof guard, "SKYFIT_GENERATED_%s_%016llx_%s", guard_name, (unsigned long long)content,
            lang == SF_CODE_C ? "H" : "GLSL");
   sf_cw_emit(&file, "#ifndef %s\n#define %s\n\n", guard, guard);
   if (lang == SF_CODE_C) {

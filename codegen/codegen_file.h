@@ -29,8 +29,10 @@ typedef struct sf_codegen_part {
 
 /* The whole file named file_name (no folders; e.g. "sky.h") in lang;
  * *text is malloc'd (caller frees). The include guard is
- * SKYFIT_GENERATED_<BASE>_H / _GLSL by lang (BASE the name without its
- * extension, upper-cased, other characters as '_'). SF_ERR_INPUT when a
+ * SKYFIT_GENERATED_<BASE>_<HASH>_H / _GLSL by lang (BASE the name without
+ * its extension, upper-cased, other characters as '_'; HASH 16 hex digits
+ * of the FNV-1a of the models' code, so two different headers of one name
+ * never share it). SF_ERR_INPUT when a
  * model cannot be written (a non-finite constant) or two parts share a
  * name. */
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,

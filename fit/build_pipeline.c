@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "codegen/codegen_file.h"
+#include "codegen/emit_selection_alias.h"
 #include "codegen/report_views.h"
 #include "data/sky_lookup.h"
 #include "fit/build_pipeline_spectral4.h"
@@ -36,11 +37,14 @@ void sf_build_options_default(sf_build_options *o) {
 
 /* The scene's outputs (SPEC §5), exactly as named, or OUT/sky.h and
  * OUT/sky.glsl. */
-static int output_paths(const sf_scene *scene, const char *out_dir, char *c_path, char *glsl_path, size_t n,
+static int output_paths(const sf_scene *scene, const sf_build_options *o, char *c_path, char *glsl_path, size_t n,
                         sf_error *err) {
-  int c = scene->output_c[0] ? snprintf(c_path, n, "%s", scene->output_c) : snprintf(c_path, n, "%s/sky.h", out_dir);
-  int g = scene->output_glsl[0] ? snprintf(glsl_path, n, "%s", scene->output_glsl)
-                                : snprintf(glsl_path, n, "%s/sky.glsl", out_dir);
+  int c = o->header_c           ? snprintf(c_path, n, "%s", o->header_c)
+          : scene->output_c[0] ? snprintf(c_path, n, "%s", scene->output_c)
+                               : snprintf(c_path, n, "%s/sky.h", o->out_dir);
+  int g = o->header_glsl           ? snprintf(glsl_path, n, "%s", o->header_glsl)
+          : scene->output_glsl[0] ? snprintf(glsl_path, n, "%s", scene->output_glsl)
+                                  : snprintf(glsl_path, n, "%s/sky.glsl", o->out_dir);
   if (c < 0 || (size_t)c >= n) return sf_fail(err, SF_ERR_INPUT, "%s: output path too long", c_path);
   if (g < 0 || (size_t)g >= n) return sf_fail(err, SF_ERR_INPUT, "%s: output path too long", glsl_path);
   return SF_OK;
@@ -50,8 +54,11 @@ static int output_paths(const sf_scene *scene, const char *out_dir, char *c_path
  * (headers: committed with the other outputs, fit/build_staging.h). */
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
                           sf_codegen_files *headers, sf_error *err) {
-  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 1];
+  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 2];
   int n = 0;
+  sf_selection_alias alias;
+  memset(&alias, 0, sizeof alias);
+  alias.n_channels = scene->atmosphere.n_channels;
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     sf_report_selection *s = &rep->selection[q];
     if (!s->asked || s->model < 0) continue;
@@ -75,7 +82,15 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
              m->meets_budget ? "" : " (does NOT meet the scene's budget)");
     p->emit = c->emit;
     p->model = c->emit_model;
+    if (q == SF_CANDIDATE_TRANSMITTANCE) {
+      snprintf(alias.transmittance, sizeof alias.transmittance, "%s", c->emit_name);
+    } else {
+      snprintf(alias.sky_radiance, sizeof alias.sky_radiance, "%s", c->emit_name);
+      alias.sky_takes_altitude = !(c->valid.h_min_km == 0.0 && c->valid.h_max_km == 0.0);
+    }
   }
+  /* the network's sky segment needs the transmittance network beside it */
+  alias.sky_has_segment = strcmp(alias.sky_radiance, "mlp") == 0 && strcmp(alias.transmittance, "mlp") == 0;
   /* Two networks both emit skyfit_mlp_* functions: one part holds both. */
   sf_mlp_emit_pair pair;
   if (n == 2 && strcmp(parts[0].name, "mlp") == 0 && strcmp(parts[1].name, "mlp") == 0) {
@@ -90,6 +105,22 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     snprintf(parts[0].summary, sizeof parts[0].summary, "%s", summary);
     snprintf(parts[0].error, sizeof parts[0].error, "%s", error);
     n = 1;
+  }
+  if (n > 0) {   /* the stable names (codegen/emit_selection_alias.h) */
+    sf_codegen_part *p = &parts[n++];
+    memset(p, 0, sizeof *p);
+    snprintf(p->name, sizeof p->name, "selection");
+    snprintf(p->quantity, sizeof p->quantity, "stable names");
+    snprintf(p->summary, sizeof p->summary, "skyfit_transmittance%s / skyfit_sky_radiance%s call the selected models%s%s%s%s",
+             alias.transmittance[0] ? "" : " (none)", alias.sky_radiance[0] ? "" : " (none)",
+             alias.transmittance[0] ? ": transmittance " : "", alias.transmittance,
+             alias.sky_radiance[0] ? ", sky radiance " : "", alias.sky_radiance);
+    snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
+    snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
+    p->domain = rep->domain;
+    snprintf(p->error, sizeof p->error, "that of the models above");
+    p->emit = sf_emit_selection_alias;
+    p->model = &alias;
   }
   /* A spectral4 scene also ships its 4 wavelengths, weights and matrices
    * (SPEC §7.3), emitted from the weights file as `skyfit codegen` does. */
@@ -106,7 +137,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     ++n;
   }
   if (n == 0) return SF_OK;
-  int status = output_paths(scene, o->out_dir, res->header_c, res->header_glsl, sizeof res->header_c, err);
+  int status = output_paths(scene, o, res->header_c, res->header_glsl, sizeof res->header_c, err);
   if (status == SF_OK) status = sf_codegen_prepare_files(parts, n, res->header_c, res->header_glsl, headers, err);
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
@@ -242,7 +273,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
    * is created: a scene naming a missing folder, or a folder where the
    * report goes, fails now, not after the fits. */
   char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
-  if ((o->emit && (output_paths(scene, o->out_dir, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
+  if ((o->emit && (output_paths(scene, o, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
                    sf_codegen_check_files(c_path, glsl_path, err) != SF_OK)) ||
       sf_build_staging_check_out(o->out_dir, err) != SF_OK) {
     if (!out_existed) rmdir(o->out_dir);

@@ -35,6 +35,8 @@ typedef struct sf_build_options {
                                         1 with quick, and none where the networks miss the budget by
                                         more than SF_BUILD_RESTART_MAX_MISS; > 0: whatever the miss) */
   int emit;                          /* write the headers (default 1) */
+  const char *header_c, *header_glsl;   /* where to write them, over the scene's outputs
+                                           (NULL: the scene's, or OUT/sky.h, OUT/sky.glsl) */
   long long cache_limit_bytes;       /* OUT/cache kept under it after a successful run,
                                         least recently used entries removed first
                                         (util/cache_prune.h); < 0: no limit */

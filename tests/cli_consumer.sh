@@ -15,8 +15,29 @@ test -f "$tmp/prefix/share/skyfit/physical/hosek2012_rgb.json"
 test -f "$tmp/prefix/lib/cmake/skyfit/skyfitConfig.cmake"
 echo "ok   installed bin/skyfit, share/skyfit/physical, lib/cmake/skyfit"
 
+# A moved installation reads its own share/skyfit/physical (the paths built
+# in are the configure-time prefix and the source tree): its copy of the
+# Rayleigh table, made unreadable as CSV here, is the one it reports.
+cp -r "$tmp/prefix" "$tmp/moved"
+echo "not a table" >"$tmp/moved/share/skyfit/physical/rayleigh_bucholtz.csv"
+cat >"$tmp/recipe.json" <<'JSON'
+{"name": "recipe", "bottom_radius_km": 6360, "top_radius_km": 6460, "channels": {"wavelengths_nm": [400, 500, 600]},
+ "constituents": [{"name": "rayleigh", "scattering": {"recipe": "rayleigh_bucholtz"}, "absorption": 0,
+                   "phase": {"kind": "rayleigh"}, "density": [{"exp_term": 1, "exp_scale_per_km": -0.125}]}]}
+JSON
+moved_err=$(printf 'h_km,mu\n0,1\n' | env -u SKYFIT_DATA_DIR "$tmp/moved/bin/skyfit" eval transmittance \
+  --atmosphere "$tmp/recipe.json" 2>&1 >/dev/null || true)
+grep -q "$tmp/moved/bin/../share/skyfit/physical/rayleigh_bucholtz.csv" <<<"$moved_err" ||
+  { echo "FAIL the moved installation did not read its own data: $moved_err"; exit 1; }
+printf 'h_km,mu\n0,1\n' | env -u SKYFIT_DATA_DIR "$tmp/prefix/bin/skyfit" eval transmittance \
+  --atmosphere "$tmp/recipe.json" >/dev/null
+echo "ok   a moved installation reads its own share/skyfit/physical"
+
 cp -r "$SKYFIT_SOURCE_DIR/examples/consumer" "$tmp/consumer"
-cmake -S "$tmp/consumer" -B "$tmp/consumer/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" >/dev/null
+# small tables and short fits: each regeneration is a whole `skyfit build`
+cmake -S "$tmp/consumer" -B "$tmp/consumer/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" \
+  "-DSKY_BUILD_OPTIONS=--quick;--resolution;32x16,8x16x8x4;--samples;2000;--timing-points;20000;--repetitions;1;--mlp-epochs;10,1" \
+  >/dev/null
 header="$tmp/consumer/build/generated/skyfit.h"
 glsl="$tmp/consumer/build/generated/skyfit.glsl"
 
@@ -30,6 +51,26 @@ grep -q "earth-consumer-example" "$header"
 "$tmp/consumer/build/sky_demo" | tee "$tmp/demo.txt"
 grep -q "^mu 1.0000" "$tmp/demo.txt"
 echo "ok   first build generated skyfit.h and skyfit.glsl and the demo ran"
+grep -q "skyfit_chapman_transmittance(float h_km, float mu)" "$tmp/consumer/build/generated/sky_baselines.h" ||
+  { echo "FAIL the second skyfit_generate (BASELINES) wrote no sky_baselines.h"; exit 1; }
+echo "ok   a second skyfit_generate on the target (another NAME, BASELINES) wrote sky_baselines.h"
+# The selected model (the report in the work folder names it) behind the
+# stable names: the demo's zenith transmittance is the reference's within
+# the scene's budget (1e-3 RMSE; 0.01 here, a single ray).
+chosen=$(sed -n 's/^- \*\*transmittance: \([a-z0-9-]*\)\*\*.*/\1/p' "$tmp/consumer/build/skyfit-sky_demo-skyfit/report.md")
+emitted=$(sed -n 's/.*return skyfit_\([a-z0-9]*\)_transmittance(h_km, mu);.*/\1/p' "$header")
+# a candidate's name less its variant (naive16, mlp-transmittance-2) is its functions' prefix
+[ -n "$chosen" ] && [ "${chosen%%[-0-9]*}" = "$emitted" ] || { echo "FAIL selected '$chosen', the header calls '$emitted'"; exit 1; }
+printf 'h_km,mu\n0,1\n' | "$tmp/prefix/bin/skyfit" eval transmittance --atmosphere "$tmp/consumer/earth.json" >"$tmp/ref.csv"
+python3 - "$tmp/demo.txt" "$tmp/ref.csv" <<'PY'
+import sys
+demo = [l.split() for l in open(sys.argv[1]) if l.startswith("mu 1.0000")][0]
+got = [float(x) for x in demo[3:6]]
+want = [float(x) for x in open(sys.argv[2]).read().splitlines()[1].split(",")[2:5]]
+print("zenith transmittance: header", got, "reference", want)
+assert all(abs(g - w) < 0.01 for g, w in zip(got, want)), "FAIL the selected model's zenith transmittance"
+PY
+echo "ok   skyfit_transmittance calls the selected model ($chosen)"
 
 sleep 1; touch "$tmp/marker"
 out=$(build)

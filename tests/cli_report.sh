@@ -179,6 +179,22 @@ rc=$?
 grep "chose" "$tmp/ground.out"
 [ $rc -eq 0 ] && grep -Eq "sky_radiance: chose (preetham|hosek) \(meets the budget\)" "$tmp/ground.out" \
   || { echo "FAIL ground scene: Preetham/Hosek should win"; cat "$tmp/ground.out"; fail=1; }
+# The stable name of the selected ground model (f(mu, mu_s, nu)) takes and
+# ignores h_km: the header compiles without warnings as C99 and C++17, the
+# GLSL with glslangValidator, and a call reaches the selected model.
+printf '#include "sky.h"\nfloat g(void) { return skyfit_sky_radiance(0.0f, 0.5f, 0.7f, 0.6f).y; }\n' > "$tmp/ground/use.c"
+cc -std=c99 -Wall -Wextra -Werror -pedantic -I"$tmp/ground" -c "$tmp/ground/use.c" -o "$tmp/ground/use.o" &&
+  g++ -std=c++17 -Wall -Wextra -Werror -pedantic -x c++ -I"$tmp/ground" -c "$tmp/ground/use.c" -o "$tmp/ground/use2.o" &&
+  grep -Eq "return skyfit_(preetham|hosek)_sky_radiance\(mu, mu_s, nu\);" "$tmp/ground/sky.h" ||
+  { echo "FAIL ground scene: skyfit_sky_radiance does not compile or does not call the selected model"; fail=1; }
+if command -v glslangValidator >/dev/null; then
+  { printf '#version 450\nlayout(location = 0) out vec4 c;\n'; cat "$tmp/ground/sky.glsl";
+    printf 'void main() { c = vec4(skyfit_sky_radiance(0.0, 0.5, 0.7, 0.6), 1.0); }\n'; } > "$tmp/ground/use.frag"
+  glslangValidator "$tmp/ground/use.frag" > "$tmp/ground/glsl.log" 2>&1 ||
+    { echo "FAIL ground scene: the GLSL with skyfit_sky_radiance does not compile"; cat "$tmp/ground/glsl.log"; fail=1; }
+else
+  echo "FAIL glslangValidator is not installed (scripts/setup.sh installs it)"; fail=1
+fi
 grep -q '"normalise":[[:space:]]*"none"' "$tmp/ground/weights/mlp-scattering.json" &&
   ! grep -q '"norm_coef"' "$tmp/ground/weights/mlp-scattering.json" ||
   { echo "FAIL ground scene: --mlp-normalise none still normalised the sky network"; fail=1; }
@@ -369,7 +385,8 @@ rc=$?
 grep -E "chose|headers" "$tmp/named.out"
 [ $rc -eq 0 ] && [ -s "$tmp/named/ext/sky.hpp" ] && [ -s "$tmp/named/ext/sky.frag" ] && [ ! -e "$tmp/named/ext/sky.h" ] &&
   [ ! -e "$tmp/named/ext/sky.glsl" ] && [ ! -e "$tmp/named/out/sky.h" ] &&
-  grep -q "SKYFIT_GENERATED_SKY_H" "$tmp/named/ext/sky.hpp" && grep -q "SKYFIT_GENERATED_SKY_GLSL" "$tmp/named/ext/sky.frag" ||
+  grep -Eq "SKYFIT_GENERATED_SKY_[0-9a-f]{16}_H" "$tmp/named/ext/sky.hpp" &&
+  grep -Eq "SKYFIT_GENERATED_SKY_[0-9a-f]{16}_GLSL" "$tmp/named/ext/sky.frag" ||
   { echo "FAIL scene outputs ext/sky.hpp and ext/sky.frag not written as named"; cat "$tmp/named.out"; fail=1; }
 python3 - "$tmp/named" <<'PY' || fail=1
 import json, re, sys

@@ -1,9 +1,12 @@
 /* Where the project's shipped data files live (data/physical/: CIE colour
  * matching functions, solar spectrum, published sky-model coefficients...).
  * Looked up, in order: the folder named by the environment variable
- * SKYFIT_DATA_DIR, the source tree's data/physical (SKYFIT_SHARED_DATA_DIR,
- * set by the build), the installed share/skyfit/physical
- * (SKYFIT_INSTALLED_DATA_DIR, when the build defines it). */
+ * SKYFIT_DATA_DIR; share/skyfit/physical beside the running executable's
+ * bin/ (an installed copy, wherever its prefix was moved: the paths below
+ * are fixed when skyfit is built); the source tree's data/physical
+ * (SKYFIT_SHARED_DATA_DIR, set by the build); the installed
+ * share/skyfit/physical (SKYFIT_INSTALLED_DATA_DIR, when the build defines
+ * it). */
 #ifndef SKYFIT_UTIL_DATA_PATH_H
 #define SKYFIT_UTIL_DATA_PATH_H
 

@@ -1,6 +1,8 @@
 /* Uses the headers skyfit_generate() writes at build time: prints the
  * transmittance of the zenith and of a ray 5 degrees above the horizon for a
- * viewer on the ground, from each analytic baseline. */
+ * viewer on the ground, from the model the scene's budget selected, under
+ * its stable name (the selection is in the build folder's
+ * skyfit-sky_demo-skyfit/report.md). */
 #include <stdio.h>
 
 #include "skyfit.h"
@@ -8,12 +10,10 @@
 int main(void) {
   const float mus[2] = {1.0f, 0.0871557f};
   for (int i = 0; i < 2; ++i) {
-    skyfit_vec3 naive = skyfit_naive_transmittance(0.0f, mus[i]);
-    skyfit_vec3 chapman = skyfit_chapman_transmittance(0.0f, mus[i]);
-    skyfit_vec3 taylor = skyfit_taylor_transmittance(0.0f, mus[i]);
-    printf("mu %.4f  naive %.5f %.5f %.5f  chapman %.5f %.5f %.5f  taylor %.5f %.5f %.5f\n",
-           mus[i], naive.x, naive.y, naive.z, chapman.x, chapman.y, chapman.z, taylor.x,
-           taylor.y, taylor.z);
+    skyfit_vec3 t = skyfit_transmittance(0.0f, mus[i]);
+    skyfit_vec3 half = skyfit_transmittance_segment(0.0f, mus[i], 10.0f);
+    printf("mu %.4f  transmittance %.5f %.5f %.5f  first 10 km %.5f %.5f %.5f\n", mus[i], t.x, t.y, t.z, half.x,
+           half.y, half.z);
   }
   return 0;
 }
