@@ -6,31 +6,22 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "codegen/html_escape.h"
 #include "codegen/report.h"
 #include "util/atomic_file.h"
 
-static void esc_xml(FILE *f, const char *s) {
-  for (; *s; ++s) {
-    switch (*s) {
-      case '<': fputs("&lt;", f); break;
-      case '>': fputs("&gt;", f); break;
-      case '&': fputs("&amp;", f); break;
-      case '"': fputs("&quot;", f); break;
-      default: fputc(*s, f);
-    }
-  }
-}
-
 enum { MAX_POINTS = 256 };
+
+/* A model of quantity q with a cost and an error to plot (log axes). */
+static int plottable(const sf_report_model *m, int q) {
+  return (int)m->candidate->quantity == q && m->has_cost && m->has_errors && m->cost_ratio_naive16 > 0.0 &&
+         m->budget_metric > 0.0 && isfinite(m->cost_ratio_naive16) && isfinite(m->budget_metric);
+}
 
 int sf_report_plot_has_points(const sf_report *rep, int q) {
   if (rep->reference[q] < 0) return 0;
-  for (int i = 0; i < rep->n_models; ++i) {
-    const sf_report_model *m = &rep->models[i];
-    if ((int)m->candidate->quantity == q && m->has_cost && m->has_errors && m->cost_ratio_naive16 > 0.0 &&
-        m->budget_metric > 0.0 && isfinite(m->cost_ratio_naive16) && isfinite(m->budget_metric))
-      return 1;
-  }
+  for (int i = 0; i < rep->n_models; ++i)
+    if (plottable(&rep->models[i], q)) return 1;
   return 0;
 }
 
@@ -40,10 +31,7 @@ int sf_report_write_plot(FILE *f, const sf_report *rep, int q) {
   int idx[MAX_POINTS];
   for (int i = 0; i < rep->n_models && n < MAX_POINTS; ++i) {
     const sf_report_model *m = &rep->models[i];
-    if ((int)m->candidate->quantity != q || !m->has_cost || !m->has_errors) continue;
-    if (!(m->cost_ratio_naive16 > 0.0) || !(m->budget_metric > 0.0) || !isfinite(m->cost_ratio_naive16) ||
-        !isfinite(m->budget_metric))
-      continue;
+    if (!plottable(m, q)) continue;
     cost[n] = m->cost_ratio_naive16;
     error[n] = m->budget_metric;
     idx[n++] = i;
@@ -103,7 +91,7 @@ int sf_report_write_plot(FILE *f, const sf_report *rep, int q) {
             PX(log10(cost[i])), PY(log10(error[i])), m->selected ? 7 : 5, m->selectable ? color : "#fff",
             m->selected ? "#000" : color);
     fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\">", PX(log10(cost[i])) + 8, PY(log10(error[i])) - 6);
-    esc_xml(f, m->candidate->name);
+    sf_html_escape(f, m->candidate->name);
     fputs(m->selected ? " (selected)" : "", f);
     fputs("</text>\n", f);
   }

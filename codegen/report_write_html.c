@@ -5,21 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "codegen/html_escape.h"
 #include "codegen/report.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
 
-static void esc(FILE *f, const char *s) {
-  for (; *s; ++s) {
-    switch (*s) {
-      case '<': fputs("&lt;", f); break;
-      case '>': fputs("&gt;", f); break;
-      case '&': fputs("&amp;", f); break;
-      case '"': fputs("&quot;", f); break;
-      default: fputc(*s, f);
-    }
-  }
-}
+static void esc(FILE *f, const char *s) { sf_html_escape(f, s); }
 
 static void num(FILE *f, double v) {
   if (isfinite(v)) fprintf(f, "%.3g", v);

@@ -99,6 +99,15 @@ void sf_build_staging_final_path(const sf_build_staging *s, const char *staged, 
     snprintf(out, n, "%s", staged);
 }
 
+/* The paths of entry name in staged/ and in final/ (4096 bytes each). */
+static int entry_paths(const char *staged, const char *final, const char *name, char *from, char *to, sf_error *err) {
+  int w1 = snprintf(from, 4096, "%s/%s", staged, name);
+  int w2 = snprintf(to, 4096, "%s/%s", final, name);
+  if (w1 < 0 || w1 >= 4096 || w2 < 0 || w2 >= 4096)
+    return sf_fail(err, SF_ERR_INPUT, "%s/%s: output path too long", final, name);
+  return SF_OK;
+}
+
 /* Every move checked before any is made: a folder where a file goes, or a
  * file where a folder goes, fails the publish with nothing moved (a
  * report.md made a folder had left the run half published). */
@@ -109,12 +118,7 @@ static int check_tree(const char *staged, const char *final, int depth, sf_error
   for (struct dirent *e; status == SF_OK && (e = readdir(d)) != NULL;) {
     if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
     char from[4096], to[4096];
-    int w1 = snprintf(from, sizeof from, "%s/%s", staged, e->d_name);
-    int w2 = snprintf(to, sizeof to, "%s/%s", final, e->d_name);
-    if (w1 < 0 || (size_t)w1 >= sizeof from || w2 < 0 || (size_t)w2 >= sizeof to) {
-      status = sf_fail(err, SF_ERR_INPUT, "%s/%s: output path too long", final, e->d_name);
-      break;
-    }
+    if ((status = entry_paths(staged, final, e->d_name, from, to, err)) != SF_OK) break;
     struct stat st, there;
     if (lstat(from, &st) != 0) continue;
     int exists = lstat(to, &there) == 0;
@@ -207,12 +211,7 @@ static int publish_tree(move_log *log, const char *staged, const char *final, in
       if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
       if (depth == 0 && strcmp(e->d_name, KEEP_DIR) == 0) continue;
       char from[4096], to[4096];
-      int w1 = snprintf(from, sizeof from, "%s/%s", staged, e->d_name);
-      int w2 = snprintf(to, sizeof to, "%s/%s", final, e->d_name);
-      if (w1 < 0 || (size_t)w1 >= sizeof from || w2 < 0 || (size_t)w2 >= sizeof to) {
-        status = sf_fail(err, SF_ERR_INPUT, "%s/%s: output path too long", final, e->d_name);
-        break;
-      }
+      if ((status = entry_paths(staged, final, e->d_name, from, to, err)) != SF_OK) break;
       struct stat st;
       if (lstat(from, &st) != 0) continue;
       int is_dir = S_ISDIR(st.st_mode);
