@@ -11,6 +11,7 @@
 #include "fit/build_pipeline.h"
 #include "fit/candidate_fitted.h"
 #include "fit/output_norm.h"
+#include "codegen/codegen_file.h"
 #include "models/scene_file.h"
 
 #define MIB (1024LL * 1024)
@@ -64,7 +65,8 @@ static void usage(FILE *out, const char *command, int emit) {
                  "the budget among those it can emit, emits GLSL and C for it (to --header-c F and\n"
                  "--header-glsl F, else the scene's outputs, else DIR/sky.h and DIR/sky.glsl; besides\n"
                  "the models' own functions, skyfit_transmittance(h_km, mu) and skyfit_sky_radiance(h_km,\n"
-                 "mu, mu_s, nu) call the selected ones, so a renderer's code outlives a new selection),\n"
+                 "mu, mu_s, nu) call the selected ones, so a renderer's code outlives a new selection;\n"
+                 "--prefix P names them P_... instead, for two scenes' headers in one program),\n"
                : "builds\nthe candidates,\n",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
           SF_BUILD_MLP_RESTARTS, SF_BUILD_RESTART_MAX_MISS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
@@ -115,6 +117,12 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       o.header_c = argv[++i];
     } else if (emit && !strcmp(a, "--header-glsl") && v) {
       o.header_glsl = argv[++i];
+    } else if (emit && !strcmp(a, "--prefix") && v) {
+      if (sf_codegen_prefix_check(argv[++i], &perr) != SF_OK) {
+        fprintf(stderr, "%s: --prefix: %s\n", command, perr.message);
+        return 2;
+      }
+      o.prefix = argv[i];
     } else if (!strcmp(a, "--resolution") && v) {
       if (sf_table_resolution_parse(argv[++i], &o.tables.res, &perr) != SF_OK) {
         fprintf(stderr, "%s: %s\n", command, perr.message);

@@ -18,7 +18,7 @@
 typedef struct codegen_options {
   const char *weights[MAX_INPUTS];
   int n_weights;
-  const char *atmosphere_path, *scene_path, *baselines, *out_dir, *name;
+  const char *atmosphere_path, *scene_path, *baselines, *out_dir, *name, *prefix;
   int naive_steps, want_c, want_glsl, quiet;
 } codegen_options;
 
@@ -50,6 +50,8 @@ static void codegen_usage(FILE *out) {
           "  --lang L           glsl, c, both or glsl,c (required)\n"
           "  --out DIR          output folder (required; must exist)\n"
           "  --name NAME        file name without extension (default skyfit)\n"
+          "  --prefix P         begin every emitted name with P_ instead of skyfit_ (types and\n"
+          "                     macros too, P_ upper-cased): two scenes' headers in one program\n"
           "  --quiet            no summary on stderr\n"
           "  --help             this text\n",
           SF_BASELINE_DEFAULT_STEPS);
@@ -74,7 +76,7 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
     int takes = strcmp(a, "--weights") == 0 || strcmp(a, "--atmosphere") == 0 ||
                 strcmp(a, "--scene") == 0 || strcmp(a, "--baselines") == 0 ||
                 strcmp(a, "--naive-steps") == 0 || strcmp(a, "--lang") == 0 ||
-                strcmp(a, "--out") == 0 || strcmp(a, "--name") == 0;
+                strcmp(a, "--out") == 0 || strcmp(a, "--name") == 0 || strcmp(a, "--prefix") == 0;
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) return 1;
     if (strcmp(a, "--quiet") == 0) {
       o->quiet = 1;
@@ -100,6 +102,14 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
     else if (strcmp(a, "--baselines") == 0) o->baselines = next;
     else if (strcmp(a, "--out") == 0) o->out_dir = next;
     else if (strcmp(a, "--name") == 0) o->name = next;
+    else if (strcmp(a, "--prefix") == 0) {
+      sf_error perr = {0};
+      if (sf_codegen_prefix_check(next, &perr) != SF_OK) {
+        fprintf(stderr, "skyfit codegen: --prefix: %s\n", perr.message);
+        return 2;
+      }
+      o->prefix = next;
+    }
     else if (strcmp(a, "--naive-steps") == 0) {
       char *end;
       long n = strtol(next, &end, 10);
@@ -214,7 +224,7 @@ static int run(const codegen_options *o, codegen_job *job, sf_error *err) {
     ++job->n_parts;
   }
   sf_fitted_link(job->fitted, job->parts + job->n_baselines, job->n_weights);
-  return sf_codegen_write(job->parts, job->n_parts, o->want_c, o->want_glsl, o->out_dir, o->name,
+  return sf_codegen_write(job->parts, job->n_parts, o->want_c, o->want_glsl, o->out_dir, o->name, o->prefix,
                           err);
 }
 

@@ -1,6 +1,6 @@
 # skyfit_generate(TARGET <target> SCENE <scene.json> OUTPUT_DIR <dir>
-#                 LANG <glsl|c>... [NAME <base>] [BUILD_OPTIONS <option>...]
-#                 [BASELINES <list>])
+#                 LANG <glsl|c>... [NAME <base>] [PREFIX <prefix>]
+#                 [BUILD_OPTIONS <option>...] [BASELINES <list>])
 #
 # Adds a build step that writes <dir>/<base>.glsl and/or <dir>/<base>.h
 # (base defaults to "skyfit") from the scene file (SPEC §5, §9), makes
@@ -24,9 +24,9 @@
 # the skyfit tool changes, and not otherwise. Editing which atmosphere the
 # scene names re-runs CMake's configure (the scene is a configure
 # dependency), which picks up the new atmosphere file as a dependency.
-# One target may call it several times with different NAMEs (two scenes'
-# headers must differ in NAME; their functions share names, so one
-# translation unit includes one of them).
+# One target may call it several times with different NAMEs; with
+# different PREFIXes as well (every emitted name starts <prefix>_ instead
+# of skyfit_), two scenes' headers go into one translation unit or shader.
 include_guard(GLOBAL)
 
 # Reads the scene's "atmosphere" path (relative to the scene's folder);
@@ -44,7 +44,7 @@ function(_skyfit_scene_atmosphere scene out_var)
 endfunction()
 
 function(skyfit_generate)
-  cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME" "LANG;BASELINES;BUILD_OPTIONS" ${ARGN})
+  cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME;PREFIX" "LANG;BASELINES;BUILD_OPTIONS" ${ARGN})
   foreach(required TARGET SCENE OUTPUT_DIR LANG)
     if(NOT SG_${required})
       message(FATAL_ERROR "skyfit_generate: ${required} is required")
@@ -74,11 +74,15 @@ function(skyfit_generate)
     list(APPEND langs ${lang})
   endforeach()
   string(REPLACE ";" "," lang_arg "${langs}")
+  set(prefix_arg)
+  if(SG_PREFIX)
+    set(prefix_arg --prefix ${SG_PREFIX})
+  endif()
 
   if(SG_BASELINES)
     string(REPLACE ";" "," baselines_arg "${SG_BASELINES}")
     set(command skyfit::skyfit codegen --scene "${scene}" --baselines ${baselines_arg} --lang ${lang_arg}
-        --out "${out_dir}" --name ${SG_NAME} --quiet)
+        --out "${out_dir}" --name ${SG_NAME} ${prefix_arg} --quiet)
   else()
     # The header of a language not asked for stays in the work folder.
     set(work "${CMAKE_CURRENT_BINARY_DIR}/skyfit-${SG_TARGET}-${SG_NAME}")
@@ -91,7 +95,7 @@ function(skyfit_generate)
       set(glsl_header "${out_dir}/${SG_NAME}.glsl")
     endif()
     set(command skyfit::skyfit build "${scene}" --out "${work}" --header-c "${c_header}" --header-glsl
-        "${glsl_header}" --no-views --quiet ${SG_BUILD_OPTIONS})
+        "${glsl_header}" --no-views --quiet ${prefix_arg} ${SG_BUILD_OPTIONS})
   endif()
 
   add_custom_command(

@@ -120,9 +120,49 @@ static void guard_of(const char *base, char *guard, size_t n) {
   guard[k] = '\0';
 }
 
+int sf_codegen_prefix_check(const char *prefix, sf_error *err) {
+  size_t n = strlen(prefix);
+  int ok = n >= 1 && n <= 32 && prefix[0] >= 'a' && prefix[0] <= 'z';
+  for (size_t i = 0; ok && i < n; ++i)
+    ok = (prefix[i] >= 'a' && prefix[i] <= 'z') || (prefix[i] >= '0' && prefix[i] <= '9') || prefix[i] == '_';
+  if (!ok)
+    return sf_fail(err, SF_ERR_INPUT,
+                   "prefix \"%s\": 1 to 32 lower-case letters, digits and '_', starting with a letter", prefix);
+  return SF_OK;
+}
+
+static int identifier_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+/* text with every identifier that starts "skyfit_" / "SKYFIT_" starting
+ * "<prefix>_" / "<PREFIX>_" instead (malloc'd; NULL when out of memory). */
+static char *with_prefix(const char *text, const char *prefix) {
+  size_t n = strlen(text), p = strlen(prefix), count = 0;
+  for (size_t i = 0; i + 7 <= n; ++i)
+    if ((i == 0 || !identifier_char(text[i - 1])) &&
+        (strncmp(text + i, "skyfit_", 7) == 0 || strncmp(text + i, "SKYFIT_", 7) == 0))
+      ++count;
+  char *out = malloc(n + count * (p > 6 ? p - 6 : 0) + 1);
+  if (!out) return NULL;
+  size_t k = 0;
+  for (size_t i = 0; i < n;) {
+    int lower = strncmp(text + i, "skyfit_", 7) == 0, upper = strncmp(text + i, "SKYFIT_", 7) == 0;
+    if ((lower || upper) && (i == 0 || !identifier_char(text[i - 1]))) {
+      for (size_t j = 0; j < p; ++j) out[k++] = upper ? (char)(prefix[j] >= 'a' && prefix[j] <= 'z' ? prefix[j] - 32 : prefix[j]) : prefix[j];
+      i += 6;   /* the '_' is copied below */
+      continue;
+    }
+    out[k++] = text[i++];
+  }
+  out[k] = '\0';
+  return out;
+}
+
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
-                      const char *file_name, char **text, sf_error *err) {
+                      const char *file_name, const char *prefix, char **text, sf_error *err) {
   *text = NULL;
+  if (prefix && sf_codegen_prefix_check(prefix, err) != SF_OK) return err->status;
   for (int p = 0; p < n_parts; ++p)
     for (int q = 0; q < p; ++q)
       if (strcmp(parts[p].name, parts[q].name) == 0 &&
@@ -166,6 +206,12 @@ int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang la
     sf_cw_free(&file);
     return status;
   }
+  if (prefix && strcmp(prefix, "skyfit") != 0) {
+    *text = with_prefix(file.text, prefix);
+    sf_cw_free(&file);
+    if (!*text) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    return SF_OK;
+  }
   *text = file.text;
   return SF_OK;
 }
@@ -185,14 +231,14 @@ int sf_codegen_check_files(const char *c_path, const char *glsl_path, sf_error *
 }
 
 int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
-                             sf_codegen_files *out, sf_error *err) {
+                             const char *prefix, sf_codegen_files *out, sf_error *err) {
   memset(out, 0, sizeof *out);
   const char *paths[2] = {c_path, glsl_path};
   static const sf_code_lang langs[2] = {SF_CODE_C, SF_CODE_GLSL};
   char *text[2] = {NULL, NULL};
   int status = sf_codegen_check_files(c_path, glsl_path, err);
   for (int k = 0; k < 2 && status == SF_OK; ++k)
-    if (paths[k]) status = sf_codegen_render(parts, n_parts, langs[k], file_name_of(paths[k]), &text[k], err);
+    if (paths[k]) status = sf_codegen_render(parts, n_parts, langs[k], file_name_of(paths[k]), prefix, &text[k], err);
   for (int k = 0; k < 2 && status == SF_OK; ++k) {
     if (!paths[k]) continue;
     if (sf_atomic_open(&out->file[k], paths[k], err) != SF_OK) {
@@ -228,14 +274,14 @@ void sf_codegen_abort_files(sf_codegen_files *f) {
 }
 
 int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
-                           sf_error *err) {
+                           const char *prefix, sf_error *err) {
   sf_codegen_files files;
-  if (sf_codegen_prepare_files(parts, n_parts, c_path, glsl_path, &files, err) != SF_OK) return err->status;
+  if (sf_codegen_prepare_files(parts, n_parts, c_path, glsl_path, prefix, &files, err) != SF_OK) return err->status;
   return sf_codegen_commit_files(&files, err);
 }
 
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,
-                     const char *dir, const char *base, sf_error *err) {
+                     const char *dir, const char *base, const char *prefix, sf_error *err) {
   if (!base[0] || strchr(base, '/'))
     return sf_fail(err, SF_ERR_INPUT, "output name \"%s\": expected a file name without folders", base);
   char c_path[4096], glsl_path[4096];
@@ -243,5 +289,5 @@ int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int 
   int g_len = snprintf(glsl_path, sizeof glsl_path, "%s/%s.glsl", dir, base);
   if (c_len < 0 || (size_t)c_len >= sizeof c_path || g_len < 0 || (size_t)g_len >= sizeof glsl_path)
     return sf_fail(err, SF_ERR_INPUT, "%s/%s: output path is too long", dir, base);
-  return sf_codegen_write_files(parts, n_parts, want_c ? c_path : NULL, want_glsl ? glsl_path : NULL, err);
+  return sf_codegen_write_files(parts, n_parts, want_c ? c_path : NULL, want_glsl ? glsl_path : NULL, prefix, err);
 }

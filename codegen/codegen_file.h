@@ -32,11 +32,16 @@ typedef struct sf_codegen_part {
  * SKYFIT_GENERATED_<BASE>_<HASH>_H / _GLSL by lang (BASE the name without
  * its extension, upper-cased, other characters as '_'; HASH 16 hex digits
  * of the FNV-1a of the models' code, so two different headers of one name
- * never share it). SF_ERR_INPUT when a
- * model cannot be written (a non-finite constant) or two parts share a
- * name. */
+ * never share it). prefix (NULL: "skyfit") begins every name the file
+ * defines, functions, types and macros (PREFIX_ upper-cased): two scenes'
+ * headers with two prefixes live in one program. SF_ERR_INPUT when a
+ * model cannot be written (a non-finite constant), two parts share a
+ * name, or the prefix is not a valid one. */
 int sf_codegen_render(const sf_codegen_part *parts, int n_parts, sf_code_lang lang,
-                      const char *file_name, char **text, sf_error *err);
+                      const char *file_name, const char *prefix, char **text, sf_error *err);
+/* A prefix of emitted names: 1 to 32 of [a-z0-9_], starting with a
+ * letter; SF_ERR_INPUT naming it otherwise. */
+int sf_codegen_prefix_check(const char *prefix, sf_error *err);
 
 /* Whether the pair can be written there (either path may be NULL): two
  * distinct paths, neither a folder, their folders writable (SF_ERR_INPUT
@@ -54,7 +59,7 @@ typedef struct sf_codegen_files {
   int open[2];
 } sf_codegen_files;
 int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
-                             sf_codegen_files *out, sf_error *err);
+                             const char *prefix, sf_codegen_files *out, sf_error *err);
 int sf_codegen_commit_files(sf_codegen_files *f, sf_error *err);
 void sf_codegen_abort_files(sf_codegen_files *f);
 
@@ -63,11 +68,11 @@ void sf_codegen_abort_files(sf_codegen_files *f);
  * written to temporaries before either is renamed into place, so on
  * failure neither file is touched. */
 int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
-                           sf_error *err);
+                           const char *prefix, sf_error *err);
 
 /* sf_codegen_write_files to DIR/BASE.h and/or DIR/BASE.glsl; BASE a file
  * name without folders, not empty. */
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,
-                     const char *dir, const char *base, sf_error *err);
+                     const char *dir, const char *base, const char *prefix, sf_error *err);
 
 #endif

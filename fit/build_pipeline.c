@@ -138,7 +138,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   }
   if (n == 0) return SF_OK;
   int status = output_paths(scene, o, res->header_c, res->header_glsl, sizeof res->header_c, err);
-  if (status == SF_OK) status = sf_codegen_prepare_files(parts, n, res->header_c, res->header_glsl, headers, err);
+  if (status == SF_OK) status = sf_codegen_prepare_files(parts, n, res->header_c, res->header_glsl, o->prefix, headers, err);
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
   if (status != SF_OK) {

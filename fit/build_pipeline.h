@@ -37,6 +37,7 @@ typedef struct sf_build_options {
   int emit;                          /* write the headers (default 1) */
   const char *header_c, *header_glsl;   /* where to write them, over the scene's outputs
                                            (NULL: the scene's, or OUT/sky.h, OUT/sky.glsl) */
+  const char *prefix;                /* of the emitted names (NULL: skyfit; codegen/codegen_file.h) */
   long long cache_limit_bytes;       /* OUT/cache kept under it after a successful run,
                                         least recently used entries removed first
                                         (util/cache_prune.h); < 0: no limit */

@@ -97,4 +97,26 @@ if [ -n "${SKYFIT_SOURCE_DIR:-}" ]; then
     --lang c --out "$tmp/names" --name ignored 2>/dev/null
   check "--atmosphere without --baselines exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/names/ignored.h ]"
 fi
+# Two atmospheres in one program: --prefix renames every emitted name
+# (functions, types, macros), so both headers compile in one translation
+# unit and both GLSL files in one shader; without it they had clashed.
+mkdir -p "$tmp/two"
+printf '{"base": "default", "name": "hazy", "constituents": [{"name": "mie", "scattering": [0.02, 0.02, 0.02]}]}' \
+  > "$tmp/two/hazy.json"
+"$SKYFIT_BIN" codegen --baselines naive,chapman --lang both --out "$tmp/two" --name earth --prefix earth --quiet
+"$SKYFIT_BIN" codegen --baselines naive,chapman --atmosphere "$tmp/two/hazy.json" --lang both --out "$tmp/two" \
+  --name hazy --prefix hazy --quiet
+printf '#include "earth.h"\n#include "hazy.h"\nfloat f(void) { return earth_naive_transmittance(0.0f, 0.5f).z - hazy_naive_transmittance(0.0f, 0.5f).z; }\n' \
+  > "$tmp/two/both.c"
+check "--prefix: two headers in one C99 translation unit, no name left as skyfit_" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -c $tmp/two/both.c -I$tmp/two -o $tmp/two/both.o &&
+   ! grep -q 'skyfit_\|SKYFIT_' $tmp/two/hazy.h"
+if command -v glslangValidator >/dev/null; then
+  { printf '#version 450\nlayout(location = 0) out vec4 c;\n'; cat "$tmp/two/earth.glsl" "$tmp/two/hazy.glsl";
+    printf 'void main() { c = vec4(earth_chapman_transmittance(0.0, 0.5) - hazy_chapman_transmittance(0.0, 0.5), 1.0); }\n'; } \
+    > "$tmp/two/both.frag"
+  check "--prefix: two GLSL files in one shader" "glslangValidator $tmp/two/both.frag > $tmp/two/glsl.log 2>&1"
+fi
+"$SKYFIT_BIN" codegen --baselines naive --lang c --out "$tmp/two" --name bad --prefix 9x 2>/dev/null
+check "--prefix 9x exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/two/bad.h ]"
 exit $fail

@@ -51,9 +51,9 @@ grep -q "earth-consumer-example" "$header"
 "$tmp/consumer/build/sky_demo" | tee "$tmp/demo.txt"
 grep -q "^mu 1.0000" "$tmp/demo.txt"
 echo "ok   first build generated skyfit.h and skyfit.glsl and the demo ran"
-grep -q "skyfit_chapman_transmittance(float h_km, float mu)" "$tmp/consumer/build/generated/sky_baselines.h" ||
-  { echo "FAIL the second skyfit_generate (BASELINES) wrote no sky_baselines.h"; exit 1; }
-echo "ok   a second skyfit_generate on the target (another NAME, BASELINES) wrote sky_baselines.h"
+grep -q "baseline_chapman_transmittance(float h_km, float mu)" "$tmp/consumer/build/generated/sky_baselines.h" ||
+  { echo "FAIL the second skyfit_generate (BASELINES, PREFIX baseline) wrote no sky_baselines.h"; exit 1; }
+echo "ok   a second skyfit_generate on the target (another NAME and PREFIX, BASELINES): both headers in main.c"
 # The selected model (the report in the work folder names it) behind the
 # stable names: the demo's zenith transmittance is the reference's within
 # the scene's budget (1e-3 RMSE; 0.01 here, a single ray).

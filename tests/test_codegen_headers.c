@@ -841,7 +841,7 @@ static void check_case(test_case *tc) {
   }
   char base[64], path[512], cmd[4096];
   snprintf(base, sizeof base, "sky_%s", tc->name);
-  if (!CHECK(sf_codegen_write(parts, n_parts, 1, 1, tmp_dir, base, &err) == SF_OK)) {
+  if (!CHECK(sf_codegen_write(parts, n_parts, 1, 1, tmp_dir, base, NULL, &err) == SF_OK)) {
     printf("%s\n", err.message);
     return;
   }

@@ -714,7 +714,7 @@ static void sweep_atmosphere_run(sweep_atmosphere *sa, int index, int with_fitte
 
   char base[64], header[1024], driver[1024], so[1024], cmd[4096];
   snprintf(base, sizeof base, "sweep_%s", sa->name);
-  if (!CHECK(sf_codegen_write(parts, n_parts, 1, 0, tmp_dir, base, &err) == SF_OK)) {
+  if (!CHECK(sf_codegen_write(parts, n_parts, 1, 0, tmp_dir, base, NULL, &err) == SF_OK)) {
     printf("%s\n", err.message);
     return;
   }

@@ -103,7 +103,7 @@ static double emitted_c_difference(const sf_mlp_sky *t, const float *pts, int n)
   part.model = t;
   sf_error err = {0};
   char path[512], cmd[1600];
-  if (sf_codegen_write(&part, 1, 1, 0, dir, "mapped", &err)) {
+  if (sf_codegen_write(&part, 1, 1, 0, dir, "mapped", NULL, &err)) {
     printf("codegen: %s\n", err.message);
     return -1.0;
   }
