@@ -96,7 +96,7 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       char *end;
       distance_given = 1;
       o->distance = strtod(argv[++i], &end);
-      if (*end != '\0' || !isfinite(o->distance) || o->distance < 0.0) {
+      if (end == argv[i] || *end != '\0' || !isfinite(o->distance) || o->distance < 0.0) {   /* "" had read as 0 */
         fprintf(stderr, "skyfit eval: --to-distance: expected a distance >= 0 in km, got '%s'\n",
                 argv[i]);
         return 2;
@@ -167,8 +167,15 @@ static int output_columns(const sf_atmosphere *atm, quantity what, char names[][
 }
 
 /* Checks the ranges of one row and builds its view ray. */
+/* A row's ray: for a viewer above the top, from where it enters
+ * (models/view_ray.h), with the sun's cosine there. */
+typedef struct eval_ray {
+  sf_view_ray ray;
+  double mu_s;
+} eval_ray;
+
 static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf_csv_points *pts,
-                       long row, sf_view_ray *ray, sf_error *err) {
+                       long row, eval_ray *ray, sf_error *err) {
   const double *v = pts->values + row * pts->n_columns;
   static const char *const unit_columns[] = {"mu", "mu_s", "nu"};
   for (int k = 0; k < 3; ++k) {
@@ -182,7 +189,10 @@ static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf
     return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", row + 2,
                    pts->fields[row * pts->n_columns + sf_csv_points_column(pts, "h_km")]);
   const char *why = "";
-  if (sf_view_ray_make(atm, h, v[sf_csv_points_column(pts, "mu")], o->end, o->distance, ray, &why))
+  int c_mu_s = sf_csv_points_column(pts, "mu_s"), c_nu = sf_csv_points_column(pts, "nu");
+  double mu = v[sf_csv_points_column(pts, "mu")], mu_s = c_mu_s >= 0 ? v[c_mu_s] : 0.0;
+  double nu = c_nu >= 0 ? sf_clamp_nu(mu, mu_s, v[c_nu]) : 0.0;
+  if (sf_view_ray_make_at_entry(atm, h, mu, mu_s, nu, o->end, o->distance, &ray->ray, &ray->mu_s, &why))
     return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld: %s", row + 2, why);
   return 0;
 }
@@ -199,7 +209,8 @@ static void model_point(const sf_csv_points *pts, long row, double p[4]) {
 }
 
 static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const sf_eval_model *model,
-                         const sf_csv_points *pts, long row, const sf_view_ray *ray, double *out) {
+                         const sf_csv_points *pts, long row, const eval_ray *er, double *out) {
+  const sf_view_ray *ray = &er->ray;
   const double *v = pts->values + row * pts->n_columns;
   if (model) {
     double p[4];
@@ -217,9 +228,9 @@ static void evaluate_row(const sf_atmosphere *atm, const eval_options *o, const 
     return;
   }
   double mu_s = v[sf_csv_points_column(pts, "mu_s")], nu = v[sf_csv_points_column(pts, "nu")];
+  double clamped_nu = sf_clamp_nu(v[sf_csv_points_column(pts, "mu")], mu_s, nu);
   double all[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
-  sf_single_scattering(atm, ray, mu_s, nu, all);
-  double clamped_nu = sf_clamp_nu(ray->mu, mu_s, nu);
+  sf_single_scattering(atm, ray, er->mu_s, clamped_nu, all);
   int n = 0;
   for (int i = 0; i < atm->n_constituents; ++i) {
     const sf_constituent *c = &atm->constituents[i];
@@ -296,7 +307,7 @@ int sf_cmd_eval(int argc, char **argv) {
   }
   static char names[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS][64];
   int n_out = output_columns(&atm, o.what, names);
-  sf_view_ray *rays = malloc(sizeof(sf_view_ray) * (size_t)(pts.n_rows ? pts.n_rows : 1));
+  eval_ray *rays = malloc(sizeof(eval_ray) * (size_t)(pts.n_rows ? pts.n_rows : 1));
   double *results = malloc(sizeof(double) * (size_t)((pts.n_rows ? pts.n_rows : 1) * (n_out ? n_out : 1)));
   if (!rays || !results) {
     fprintf(stderr, "skyfit eval: out of memory for %ld points\n", pts.n_rows);

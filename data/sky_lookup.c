@@ -22,17 +22,13 @@ void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf
 }
 
 int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, double *mu, double *mu_s, double nu) {
-  double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
-  *r = R + h;
+  double Rt = atm->top_radius_km;
+  *r = atm->bottom_radius_km + h;
   if (*r <= Rt) return 1;
-  double t_enter, t_exit;
-  int ground;
-  if (!sf_ray_atmosphere_segment(*r, *mu, R, Rt, &t_enter, &t_exit, &ground)) return 0;
-  double r0 = *r;
-  *mu = (r0 * *mu + t_enter) / Rt;
-  *mu_s = (r0 * *mu_s + t_enter * nu) / Rt;
-  *mu = *mu > 1.0 ? 1.0 : (*mu < -1.0 ? -1.0 : *mu);
-  *mu_s = *mu_s > 1.0 ? 1.0 : (*mu_s < -1.0 ? -1.0 : *mu_s);
+  double t_enter, mu_e, mu_s_e;   /* from the closest approach: no cancellation far out */
+  if (!sf_ray_enter_from_above(*r, *mu, *mu_s, nu, Rt, &t_enter, &mu_e, &mu_s_e)) return 0;
+  *mu = mu_e;
+  *mu_s = mu_s_e;
   *r = Rt;
   return 1;
 }

@@ -58,6 +58,13 @@ int sf_optical_depth_ray(const sf_atmosphere *atm, double h_km, double mu,
                          sf_ray_end end, double *out) {
   for (int i = 0; i < atm->n_constituents; ++i) out[i] = 0.0;
   double r = atm->bottom_radius_km + h_km;
+  /* a viewer in space: the ray from where it enters (models/ray_geometry.h) */
+  double skipped, mu_entry;
+  if (r > atm->top_radius_km) {
+    if (!sf_ray_enter_from_above(r, mu, 0.0, 0.0, atm->top_radius_km, &skipped, &mu_entry, NULL)) return 0;
+    r = atm->top_radius_km;
+    mu = mu_entry;
+  }
   double t_enter, t_exit;
   int hits_ground;
   if (!sf_ray_atmosphere_segment(r, mu, atm->bottom_radius_km, atm->top_radius_km,

@@ -28,3 +28,18 @@ double sf_ray_mu_at(double r, double mu, double t) {
   double m = (r * mu + t) / rt;
   return m > 1.0 ? 1.0 : (m < -1.0 ? -1.0 : m);
 }
+
+int sf_ray_enter_from_above(double r, double mu, double mu_s, double nu, double top, double *t_enter, double *mu_e,
+                            double *mu_s_e) {
+  if (!(r > top) || !(mu < 0.0)) return 0;
+  double p = r * sqrt((1.0 - mu) * (1.0 + mu));
+  if (!(p < top)) return 0;   /* a ray that only touches the sphere has no path inside */
+  double s = sqrt((top - p) * (top + p));
+  *t_enter = -r * mu - s;
+  *mu_e = -s / top;
+  if (mu_s_e) {
+    double m = (r * (mu_s - mu * nu) - s * nu) / top;
+    *mu_s_e = m > 1.0 ? 1.0 : (m < -1.0 ? -1.0 : m);
+  }
+  return 1;
+}

@@ -39,6 +39,18 @@ int sf_ray_atmosphere_segment(double r, double mu, double bottom_radius,
                               double top_radius, double *t_enter,
                               double *t_exit, int *hits_ground);
 
+/* Where the ray of a viewer above the sphere of radius top (r > top) enters
+ * it, taken from the ray's closest approach p = r sqrt((1 - mu)(1 + mu)):
+ * the distance t_enter = -r mu - s, s = sqrt((top - p)(top + p)), the view
+ * cosine there mu_e = -s / top and, with the sun at mu_s and view-sun cosine
+ * nu, the sun cosine there (r (mu_s - mu nu) - s nu) / top (mu_s_e may be
+ * NULL). (r mu + t_enter) / top and (r mu_s + t_enter nu) / top cancel for
+ * r >> top: a viewer 1e12 km out looking straight down had seen a column of
+ * 2e-282. Returns 0, leaving the outputs untouched, if the ray misses or
+ * only touches the sphere, or the viewer is not above it. */
+int sf_ray_enter_from_above(double r, double mu, double mu_s, double nu, double top, double *t_enter, double *mu_e,
+                            double *mu_s_e);
+
 /* The same in float32. */
 float sf_ray_closest_radius_sq_f(float r, float mu);
 float sf_ray_radius_at_f(float r, float mu, float t);

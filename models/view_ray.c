@@ -33,3 +33,29 @@ int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_en
   out->hits_ground = hits_ground;
   return 0;
 }
+
+int sf_view_ray_make_at_entry(const sf_atmosphere *atm, double h_km, double mu, double mu_s, double nu,
+                              sf_ray_end end, double distance, sf_view_ray *out, double *mu_s_out,
+                              const char **why) {
+  *mu_s_out = mu_s;
+  double r = atm->bottom_radius_km + h_km, t_enter, mu_e, mu_s_e;
+  if (!(r > atm->top_radius_km)) return sf_view_ray_make(atm, h_km, mu, end, distance, out, why);
+  if (!sf_ray_enter_from_above(r, mu, mu_s, nu, atm->top_radius_km, &t_enter, &mu_e, &mu_s_e)) {
+    /* never enters: an empty stretch at the viewer */
+    out->r = r;
+    out->mu = mu;
+    out->t0 = out->t1 = 0.0;
+    out->hits_ground = 0;
+    return 0;
+  }
+  *mu_s_out = mu_s_e;
+  if (distance >= 0.0 && !(distance > t_enter)) {   /* the segment ends before the atmosphere */
+    out->r = atm->top_radius_km;
+    out->mu = mu_e;
+    out->t0 = out->t1 = 0.0;
+    out->hits_ground = 0;
+    return 0;
+  }
+  return sf_view_ray_make(atm, atm->top_radius_km - atm->bottom_radius_km, mu_e, end,
+                          distance >= 0.0 ? distance - t_enter : distance, out, why);
+}

@@ -165,6 +165,26 @@ expect_error "empty input" '' '.' optical_depth
 expect_error "unknown quantity" $'h_km,mu\n0,1\n' 'unknown quantity' radiance_of_doom
 expect_error "unknown option" $'h_km,mu\n0,1\n' "unknown option '--frobnicate'" optical_depth --frobnicate
 expect_error "negative --to-distance" $'h_km,mu\n0,1\n' 'to-distance' optical_depth --to-distance -3
+expect_error "empty --to-distance" $'h_km,mu\n0,1\n' 'to-distance' optical_depth --to-distance ""
+
+# A viewer far out in space sees the column of the ray from where it enters
+# (models/view_ray.h): straight down from 1e9, 1e14 or 1e300 km, the same
+# depths as from the top (1e9 had given 8.005 for 8.0, 1e14 gave 100), and
+# the same single scattering.
+printf 'h_km,mu\n100,-1\n1e9,-1\n1e14,-1\n1e300,-1\n' | "$BIN" eval optical_depth >"$TMP/far.csv"
+printf 'h_km,mu,mu_s,nu\n100,-1,0.5,-0.5\n1e16,-1,0.5,-0.5\n1e200,-1,0.5,-0.5\n' | "$BIN" eval single_scattering \
+  >"$TMP/far_ss.csv"
+if python3 - "$TMP/far.csv" "$TMP/far_ss.csv" <<'PY'
+import sys
+for path in sys.argv[1:]:
+    rows = [[float(x) for x in l.split(",")] for l in open(path).read().splitlines()[1:]]
+    first = len(rows[0]) - (3 if path.endswith("far.csv") else 6)
+    for r in rows[1:]:
+        for a, b in zip(r[first:], rows[0][first:]):
+            assert abs(a - b) <= 1e-9 * abs(b), f"{path}: {r} vs {rows[0]}"
+PY
+then pass "viewers far out in space: the column and the light of the ray from where it enters"
+else fail "viewers far out in space"; fi
 
 # ---- bad atmosphere files ---------------------------------------------------
 printf '{"base": "default", "constituents": [{"name": "mie", "phase": {"kind": "cornette_shanks", "g": 0.8, "gg": 1}}]}\n' \

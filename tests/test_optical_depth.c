@@ -197,6 +197,38 @@ static void test_identities(const sf_atmosphere *atm) {
   CHECK(sf_optical_depth_ray(atm, 10.0, -0.9, SF_RAY_END_TOP, miss) == -1);
 }
 
+/* A viewer far out in space sees the column of the ray from where it
+ * enters: the same depths as a viewer at the top looking along the entry
+ * cosine, whatever the distance. The viewer's own ray cancels for r >> R
+ * (r^2 + t (t + 2 r mu)): at 1e9 km it had given 8.005 for 7.99997, at 1e12
+ * km 2e-282, at 1e14 km 100. The expected ray is built from the actual
+ * closest approach of the double mu, in long double. */
+static void test_far_viewers(const sf_atmosphere *atm) {
+  printf("-- viewers far out in space\n");
+  double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
+  static const double distances[] = {1e5, 1e7, 1e9, 1e12, 1e14, 1e20, 1e300};
+  static const double closest[] = {0.0, 3000.0, 6400.0};
+  double worst = 0.0;
+  for (int i = 0; i < (int)(sizeof distances / sizeof distances[0]); ++i)
+    for (int j = 0; j < 3; ++j) {
+      double r = R + distances[i];
+      long double ratio = (long double)closest[j] / (long double)r;
+      double mu = (double)-sqrtl(1.0L - ratio * ratio);
+      long double p = (long double)r * sqrtl((1.0L - mu) * (1.0L + mu));
+      if (!(p < Rt)) continue;
+      double mu_entry = (double)(-sqrtl(((long double)Rt - p) * ((long double)Rt + p)) / (long double)Rt);
+      double far[SF_MAX_CONSTITUENTS], top[SF_MAX_CONSTITUENTS];
+      sf_optical_depth_ray(atm, distances[i], mu, SF_RAY_END_NEAREST, far);
+      sf_optical_depth_ray(atm, Rt - R, mu_entry, SF_RAY_END_NEAREST, top);
+      for (int c = 0; c < atm->n_constituents; ++c) {
+        double e = fabs(far[c] - top[c]) / fmax(top[c], 1e-300);
+        if (!(e <= worst)) worst = e;
+      }
+    }
+  printf("largest relative difference from the entry point's ray: %.3g\n", worst);
+  CHECK(worst < 1e-9);
+}
+
 static void test_extreme_atmospheres(void) {
   printf("-- scale heights 0.01..100 km: vertical closed form and no NaN near the horizon\n");
   double scales[] = {0.01, 0.1, 1.0, 10.0, 100.0};
@@ -258,6 +290,7 @@ int main(void) {
   test_chapman_asymptotics();
   test_against_independent(&atm);
   test_identities(&atm);
+  test_far_viewers(&atm);
   test_extreme_atmospheres();
   return check_summary();
 }

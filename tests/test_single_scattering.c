@@ -221,6 +221,43 @@ static void test_blocked_sun(const sf_atmosphere *atm) {
   CHECK(out[0] > 0.0 && isfinite(out[0]));
 }
 
+/* A viewer far out in space (sf_view_ray_make_at_entry): the light of the
+ * ray from where it enters, with the sun's cosine there, whatever the
+ * distance; on the viewer's own ray 1e16 km out it had come out 1.6e-29,
+ * 1e200 km out 0. The expected viewer sits at the top, its cosines built
+ * in long double from the closest approach. */
+static void test_far_viewers(const sf_atmosphere *atm) {
+  printf("-- viewers far out in space\n");
+  double R = atm->bottom_radius_km, Rt = atm->top_radius_km, worst = 0.0;
+  static const double distances[] = {1e6, 1e9, 1e16, 1e200};
+  static const double closest[] = {0.0, 3000.0};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j) {
+      double r = R + distances[i];
+      long double ratio = (long double)closest[j] / (long double)r;
+      double mu = (double)-sqrtl(1.0L - ratio * ratio), mu_s = 0.3;
+      double nu = sf_clamp_nu(mu, mu_s, mu * mu_s + 0.5 * sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)));
+      long double p = (long double)r * sqrtl((1.0L - mu) * (1.0L + mu));
+      long double sl = sqrtl(((long double)Rt - p) * ((long double)Rt + p));
+      double mu_e = (double)(-sl / Rt);
+      double mu_s_e = (double)(((long double)r * ((long double)mu_s - (long double)mu * nu) - sl * nu) / Rt);
+      sf_view_ray far_ray, top_ray;
+      double mu_s_start;
+      const char *why;
+      CHECK(sf_view_ray_make_at_entry(atm, distances[i], mu, mu_s, nu, SF_RAY_END_NEAREST, -1.0, &far_ray,
+                                      &mu_s_start, &why) == 0);
+      sf_view_ray_make(atm, Rt - R, mu_e, SF_RAY_END_NEAREST, -1.0, &top_ray, &why);
+      double far[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], top[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+      sf_single_scattering(atm, &far_ray, mu_s_start, nu, far);
+      sf_single_scattering(atm, &top_ray, mu_s_e, nu, top);
+      for (int k = 0; k < atm->n_constituents * atm->n_channels; ++k)
+        if (top[k] > 0.0) worst = fmax(worst, fabs(far[k] - top[k]) / top[k]);
+      CHECK(top[0] > 0.0);
+    }
+  printf("largest relative difference from the entry point's ray: %.3g\n", worst);
+  CHECK(worst < 1e-6);
+}
+
 static void test_hard_cases(const sf_atmosphere *atm) {
   printf("-- SPEC §10 hard cases: finite, non-negative\n");
   double R = atm->bottom_radius_km;
@@ -253,6 +290,7 @@ int main(void) {
   test_flat_limit();
   test_blocked_sun(&atm);
   test_hard_cases(&atm);
+  test_far_viewers(&atm);
   test_against_nested(&atm);
   return check_summary();
 }
