@@ -336,9 +336,10 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
     opt.progress_ctx = &bar;
     status = sf_fit_sky_elevation(&sky, &opt, published, model, rep, &err);
     sf_progress_bar_finish(&bar);
+    sf_scene_domain wd = {0.0, 0.0, 0.0, 1.0, sin(model->elevation_min_rad), sin(model->elevation_max_rad)};
     if (status == SF_OK)
-      status = sf_sky_form_weights_write(atm, &opt, sf_parameterization_name(set.params.kind), model, rep, out_path,
-                                         &err);
+      status = sf_sky_form_weights_write(atm, &wd, &opt, sf_parameterization_name(set.params.kind), model, rep,
+                                         out_path, &err);
   } else {
     sf_progress_bar_finish(&bar);
   }

@@ -1,5 +1,6 @@
 #include "codegen/codegen_file.h"
 
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,25 +136,28 @@ static int identifier_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
+/* At text[i], an identifier starting "skyfit_" (1) or "SKYFIT_" (2); 0 otherwise. */
+static int skyfit_name_at(const char *text, size_t i) {
+  if (i > 0 && identifier_char(text[i - 1])) return 0;
+  return strncmp(text + i, "skyfit_", 7) == 0 ? 1 : strncmp(text + i, "SKYFIT_", 7) == 0 ? 2 : 0;
+}
+
 /* text with every identifier that starts "skyfit_" / "SKYFIT_" starting
  * "<prefix>_" / "<PREFIX>_" instead (malloc'd; NULL when out of memory). */
 static char *with_prefix(const char *text, const char *prefix) {
   size_t n = strlen(text), p = strlen(prefix), count = 0;
-  for (size_t i = 0; i + 7 <= n; ++i)
-    if ((i == 0 || !identifier_char(text[i - 1])) &&
-        (strncmp(text + i, "skyfit_", 7) == 0 || strncmp(text + i, "SKYFIT_", 7) == 0))
-      ++count;
+  for (size_t i = 0; i < n; ++i) count += skyfit_name_at(text, i) != 0;
   char *out = malloc(n + count * (p > 6 ? p - 6 : 0) + 1);
   if (!out) return NULL;
   size_t k = 0;
   for (size_t i = 0; i < n;) {
-    int lower = strncmp(text + i, "skyfit_", 7) == 0, upper = strncmp(text + i, "SKYFIT_", 7) == 0;
-    if ((lower || upper) && (i == 0 || !identifier_char(text[i - 1]))) {
-      for (size_t j = 0; j < p; ++j) out[k++] = upper ? (char)(prefix[j] >= 'a' && prefix[j] <= 'z' ? prefix[j] - 32 : prefix[j]) : prefix[j];
-      i += 6;   /* the '_' is copied below */
+    int name = skyfit_name_at(text, i);
+    if (!name) {
+      out[k++] = text[i++];
       continue;
     }
-    out[k++] = text[i++];
+    for (size_t j = 0; j < p; ++j) out[k++] = name == 2 ? (char)toupper((unsigned char)prefix[j]) : prefix[j];
+    i += 6;   /* "skyfit" replaced; its '_' is copied next */
   }
   out[k] = '\0';
   return out;

@@ -104,8 +104,8 @@ int sf_candidate_applies_preetham(const sf_candidate_inputs *in, char *why, size
 }
 
 /* Fits the model and writes its weights file to path (if not ""). */
-static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_options *o, const char *path,
-                         sf_elevation_sky_model *m, sf_error *err) {
+static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_options *o,
+                         const sf_scene_domain *valid, const char *path, sf_elevation_sky_model *m, sf_error *err) {
   sf_hosek_dataset *published = NULL;
   if (in->atm->n_channels == SF_HOSEK_DATASET_CHANNELS) {
     published = malloc(sizeof *published);
@@ -123,8 +123,8 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_o
   int status = sf_fit_sky_elevation(in->sky, o, published, m, rep, err);
   free(published);
   if (status == SF_OK && path[0])
-    status = sf_sky_form_weights_write(in->atm, o, sf_parameterization_name(in->tables->params.kind), m, rep, path,
-                                       err);
+    status = sf_sky_form_weights_write(in->atm, valid, o, sf_parameterization_name(in->tables->params.kind), m, rep,
+                                       path, err);
   free(rep);
   return status;
 }
@@ -172,7 +172,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
     }
   }
   /* Fresh fits too are evaluated as loaded from the file: a rerun computes the same. */
-  if (!loaded && (fit_and_store(in, &o, path, &s->model, err) != SF_OK ||
+  if (!loaded && (fit_and_store(in, &o, &valid, path, &s->model, err) != SF_OK ||
                   (path[0] && sf_elevation_sky_load(path, form, &s->model, NULL, err) != SF_OK))) {
     free(s);
     return err->status;

@@ -67,11 +67,10 @@ int sf_sigmoid_weights_write(const sf_atmosphere *atm, const sf_scene_domain *do
   return status;
 }
 
-int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_sky_elevation_options *o,
-                              const char *tables_kind, const sf_elevation_sky_model *m,
+int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *domain,
+                              const sf_sky_elevation_options *o, const char *tables_kind, const sf_elevation_sky_model *m,
                               const sf_sky_elevation_report *rep, const char *path, sf_error *err) {
-  sf_scene_domain valid = {0.0, 0.0, 0.0, 1.0, sin(m->elevation_min_rad), sin(m->elevation_max_rad)};
-  cJSON *doc = sf_weights_new(sf_sky_form_model_name(m->form), "sky_radiance", atm, &valid);
+  cJSON *doc = sf_weights_new(sf_sky_form_model_name(m->form), "sky_radiance", atm, domain);
   if (!doc || sf_elevation_sky_add_params(doc, m)) {
     cJSON_Delete(doc);
     return sf_fail(err, SF_ERR_INTERNAL, "out of memory");

@@ -18,10 +18,10 @@ int sf_sigmoid_weights_write(const sf_atmosphere *atm, const sf_scene_domain *do
 
 /* Writes the Perez or Hosek model (m->form) fitted with options o on tables
  * of the given parameterisation ("bruneton", "leenman") to path,
- * atomically; its domain is the ground viewer, sky above the horizon, over
- * its sun range. */
-int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_sky_elevation_options *o,
-                              const char *tables_kind, const sf_elevation_sky_model *m,
+ * atomically; domain: where it holds (a ground viewer, the sky above the
+ * horizon, its sun range). */
+int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *domain,
+                              const sf_sky_elevation_options *o, const char *tables_kind, const sf_elevation_sky_model *m,
                               const sf_sky_elevation_report *rep, const char *path, sf_error *err);
 
 #endif
