@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "codegen/emit_helpers.h"
-#include "data/hash64.h"
+#include "util/hash64.h"
 #include "util/atomic_file.h"
 
 /* Comment text must not close the comment, nor open one inside it (GCC's

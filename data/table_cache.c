@@ -5,7 +5,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "data/hash64.h"
+#include "util/hash64.h"
 #include "data/table_exr.h"
 #include "util/cache_prune.h"
 #include "util/make_folders.h"

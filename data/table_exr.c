@@ -14,7 +14,7 @@
 
 #include <OpenEXR/openexr.h>
 
-#include "data/hash64.h"
+#include "util/hash64.h"
 #include "util/atomic_file.h"
 #include "util/exr_fd_write.h"
 

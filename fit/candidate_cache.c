@@ -7,6 +7,7 @@
 
 #include "models/atmosphere_file.h"
 #include "util/atomic_file.h"
+#include "util/hash64.h"
 #include "util/make_folders.h"
 
 static void append(sf_cache_key *k, const char *name, const char *value) {
@@ -77,7 +78,7 @@ int sf_cache_path(const char *cache_dir, const char *sub, const char *model, con
   char dir[4200];
   snprintf(dir, sizeof dir, "%s/%s", cache_dir, sub);
   if (sf_make_folders(dir, "cache", err) != SF_OK) return err->status;
-  uint64_t h = sf_fnv1a64(k->text, strlen(k->text));
+  uint64_t h = sf_fnv1a64(SF_FNV1A64_OFFSET, k->text, strlen(k->text));
   int w = snprintf(path, n, "%s/%s-%016" PRIx64 ".json", dir, model, h);
   if (w < 0 || (size_t)w >= n) return sf_fail(err, SF_ERR_INPUT, "cache path too long: %s", dir);
   return SF_OK;

@@ -9,7 +9,7 @@
 
 #include <omp.h>
 
-#include "data/hash64.h"
+#include "util/hash64.h"
 #include "fit/thread_probe.h"
 #include "models/rng.h"
 #include "util/atomic_file.h"

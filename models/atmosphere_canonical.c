@@ -11,22 +11,7 @@
 #include <string.h>
 
 #include "models/phase.h"
-
-#define FNV64_OFFSET_BASIS 0xcbf29ce484222325ULL
-#define FNV64_PRIME 0x100000001b3ULL
-
-static uint64_t fnv1a64_update(uint64_t h, const void *data, size_t n) {
-  const unsigned char *p = data;
-  for (size_t i = 0; i < n; ++i) {
-    h ^= p[i];
-    h *= FNV64_PRIME;
-  }
-  return h;
-}
-
-uint64_t sf_fnv1a64(const void *data, size_t n_bytes) {
-  return fnv1a64_update(FNV64_OFFSET_BASIS, data, n_bytes);
-}
+#include "util/hash64.h"
 
 typedef struct json_sink {
   int collect;       /* 1: append to text; 0: only update hash */
@@ -38,7 +23,7 @@ typedef struct json_sink {
 
 static void emit_bytes(json_sink *s, const char *p, size_t n) {
   if (!s->collect) {
-    s->hash = fnv1a64_update(s->hash, p, n);
+    s->hash = sf_fnv1a64(s->hash, p, n);
     return;
   }
   if (s->out_of_memory) return;
@@ -184,7 +169,7 @@ char *sf_atmosphere_to_json(const sf_atmosphere *atm) {
 }
 
 uint64_t sf_atmosphere_hash(const sf_atmosphere *atm) {
-  json_sink s = {0, NULL, 0, 0, 0, FNV64_OFFSET_BASIS};
+  json_sink s = {0, NULL, 0, 0, 0, SF_FNV1A64_OFFSET};
   emit_atmosphere(&s, atm);
   return s.hash;
 }

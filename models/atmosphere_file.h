@@ -43,7 +43,4 @@ uint64_t sf_atmosphere_hash(const sf_atmosphere *atm);
 /* The hash as 16 lower-case hex digits and a terminating NUL. */
 void sf_atmosphere_hash_hex(const sf_atmosphere *atm, char out[17]);
 
-/* 64-bit FNV-1a (offset basis 0xcbf29ce484222325, prime 0x100000001b3). */
-uint64_t sf_fnv1a64(const void *data, size_t n_bytes);
-
 #endif

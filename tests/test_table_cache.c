@@ -12,7 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "data/hash64.h"
+#include "util/hash64.h"
 #include "data/table.h"
 #include "data/table_cache.h"
 #include "tests/check.h"

@@ -1,11 +1,12 @@
-/* 64-bit FNV-1a (Fowler–Noll–Vo): the content hash of cached tables and the
- * checksum of table files. Not cryptographic; chosen because it is tiny,
- * portable and exact to reproduce. Each step h = (h ^ byte) * prime is a
+/* 64-bit FNV-1a (Fowler–Noll–Vo): the content hash of atmospheres, cached
+ * tables, cached fits and training runs, and the checksum of table files.
+ * Not cryptographic; chosen because it is tiny, portable and exact to
+ * reproduce. Each step h = (h ^ byte) * prime is a
  * bijection of the state, so two messages of equal length that differ in
  * one byte never collide — every single-byte corruption of a checksummed
  * table file is caught. */
-#ifndef SKYFIT_DATA_HASH64_H
-#define SKYFIT_DATA_HASH64_H
+#ifndef SKYFIT_UTIL_HASH64_H
+#define SKYFIT_UTIL_HASH64_H
 
 #include <stddef.h>
 #include <stdint.h>
