@@ -8,6 +8,7 @@
 #include "data/parallel_rows.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
+#include "models/sun_shadow.h"
 
 int sf_single_table_name(const sf_constituent *c, char name[SF_TABLE_NAME_LEN], sf_error *err) {
   int n = snprintf(name, SF_TABLE_NAME_LEN, "single_%s", c->name);
@@ -29,19 +30,19 @@ int sf_single_table_name(const sf_constituent *c, char name[SF_TABLE_NAME_LEN], 
 typedef struct sun_sum {
   const sf_scattering_setup *s;
   double r_mu_s, nu;          /* r * mu_s and nu at the viewer */
+  sf_sun_line ground;         /* the sun lines against the ground: the shadow */
   double beta_max[SF_MAX_CONSTITUENTS];   /* largest extinction over channels */
 } sun_sum;
 
 /* Adds one node to sum; returns the sun's optical thickness at the node in
  * the most opaque channel (an upper bound), or -1 in the planet's shadow. */
-static inline double add_node(const sun_sum *acc, double *sum, double t, double radius, double inv_radius,
+static inline double add_node(const sun_sum *acc, double *sum, double t, double inv_radius,
                               const sf_depth_grid_radius *at, const double *wt, const double *density) {
   const sf_scattering_setup *s = acc->s;
-  double R = s->atm->bottom_radius_km;
+  /* the planet's shadow, decided as the reference does (models/sun_shadow.h) */
+  if (sf_sun_line_hidden(&acc->ground, t)) return -1.0;
   double mu_sun = (acc->r_mu_s + t * acc->nu) * inv_radius;
   mu_sun = mu_sun > 1.0 ? 1.0 : (mu_sun < -1.0 ? -1.0 : mu_sun);
-  /* the planet's shadow, decided as models/ray_geometry.h does */
-  if (mu_sun < 0.0 && (R - radius) * (R + radius) + radius * mu_sun * radius * mu_sun >= 0.0) return -1.0;
   double sun[SF_MAX_CONSTITUENTS], transmittance[SF_MAX_CHANNELS];
   sf_depth_grid_lookup_at(&s->sun_depth, at, mu_sun, sun);
   sf_setup_transmittance(s, sun, transmittance);
@@ -84,7 +85,7 @@ static void add_cut_piece(const sun_sum *acc, double *sum, const sf_view_row *ro
       for (int ch = 0; ch < nch; ++ch) wt[ch] *= len * rule->w[q];
       sf_depth_grid_radius at;
       sf_depth_grid_at_radius(&s->sun_depth, radius, &at);
-      double tau = add_node(acc, sum, t, radius, 1.0 / radius, &at, wt, density);
+      double tau = add_node(acc, sum, t, 1.0 / radius, &at, wt, density);
       if (tau >= 0.0) {
         *tau_lo = fmin(*tau_lo, tau);
         *tau_hi = fmax(*tau_hi, tau);
@@ -127,6 +128,7 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
   acc.s = s;
   acc.r_mu_s = row->r * mu_s;
   acc.nu = nu;
+  acc.ground = sf_sun_line_make(row->r, row->mu, mu_s, nu, atm->bottom_radius_km);
   for (int i = 0; i < nc; ++i) {
     acc.beta_max[i] = 0.0;
     for (int ch = 0; ch < nch; ++ch) acc.beta_max[i] = fmax(acc.beta_max[i], s->extinction[ch][i]);
@@ -171,7 +173,7 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
       for (int q = p * k_rule; q < (p + 1) * k_rule; ++q) {
         const double *tv = row->transmittance + (size_t)q * nch;
         for (int ch = 0; ch < nch; ++ch) wt[ch] = nodes->weight[q] * tv[ch];
-        double tau = add_node(&acc, piece_sum, nodes->t[q], nodes->radius[q], row->inv_radius[q],
+        double tau = add_node(&acc, piece_sum, nodes->t[q], row->inv_radius[q],
                               &row->sun_at[q], wt, nodes->density + (size_t)q * nc);
         if (tau >= 0.0) {
           tau_lo = fmin(tau_lo, tau);

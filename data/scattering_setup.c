@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "models/ray_geometry.h"
+#include "models/sun_shadow.h"
 
 int sf_scattering_setup_init(sf_scattering_setup *s, const sf_atmosphere *atm,
                              const sf_precompute_options *opt, sf_error *err) {
@@ -44,32 +45,15 @@ double sf_ray_end_distance(const sf_atmosphere *atm, double r, double mu, int hi
   return mu > 0.0 ? inside / (r * mu + root) : root - r * mu;
 }
 
-/* Roots t of |p|^2 - (p.s)^2 = rho^2 for p = viewer + t v, i.e.
- * (1 - nu^2) t^2 + 2 r (mu - mu_s nu) t + r^2 (1 - mu_s^2) - rho^2 = 0. */
-static int tangent_roots(double r, double mu, double mu_s, double nu, double rho, double *out) {
-  double a = (1.0 - nu) * (1.0 + nu);
-  double b = 2.0 * r * (mu - mu_s * nu);
-  double c = (r - rho) * (r + rho) - r * r * mu_s * mu_s;
-  if (a == 0.0) {
-    if (b == 0.0) return 0;
-    out[0] = -c / b;
-    return 1;
-  }
-  double disc = b * b - 4.0 * a * c;
-  if (disc < 0.0) return 0;
-  double q = -0.5 * (b + (b >= 0.0 ? sqrt(disc) : -sqrt(disc)));
-  int n = 0;
-  out[n++] = q / a;
-  if (q != 0.0) out[n++] = c / q;
-  return n;
-}
-
 int sf_sun_tangent_points(const sf_atmosphere *atm, double r, double mu, double mu_s, double nu,
                           double *out) {
   double roots[2 * (SF_MAX_KINKS + 1)];
-  int n_roots = tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km, roots);
-  for (int k = 0; k < atm->n_kinks; ++k)
-    n_roots += tangent_roots(r, mu, mu_s, nu, atm->bottom_radius_km + atm->kink_altitudes_km[k], roots + n_roots);
+  int n_roots = 0;
+  for (int k = -1; k < atm->n_kinks; ++k) {   /* the ground, then the kinks */
+    double rho = atm->bottom_radius_km + (k < 0 ? 0.0 : atm->kink_altitudes_km[k]);
+    sf_sun_line line = sf_sun_line_make(r, mu, mu_s, nu, rho);
+    n_roots += sf_sun_line_tangent_distances(&line, roots + n_roots);
+  }
   /* The line towards the sun touches the sphere at a root, but the sun ray
    * (a half-line) only does if it descends first: the sun's zenith cosine
    * there is <= 0. At the other roots nothing changes. */

@@ -7,6 +7,7 @@
 #include "models/quadrature.h"
 #include "models/ray_geometry.h"
 #include "models/ray_pieces.h"
+#include "models/sun_shadow.h"
 
 double sf_clamp_nu(double mu, double mu_s, double nu) {
   double spread = sqrt(fmax(0.0, (1.0 - mu * mu) * (1.0 - mu_s * mu_s)));
@@ -21,6 +22,7 @@ typedef struct scattering_ray {
   int n_scattering;
   int scattering[SF_MAX_CONSTITUENTS];   /* indices of scattering constituents */
   double inner_tol;
+  sf_sun_line ground;   /* the sun lines against the ground: the shadow */
   /* The piece being integrated starts at piece_start, and the optical depth
    * from the ray's start to there is piece_depth: the view transmittance to
    * a point then needs only the smooth stretch from piece_start. */
@@ -33,10 +35,10 @@ typedef struct scattering_ray {
 static int sun_optical_depth(const scattering_ray *s, double t, double *depth) {
   const sf_atmosphere *atm = s->atm;
   const sf_view_ray *ray = s->ray;
+  if (sf_sun_line_hidden(&s->ground, t)) return 0;
   double rp = sf_ray_radius_at(ray->r, ray->mu, t);
   double mu_sun = (ray->r * s->mu_s + t * s->nu) / rp;
   mu_sun = mu_sun > 1.0 ? 1.0 : (mu_sun < -1.0 ? -1.0 : mu_sun);
-  if (sf_ray_hits_sphere_from_above(rp, mu_sun, atm->bottom_radius_km)) return 0;
   double t_near, t_far;
   for (int i = 0; i < atm->n_constituents; ++i) depth[i] = 0.0;
   if (sf_ray_sphere_intersections(rp, mu_sun, atm->top_radius_km, &t_near, &t_far) && t_far > 0.0)
@@ -71,20 +73,13 @@ static void scattered_light_at(void *ctx, double t, double *values) {
 }
 
 /* Points along the view ray where the sun ray from there is tangent to the
- * sphere of radius R: there T(p -> sun) has a corner (R a density kink) or a
- * jump (R the ground: the planet's shadow). |p|^2 - (p.s)^2 = R^2 with
- * p = viewer + t v is (1 - nu^2) t^2 + 2 r (mu - mu_s nu) t + r^2 (1 - mu_s^2) - R^2 = 0. */
+ * sphere of radius R (models/sun_shadow.h): there T(p -> sun) has a corner
+ * (R a density kink) or a jump (R the ground: the planet's shadow). */
 static int add_sun_tangent_points(const scattering_ray *s, double radius, double *breaks, int n) {
-  const sf_view_ray *ray = s->ray;
-  double a = (1.0 - s->nu) * (1.0 + s->nu);
-  double b = 2.0 * ray->r * (ray->mu - s->mu_s * s->nu);
-  double c = ray->r * ray->r * ((1.0 - s->mu_s) * (1.0 + s->mu_s)) - radius * radius;
-  if (a == 0.0) return b != 0.0 ? sf_ray_breaks_insert(breaks, n, -c / b) : n;
-  double disc = b * b - 4.0 * a * c;
-  if (disc < 0.0) return n;
-  double q = -0.5 * (b + (b >= 0.0 ? sqrt(disc) : -sqrt(disc)));
-  n = sf_ray_breaks_insert(breaks, n, q / a);
-  if (q != 0.0) n = sf_ray_breaks_insert(breaks, n, c / q);
+  sf_sun_line line = sf_sun_line_make(s->ray->r, s->ray->mu, s->mu_s, s->nu, radius);
+  double t[2];
+  int n_t = sf_sun_line_tangent_distances(&line, t);
+  for (int k = 0; k < n_t; ++k) n = sf_ray_breaks_insert(breaks, n, t[k]);
   return n;
 }
 
@@ -93,8 +88,9 @@ void sf_single_scattering_tol(const sf_atmosphere *atm, const sf_view_ray *ray,
   int nch = atm->n_channels;
   for (int k = 0; k < atm->n_constituents * nch; ++k) out[k] = 0.0;
   if (!(ray->t1 > ray->t0)) return;
-  scattering_ray s = {atm, ray, mu_s, sf_clamp_nu(ray->mu, mu_s, nu), 0, {0},
-                      rel_tol * 0.1, ray->t0, {0}};
+  double nu_clamped = sf_clamp_nu(ray->mu, mu_s, nu);
+  scattering_ray s = {atm, ray, mu_s, nu_clamped, 0, {0}, rel_tol * 0.1,
+                      sf_sun_line_make(ray->r, ray->mu, mu_s, nu_clamped, atm->bottom_radius_km), ray->t0, {0}};
   for (int i = 0; i < atm->n_constituents; ++i)
     if (sf_constituent_scatters(&atm->constituents[i], nch)) s.scattering[s.n_scattering++] = i;
   if (s.n_scattering == 0) return;

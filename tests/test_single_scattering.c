@@ -258,6 +258,38 @@ static void test_far_viewers(const sf_atmosphere *atm) {
   CHECK(worst < 1e-6);
 }
 
+/* The horizontal ray on the ground with the sun on the horizon behind it
+ * (h = 0, mu = 0, mu_s = 0, nu = -1): the sun ray from every point grazes
+ * the ground at the viewer. Tangent sun rays light (models/sun_shadow.h):
+ * the value is the limit from a sun just above the horizon, from a view
+ * just above it and from a viewer just above the ground; a sun just below
+ * gives 0. It had been hidden or not by rounding, point by point: 0.496
+ * of the limit. */
+static void test_grazing_sun_lines(const sf_atmosphere *atm) {
+  printf("-- every sun ray grazing the ground at the viewer\n");
+  double at[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], near[3][SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  double below[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  const double h[3] = {0.0, 0.0, 1e-9}, mu[3] = {0.0, 1e-12, 0.0}, mu_s[3] = {1e-12, 0.0, 0.0};
+  sf_view_ray ray;
+  const char *why;
+  CHECK(sf_view_ray_make(atm, 0.0, 0.0, SF_RAY_END_NEAREST, -1.0, &ray, &why) == 0);
+  sf_single_scattering(atm, &ray, 0.0, -1.0, at);
+  sf_single_scattering(atm, &ray, -1e-12, -1.0, below);
+  for (int j = 0; j < 3; ++j) {
+    CHECK(sf_view_ray_make(atm, h[j], mu[j], SF_RAY_END_NEAREST, -1.0, &ray, &why) == 0);
+    sf_single_scattering(atm, &ray, mu_s[j], -1.0, near[j]);
+  }
+  double worst = 0.0;
+  for (int k = 0; k < atm->n_constituents * atm->n_channels; ++k) {
+    CHECK_ABS(below[k], 0.0, 0.0);
+    for (int j = 0; j < 3; ++j)
+      if (near[j][k] > 0.0) worst = fmax(worst, fabs(at[k] - near[j][k]) / near[j][k]);
+  }
+  printf("largest relative difference from the three limits: %.3g (first value %.6g)\n", worst, at[0]);
+  CHECK(at[0] > 0.0);
+  CHECK(worst < 1e-6);
+}
+
 static void test_hard_cases(const sf_atmosphere *atm) {
   printf("-- SPEC §10 hard cases: finite, non-negative\n");
   double R = atm->bottom_radius_km;
@@ -289,6 +321,7 @@ int main(void) {
   sf_atmosphere_default(&atm);
   test_flat_limit();
   test_blocked_sun(&atm);
+  test_grazing_sun_lines(&atm);
   test_hard_cases(&atm);
   test_far_viewers(&atm);
   test_against_nested(&atm);
