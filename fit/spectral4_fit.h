@@ -21,8 +21,9 @@
  * The grid search runs over wavelength quadruples l1 < l2 < l3 < l4 on a
  * grid; for each, the weights minimising the loss are the solution of a 4x4
  * linear least-squares system (the loss is quadratic in w), so the grid
- * covers all eight parameters. Nelder-Mead then refines all eight from the
- * best quadruple. */
+ * covers all eight parameters. Nelder-Mead then refines all eight from
+ * each of the best few grid local minima (quadruples no grid neighbour
+ * beats), the best result kept. */
 #ifndef SKYFIT_FIT_SPECTRAL4_FIT_H
 #define SKYFIT_FIT_SPECTRAL4_FIT_H
 
@@ -75,17 +76,22 @@ typedef struct sf_spectral4_fit_options {
   int restarts;    /* Nelder-Mead restarted from its result (a fresh simplex) while
                       that lowers the loss, at most this many times: the
                       usual remedy for a simplex that collapsed early */
+  int starts;      /* Nelder-Mead (with its restarts) from this many grid local
+                      minima, the best first ... */
+  int shortlist;   /* ... found among this many best grid quadruples */
 } sf_spectral4_fit_options;
 
 /* grid 380-780 nm at 10 nm; 20000 evaluations per run; ftol_rel 1e-10;
- * xtol_rel 1e-7; steps 5 nm and 10 %; 4 restarts. */
+ * xtol_rel 1e-7; steps 5 nm and 10 %; 4 restarts; 8 starts from a
+ * shortlist of 1024. */
 void sf_spectral4_fit_options_default(sf_spectral4_fit_options *o);
 
 typedef struct sf_spectral4_fit_result {
   sf_spectral4_params grid_best, best;   /* best sorted by wavelength */
   double grid_loss, loss;
   long grid_candidates;
-  int evaluations;                        /* Nelder-Mead objective calls */
+  int evaluations;                        /* Nelder-Mead objective calls, all starts */
+  int starts;                             /* Nelder-Mead starts run */
   int nlopt_status;
   double grid_seconds, nelder_mead_seconds;
 } sf_spectral4_fit_result;
@@ -97,7 +103,8 @@ int sf_spectral4_nelder_mead(const sf_spectral4_kernel *k, const sf_spectral4_pa
                              const sf_spectral4_fit_options *o, sf_spectral4_params *best, double *loss,
                              int *evaluations, int *status, sf_error *err);
 
-/* Grid search, then Nelder-Mead. */
+/* Grid search, then Nelder-Mead from the grid's best local minima;
+ * grid_best and grid_loss are the grid's best quadruple. */
 int sf_spectral4_fit(const sf_spectral4_kernel *k, const sf_spectral4_fit_options *o, sf_spectral4_fit_result *r,
                      sf_error *err);
 

@@ -204,6 +204,7 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   cJSON_AddNumberToObject(m, "rgb_680_550_440_loss", rep->rgb_loss);
   cJSON_AddNumberToObject(m, "uniform4_loss", rep->uniform_loss);
   cJSON_AddNumberToObject(m, "evaluations", rep->fit.evaluations);
+  cJSON_AddNumberToObject(m, "nelder_mead_starts", rep->fit.starts);
   cJSON_AddNumberToObject(m, "rgb_scale", rep->rgb_scale);
   cJSON_AddItemToObject(m, "uniform4_wavelengths_nm", cJSON_CreateDoubleArray(rep->methods[2].four.lambda_nm, 4));
   cJSON_AddItemToObject(m, "uniform4_weights_nm", cJSON_CreateDoubleArray(rep->methods[2].four.weight_nm, 4));
