@@ -6,8 +6,8 @@
 #include <string.h>
 
 #include "codegen/emit_helpers.h"
-#include "util/hash64.h"
 #include "util/atomic_file.h"
+#include "util/hash64.h"
 
 /* Comment text must not close the comment, nor open one inside it (GCC's
  * -Wcomment, an error under -Werror). */

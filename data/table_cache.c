@@ -5,9 +5,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "util/hash64.h"
 #include "data/table_exr.h"
 #include "util/cache_prune.h"
+#include "util/hash64.h"
 #include "util/make_folders.h"
 
 /* Bump when the key's recipe changes, so old files are simply not found. */

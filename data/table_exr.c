@@ -14,9 +14,9 @@
 
 #include <OpenEXR/openexr.h>
 
-#include "util/hash64.h"
 #include "util/atomic_file.h"
 #include "util/exr_fd_write.h"
+#include "util/hash64.h"
 
 /* The ZIP level is set per file so that the bytes do not depend on the
  * library's process-wide default (which any code could change). */

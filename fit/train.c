@@ -9,11 +9,11 @@
 
 #include <omp.h>
 
-#include "util/hash64.h"
 #include "fit/thread_probe.h"
 #include "models/rng.h"
 #include "util/atomic_file.h"
 #include "util/clock.h"
+#include "util/hash64.h"
 
 /* rng stream keys of this file */
 #define INIT_KEY 0x696e6974ull      /* "init" */

@@ -12,10 +12,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "util/hash64.h"
 #include "data/table.h"
 #include "data/table_cache.h"
 #include "tests/check.h"
+#include "util/hash64.h"
 
 static const char *const atmosphere_json =
     "{\"name\":\"earth\",\"bottom_radius_km\":6360,\"top_radius_km\":6420,\"channels\":\"rgb\"}";
