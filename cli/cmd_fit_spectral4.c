@@ -167,6 +167,14 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
       if (atm_path) status = sf_atmosphere_load_file(atm_path, &scene->atmosphere, &err);
     }
   }
+  /* the inputs checked before the cache folder is made or any work done;
+   * the message names the file they came from */
+  if (status == SF_OK && (status = sf_spectral4_check_scene(scene, &opt, &err)) == SF_ERR_INPUT) {
+    sf_error named = {0};
+    sf_fail(&named, SF_ERR_INPUT, "%s: %s", scene_path ? scene_path : atm_path ? atm_path : "the built-in scene",
+            err.message);
+    err = named;
+  }
   if (status == SF_OK) status = sf_make_folders(cache_dir, "--cache", &err);
   opt.cache_dir = cache_dir;
   sf_progress_bar bar;

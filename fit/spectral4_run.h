@@ -88,6 +88,12 @@ typedef struct sf_spectral4_report {
   double sun_luminance;
 } sf_spectral4_report;
 
+/* The scene's inputs as sf_spectral4_run reads them, checked before any
+ * work or output: an atmosphere whose wavelengths cover the reference's,
+ * a sun the eye sees, a sun range that meets the fit's. SF_ERR_INPUT with
+ * the key and the problem. */
+int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_options *o, sf_error *err);
+
 /* Runs everything; *doc_out (caller deletes) is the weights document. */
 int sf_spectral4_run(const sf_scene *scene, const sf_spectral4_run_options *o, sf_spectral4_report *rep,
                      cJSON **doc_out, sf_error *err);

@@ -12,14 +12,21 @@ void sf_spectral4_viewers(const sf_scene *scene, double h_km[SF_SPECTRAL4_VIEWER
   for (int i = 0; i < SF_SPECTRAL4_VIEWERS; ++i) h_km[i] = lo + (hi - lo) * fraction[i];
 }
 
-int sf_spectral4_make_samples(const sf_scene *scene, const sf_spectral4_grid *grid, double display_scale,
-                              sf_view_sample **out, size_t *n_out, sf_error *err) {
-  double lo = fmax(scene->sun_elevation_deg[0], SF_SPECTRAL4_SUN_MIN_DEG);
-  double hi = fmin(scene->sun_elevation_deg[1], SF_SPECTRAL4_SUN_MAX_DEG);
-  if (!(hi >= lo))
+int sf_spectral4_sun_range(const sf_scene *scene, double *lo, double *hi, sf_error *err) {
+  *lo = fmax(scene->sun_elevation_deg[0], SF_SPECTRAL4_SUN_MIN_DEG);
+  *hi = fmin(scene->sun_elevation_deg[1], SF_SPECTRAL4_SUN_MAX_DEG);
+  if (!(*hi >= *lo))
     return sf_fail(err, SF_ERR_INPUT, "scene %s: sun_elevation_deg [%g, %g] misses the spectral fit's range [%g, %g]",
                    scene->name, scene->sun_elevation_deg[0], scene->sun_elevation_deg[1], SF_SPECTRAL4_SUN_MIN_DEG,
                    SF_SPECTRAL4_SUN_MAX_DEG);
+  return SF_OK;
+}
+
+int sf_spectral4_make_samples(const sf_scene *scene, const sf_spectral4_grid *grid, double display_scale,
+                              sf_view_sample **out, size_t *n_out, sf_error *err) {
+  double lo, hi;
+  int rc = sf_spectral4_sun_range(scene, &lo, &hi, err);
+  if (rc) return rc;
   const sf_atmosphere *atm = &scene->atmosphere;
   double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
   double viewers[SF_SPECTRAL4_VIEWERS];

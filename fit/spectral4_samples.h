@@ -38,6 +38,10 @@ typedef struct sf_spectral4_grid {
 /* The viewer altitudes (km) of the scene. */
 void sf_spectral4_viewers(const sf_scene *scene, double h_km[SF_SPECTRAL4_VIEWERS]);
 
+/* The scene's sun elevations within the fit's [SF_SPECTRAL4_SUN_MIN_DEG,
+ * SF_SPECTRAL4_SUN_MAX_DEG] (degrees); SF_ERR_INPUT if they miss it. */
+int sf_spectral4_sun_range(const sf_scene *scene, double *lo, double *hi, sf_error *err);
+
 /* Allocates *out (caller frees) with the samples; SF_ERR_INPUT when the
  * scene's sun range misses [-2, 90] degrees. */
 int sf_spectral4_make_samples(const sf_scene *scene, const sf_spectral4_grid *grid, double display_scale,

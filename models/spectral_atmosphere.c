@@ -92,8 +92,8 @@ static int from_spectral(const sf_atmosphere *src, int n, const double *nm, sf_a
   const double *x = src->wavelengths_nm;
   if (nm[0] < x[0] || nm[n - 1] > x[m - 1])
     return sf_fail(err, SF_ERR_INPUT,
-                   "atmosphere \"%s\": the spectral reference needs coefficients over %g-%g nm, its wavelengths "
-                   "cover %g-%g nm", src->name, nm[0], nm[n - 1], x[0], x[m - 1]);
+                   "atmosphere \"%s\": channels.wavelengths_nm cover %g-%g nm; the spectral reference needs "
+                   "coefficients over %g-%g nm", src->name, x[0], x[m - 1], nm[0], nm[n - 1]);
   for (int ch = 0; ch < n; ++ch) {
     out->ground_albedo[ch] = piecewise_linear(m, x, src->ground_albedo, nm[ch]);
     out->sun_irradiance[ch] = piecewise_linear(m, x, src->sun_irradiance, nm[ch]);

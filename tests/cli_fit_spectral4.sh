@@ -35,7 +35,9 @@ expect_error "missing scene" "missing.json" --scene "$TMP/missing.json" --out "$
 cat >"$TMP/night.json" <<'JSON'
 {"name": "night", "sun_elevation_deg": [-20, -5]}
 JSON
-expect_error "sun range misses -2..90" "sun_elevation_deg \[-20, -5\] misses" --scene "$TMP/night.json" --out "$TMP/w.json" --cache "$TMP/cache"
+# Errors of the scene's inputs name the file they came from, and leave no
+# --cache folder behind (it had been made before the checks, empty).
+expect_error "sun range misses -2..90" "$TMP/night.json: scene night: sun_elevation_deg \[-20, -5\] misses" --scene "$TMP/night.json" --out "$TMP/w.json" --cache "$TMP/cache"
 cat >"$TMP/bad_atm.json" <<'JSON'
 {"name": "bad", "bottom_radius_km": 6360, "top_radius_km": 6460, "channels": {"wavelengths_nm": [400, 500]},
  "constituents": [{"name": "rayleigh", "scattering": {"recipe": "rayleigh_bucholtz", "scale": -1}, "absorption": 0,
@@ -48,7 +50,10 @@ cat >"$TMP/narrow.json" <<'JSON'
  "constituents": [{"name": "rayleigh", "scattering": {"recipe": "rayleigh_bucholtz"}, "absorption": 0,
                    "phase": {"kind": "rayleigh"}, "density": [{"exp_term": 1, "exp_scale_per_km": -0.125}]}]}
 JSON
-expect_error "spectral atmosphere too narrow" "needs coefficients over 360-830 nm" --atmosphere "$TMP/narrow.json" --out "$TMP/w.json" --cache "$TMP/cache"
+expect_error "spectral atmosphere too narrow" "$TMP/narrow.json: atmosphere \"narrow\": channels.wavelengths_nm cover 400-600 nm; the spectral reference needs coefficients over 360-830 nm" --atmosphere "$TMP/narrow.json" --out "$TMP/w.json" --cache "$TMP/cache"
+sed 's/"name": "narrow",/"name": "dark", "sun_irradiance": [0, 0, 0],/; s/\[400, 500, 600\]/[300, 600, 900]/' "$TMP/narrow.json" >"$TMP/dark.json"
+expect_error "a sun the eye cannot see" "$TMP/dark.json: sun_irradiance: the sun has no luminance" --atmosphere "$TMP/dark.json" --out "$TMP/w.json" --cache "$TMP/cache"
+if [[ -e $TMP/cache ]]; then fail "input errors left the --cache folder"; else pass "input errors leave no --cache folder"; fi
 
 expect_error "bad cache limit" "--cache-limit: expected a size in MiB" --cache-limit 12x --out "$TMP/w.json"
 
