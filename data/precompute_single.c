@@ -29,8 +29,8 @@ int sf_single_table_name(const sf_constituent *c, char name[SF_TABLE_NAME_LEN], 
  * (wt, per channel), scattering densities and radius are given. */
 typedef struct sun_sum {
   const sf_scattering_setup *s;
-  double r_mu_s, nu;          /* r * mu_s and nu at the viewer */
-  sf_sun_line ground;         /* the sun lines against the ground: the shadow */
+  sf_sun_line ground;         /* the sun lines against the ground (the shadow;
+                                 its r_mu_s and nu give the sun's cosine) */
   double beta_max[SF_MAX_CONSTITUENTS];   /* largest extinction over channels */
 } sun_sum;
 
@@ -41,7 +41,7 @@ static inline double add_node(const sun_sum *acc, double *sum, double t, double 
   const sf_scattering_setup *s = acc->s;
   /* the planet's shadow, decided as the reference does (models/sun_shadow.h) */
   if (sf_sun_line_hidden(&acc->ground, t)) return -1.0;
-  double mu_sun = (acc->r_mu_s + t * acc->nu) * inv_radius;
+  double mu_sun = (acc->ground.r_mu_s + t * acc->ground.nu) * inv_radius;
   mu_sun = mu_sun > 1.0 ? 1.0 : (mu_sun < -1.0 ? -1.0 : mu_sun);
   double sun[SF_MAX_CONSTITUENTS], transmittance[SF_MAX_CHANNELS];
   sf_depth_grid_lookup_at(&s->sun_depth, at, mu_sun, sun);
@@ -126,8 +126,6 @@ void sf_single_scattering_in_row(const sf_scattering_setup *s, const sf_view_row
   nu = sf_clamp_nu(row->mu, mu_s, nu);
   sun_sum acc;
   acc.s = s;
-  acc.r_mu_s = row->r * mu_s;
-  acc.nu = nu;
   acc.ground = sf_sun_line_make(row->r, row->mu, mu_s, nu, atm->bottom_radius_km);
   for (int i = 0; i < nc; ++i) {
     acc.beta_max[i] = 0.0;

@@ -224,6 +224,11 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   return doc;
 }
 
+static int check_sun_luminance(double luminance, sf_error *err) {
+  if (luminance > 0.0) return SF_OK;
+  return sf_fail(err, SF_ERR_INPUT, "sun_irradiance: the sun has no luminance (its spectrum is 0 where the eye sees)");
+}
+
 int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_options *o, sf_error *err) {
   double nm[SF_MAX_CHANNELS];
   int n = sf_spectral_grid(o->min_nm, o->max_nm, o->step_nm, nm);
@@ -232,8 +237,7 @@ int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_optio
   int rc = (!full || !cmf) ? sf_fail(err, SF_ERR_INTERNAL, "out of memory") : 0;
   if (!rc) rc = sf_cmf_load(cmf, err);
   if (!rc) rc = sf_spectral_atmosphere(&scene->atmosphere, n, nm, full, err);
-  if (!rc && !(sf_spectral_sun_luminance(full, cmf) > 0.0))
-    rc = sf_fail(err, SF_ERR_INPUT, "sun_irradiance: the sun has no luminance (its spectrum is 0 where the eye sees)");
+  if (!rc) rc = check_sun_luminance(sf_spectral_sun_luminance(full, cmf), err);
   double lo, hi;
   if (!rc) rc = sf_spectral4_sun_range(scene, &lo, &hi, err);
   free(full);
@@ -259,8 +263,7 @@ int sf_spectral4_run(const sf_scene *scene, const sf_spectral4_run_options *o, s
   if (!rc) {
     rep->has_aerosols = sf_atmosphere_without_aerosols(full, clean) > 0;
     rep->sun_luminance = sf_spectral_sun_luminance(full, cmf);
-    if (!(rep->sun_luminance > 0.0))
-      rc = sf_fail(err, SF_ERR_INPUT, "sun_irradiance: the sun has no luminance (its spectrum is 0 where the eye sees)");
+    rc = check_sun_luminance(rep->sun_luminance, err);
   }
   double display_scale = SF_SPECTRAL4_SUN_LUMINANCE / rep->sun_luminance;
   if (!rc) rc = sf_spectral4_make_samples(scene, &o->train, display_scale, &train, &n_train, err);
