@@ -55,7 +55,7 @@ static void usage(sf_sky_form form, FILE *out) {
           "options:\n"
           "  --out W.json            weights file to write (atomically)\n"
           "  --tables DIR            reference table folder (cache of 'skyfit sample'); default: in memory\n"
-          "  --elevations N          sun elevations fitted (>= 6, default 10)\n"
+          "  --elevations N          sun elevations fitted (>= 6, default 19)\n"
           "  --grid NTxNP            view directions per elevation, zenith x azimuth (default 16x24)\n"
           "  --samples SKY.csv       fit one sky to these samples instead\n"
           "  --scale S               --samples: hold the radiance scale at S%s\n"
@@ -347,8 +347,10 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
     fprintf(stderr, "%s: %d sun elevations %.3g..%.3g deg, %d samples per channel\n", command,
             rep->n_elevations, rep->elevation_rad[0] * 180 / SF_PI,
             rep->elevation_rad[rep->n_elevations - 1] * 180 / SF_PI, rep->n_samples);
-    fprintf(stderr, "%s: rmse %.4g (relative %.4g, max abs %.4g at sun %.3g deg, theta %.3g, gamma %.3g deg); per-elevation fits %.4g\n",
-            command, rep->rmse, rep->rel_rmse, rep->max_abs, rep->worst_elevation_rad * 180 / SF_PI,
+    fprintf(stderr, "%s: rmse %.4g at %d sun elevations, %.4g at the %d held out between the fitted ones (relative %.4g, "
+            "max abs %.4g at sun %.3g deg, theta %.3g, gamma %.3g deg); per-elevation fits %.4g\n",
+            command, rep->rmse, rep->n_metric_elevations, rep->held_out_rmse, rep->n_metric_elevations - rep->n_elevations,
+            rep->rel_rmse, rep->max_abs, rep->worst_elevation_rad * 180 / SF_PI,
             rep->worst_theta * 180 / SF_PI, rep->worst_gamma * 180 / SF_PI, rep->per_elevation_rmse);
     fprintf(stderr, "%s: published Preetham rmse %.4g (T = %.3g), published Hosek rmse %.4g (T = %.3g), best per-channel scale\n",
             command, rep->preetham_rmse, rep->preetham_turbidity, rep->hosek_published_rmse,

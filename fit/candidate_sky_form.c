@@ -136,7 +136,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
   o.elevation_min_rad = asin(fmax(0.0, in->domain.mu_s_min));
   o.elevation_max_rad = asin(fmin(1.0, in->domain.mu_s_max));
   if (in->quick) {
-    o.n_elevations = 6;
+    o.n_elevations = 11;
     o.n_theta = 8;
     o.n_phi = 12;
   }

@@ -306,6 +306,10 @@ void sf_sky_coeff_bounds(sf_sky_form form, sf_sky_bounds bounds, int i, double *
     *lower = 0.0;
     *upper = SF_HOSEK_H_MAX;
   }
+  if (form == SF_SKY_FORM_HOSEK && (i == SF_HOSEK_C || i == SF_HOSEK_D || i == SF_HOSEK_F || i == SF_HOSEK_I)) {
+    *lower = -SF_HOSEK_LINEAR_MAX;
+    *upper = SF_HOSEK_LINEAR_MAX;
+  }
   if (i == 1) *upper = 0.0;   /* B of both forms */
 }
 

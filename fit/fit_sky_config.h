@@ -15,7 +15,12 @@
  * horizon; without it a Bezier curve through fitted B values can blow up
  * between the elevations it was fitted at). The published Hosek dataset
  * itself has H outside [0, 1) in 71 and B > 0 in 37 of its 360 control
- * points: fits meant to reproduce it use SF_SKY_BOUNDS_SCALE_ONLY. */
+ * points: fits meant to reproduce it use SF_SKY_BOUNDS_SCALE_ONLY.
+ * Hosek's linear coefficients C, D, F, I are bounded to
+ * +-SF_HOSEK_LINEAR_MAX (the published control points lie within +-49):
+ * unbounded, fits drove E to 0 and C, D to -+1e4 (C + D e^(E gamma) as a
+ * slope in gamma), a cancellation float32 shaders cannot hold (the emitted
+ * C differed from the double model by 6.8e-3 of its value). */
 #ifndef SKYFIT_FIT_FIT_SKY_CONFIG_H
 #define SKYFIT_FIT_FIT_SKY_CONFIG_H
 
@@ -26,6 +31,7 @@
 typedef enum sf_sky_bounds { SF_SKY_BOUNDS_PHYSICAL = 0, SF_SKY_BOUNDS_SCALE_ONLY = 1 } sf_sky_bounds;
 
 #define SF_HOSEK_H_MAX 0.999
+#define SF_HOSEK_LINEAR_MAX 100.0
 
 typedef struct sf_sky_fit_data {
   sf_sky_form form;

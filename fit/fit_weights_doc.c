@@ -77,6 +77,7 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
   }
   cJSON *mt = sf_weights_metrics(doc);
   cJSON_AddNumberToObject(mt, "rmse", rep->rmse);
+  cJSON_AddNumberToObject(mt, "held_out_rmse", rep->held_out_rmse);
   cJSON_AddNumberToObject(mt, "rel_rmse", rep->rel_rmse);
   cJSON_AddNumberToObject(mt, "normalised_rmse", rep->normalised_rmse);
   cJSON_AddNumberToObject(mt, "max_abs", rep->max_abs);
@@ -87,6 +88,7 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
   cJSON_AddNumberToObject(mt, "samples", rep->n_samples);
   cJSON_AddNumberToObject(mt, "metric_samples", (double)rep->n_metric_samples);
   cJSON_AddNumberToObject(mt, "sun_elevations", rep->n_elevations);
+  cJSON_AddNumberToObject(mt, "metric_sun_elevations", rep->n_metric_elevations);
   if (isfinite(rep->preetham_rmse)) {
     cJSON_AddNumberToObject(mt, "published_preetham_rmse", rep->preetham_rmse);
     cJSON_AddNumberToObject(mt, "published_preetham_turbidity", rep->preetham_turbidity);
