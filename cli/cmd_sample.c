@@ -180,7 +180,7 @@ int sf_cmd_sample(int argc, char **argv) {
     for (int t = 0; t < set.n_tables; ++t) cached += set.from_cache[t];
     if (set.multiple_computed)
       for (int k = 2; k <= set.report.highest_order; ++k)
-        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far\n", COMMAND, k,
+        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far (in the channel it adds most to)\n", COMMAND, k,
                 set.report.added_fraction[k]);
     fprintf(stderr, "%s: %d tables in %s (%d computed, %d from the cache); list in %s/tables.json\n",
             COMMAND, set.n_tables, out_dir, set.n_tables - cached, cached, out_dir);

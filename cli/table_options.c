@@ -92,12 +92,13 @@ void sf_table_cli_help(FILE *out) {
           "                          (seed 000 §9.1: h = H x^2, cosines linear, 4D tiled into 2D)\n"
           "  --resolution T,S        sample counts: transmittance MUxH, then scattering\n"
           "                          HxMUxMU_SxNU (default 256x64,32x128x32x8)\n"
-          "  --orders N              scattering orders, 1..%d (default %d; 1: single only)\n"
+          "  --orders N              highest scattering order, 1..%d (default %d; 1: single only)\n"
           "  --stop-fraction F       stop earlier once an order adds less than F of the sky\n"
-          "                          radiance so far (default 0: always N orders)\n"
+          "                          radiance so far in every channel (default %g: all orders,\n"
+          "                          to about 4e-4 for Earth; 0: always N orders)\n"
           "  --threads N             worker threads (default: all cores); results do not depend on it\n"
           "  --quiet                 no progress bar or notes\n",
-          SF_MULTIPLE_MAX_ORDERS, SF_TABLE_SET_DEFAULT_ORDERS);
+          SF_MULTIPLE_MAX_ORDERS, SF_TABLE_SET_DEFAULT_ORDERS, SF_TABLE_SET_DEFAULT_STOP_FRACTION);
 }
 
 /* The scene's atmosphere, domain and quantities into atm and o->set. */

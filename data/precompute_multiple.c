@@ -69,8 +69,8 @@ typedef struct multiple_run {
   /* gather target */
   const sf_table_params *target_p;
   float *target;                   /* [entry * nch] in the target's layout */
-  double *row_total;               /* sum of the target row's values */
-  double *row_single;              /* sum of single scattering with phases */
+  double *row_total;               /* [row * nch + ch]: sum of the target row's values */
+  double *row_single;              /* [row * nch + ch]: sum of single scattering with phases */
 } multiple_run;
 
 /* ---- lookups ------------------------------------------------------------ */
@@ -414,7 +414,7 @@ static void gather_row(void *ctx, int thread, long row) {
   }
   mu_s_map map = make_mu_s_map(m);
   const float *g = m->g_view.data;
-  double row_total = 0.0, row_single = 0.0;
+  double row_total[SF_MAX_CHANNELS] = {0}, row_single[SF_MAX_CHANNELS] = {0};
   for (int i_s = 0; i_s < size[slot_mu_s]; ++i_s)
     for (int i_n = 0; i_n < size[slot_nu]; ++i_n) {
       index[slot_mu_s] = i_s;
@@ -456,7 +456,7 @@ static void gather_row(void *ctx, int thread, long row) {
       float *out = m->target + off * nch;
       for (int ch = 0; ch < nch; ++ch) {
         out[ch] = (float)l[ch];
-        row_total += l[ch];
+        row_total[ch] += l[ch];
       }
       if (m->row_single) {
         /* the single-scattering sky radiance of the same entry, for the
@@ -464,12 +464,14 @@ static void gather_row(void *ctx, int thread, long row) {
         for (int k = 0; k < ns; ++k) {
           double phase = sf_phase_value(&atm->constituents[s->scattering[k]].phase, nu);
           const float *sv = m->single[k].data + off * nch;
-          for (int ch = 0; ch < nch; ++ch) row_single += phase * sv[ch];
+          for (int ch = 0; ch < nch; ++ch) row_single[ch] += phase * sv[ch];
         }
       }
     }
-  m->row_total[row] = row_total;
-  if (m->row_single) m->row_single[row] = row_single;
+  for (int ch = 0; ch < nch; ++ch) {
+    m->row_total[row * nch + ch] = row_total[ch];
+    if (m->row_single) m->row_single[row * nch + ch] = row_single[ch];
+  }
 }
 
 /* ---- driver -------------------------------------------------------------- */
@@ -582,10 +584,10 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
   m.ground_prev = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
   m.ground_new = calloc((size_t)SF_GROUND_IRRADIANCE_SAMPLES * m.nch, sizeof(double));
   m.irradiance_sum = calloc(n_irr, sizeof(double));
-  m.row_total = calloc(rows_internal > (size_t)p->res.scattering_h * p->res.scattering_mu
-                           ? rows_internal : (size_t)p->res.scattering_h * p->res.scattering_mu,
+  m.row_total = calloc((rows_internal > (size_t)p->res.scattering_h * p->res.scattering_mu
+                            ? rows_internal : (size_t)p->res.scattering_h * p->res.scattering_mu) * m.nch,
                        sizeof(double));
-  m.row_single = calloc(rows_internal, sizeof(double));
+  m.row_single = calloc(rows_internal * m.nch, sizeof(double));
   m.scratch = calloc((size_t)threads, sizeof *m.scratch);
   int ok = m.previous_data && m.current_data && m.g_data && (!separate_output || m.g_sum_data) && m.l_sum &&
            m.ground_prev && m.ground_new && m.irradiance_sum && m.row_total && m.row_single && m.scratch;
@@ -609,7 +611,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
   int sizes[4] = {m.n_mus, m.n_mu, m.n_nu, m.n_h};
   for (int a = 0; a < 4; ++a) m.previous.size[a] = m.g_view.size[a] = sizes[a];
 
-  double sky_so_far = 0.0;
+  double sky_so_far[SF_MAX_CHANNELS] = {0};
   double *row_single_buffer = m.row_single;
   char stage[96];
   for (int order = 2; order <= orders; ++order) {
@@ -633,16 +635,27 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
     m.row_single = order == 2 ? row_single_buffer : NULL;
     double *row_single = m.row_single;
     run_gather(&m, &m.pi, m.current_data, m.g_data, opt, stage);
-    double total = 0.0;
-    for (size_t row = 0; row < rows_internal; ++row) total += m.row_total[row];
+    double total[SF_MAX_CHANNELS] = {0};
+    for (size_t row = 0; row < rows_internal; ++row)
+      for (int ch = 0; ch < m.nch; ++ch) {
+        total[ch] += m.row_total[row * m.nch + ch];
+        if (row_single) sky_so_far[ch] += row_single[row * m.nch + ch];
+      }
     if (row_single)
-      for (size_t row = 0; row < rows_internal; ++row) sky_so_far += row_single[row];
+      for (int ch = 0; ch < m.nch; ++ch) report->single_total += sky_so_far[ch];
     for (size_t i = 0; i < entries * m.nch; ++i) m.l_sum[i] += m.current_data[i];
     if (separate_output)
       for (size_t i = 0; i < entries * m.ns * m.nch; ++i) m.g_sum_data[i] += m.g_data[i];
-    sky_so_far += total;
-    report->order_total[order] = total;
-    report->added_fraction[order] = sky_so_far > 0.0 ? total / sky_so_far : 0.0;
+    /* per channel: the blue sky converges slowest (4 orders had left it
+     * 2-6 % short of the path tracer's, the sum over channels 1 %) */
+    report->order_total[order] = 0.0;
+    report->added_fraction[order] = 0.0;
+    for (int ch = 0; ch < m.nch; ++ch) {
+      sky_so_far[ch] += total[ch];
+      report->order_total[order] += total[ch];
+      double added = sky_so_far[ch] > 0.0 ? total[ch] / sky_so_far[ch] : 0.0;
+      if (added > report->added_fraction[order]) report->added_fraction[order] = added;
+    }
     report->highest_order = order;
     float *swap_f = m.previous_data;
     m.previous_data = m.current_data;

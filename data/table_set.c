@@ -16,6 +16,7 @@ void sf_table_set_options_default(sf_table_set_options *o) {
   o->kind = SF_PARAM_BRUNETON;
   sf_table_resolution_default(&o->res);
   o->orders = SF_TABLE_SET_DEFAULT_ORDERS;
+  o->stop_fraction = SF_TABLE_SET_DEFAULT_STOP_FRACTION;
 }
 
 static size_t scattering_entries(const sf_table_resolution *r) {

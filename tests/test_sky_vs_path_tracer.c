@@ -65,6 +65,7 @@ static int make_tables(const sf_atmosphere *atm, const char *res, int orders, sf
     return 1;
   }
   o.orders = orders;
+  o.stop_fraction = 0.0;   /* exactly these orders */
   o.run.n_threads = 2;
   int status = sf_table_set_make(set, atm, &o, &err);
   if (status) printf("sf_table_set_make failed: %s\n", err.message);
