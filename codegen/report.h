@@ -34,6 +34,7 @@
 #include <stdio.h>
 
 #include "data/precompute_options.h"
+#include "data/sky_table_check.h"
 #include "fit/candidate.h"
 #include "fit/candidate_metrics.h"
 #include "models/scene_file.h"
@@ -135,6 +136,9 @@ typedef struct sf_report {
   char views_note[1024];
   double seconds_total;                       /* filled by the caller (build) */
   sf_report_spectral4 spectral4;              /* filled by the caller (build) */
+  sf_sky_table_check reference_check;         /* filled by the caller (build): the
+                                                 sky tables' single scattering against
+                                                 direct integration */
   char notes[4096];                           /* models not fitted or skipped, and why; one per line */
 } sf_report;
 
@@ -148,6 +152,10 @@ void sf_report_free(sf_report *rep);
 /* Fills rep->selection (and each model's meets_budget / selectable /
  * selected / on_front: the front is of the models that can ship). */
 void sf_report_select(sf_report *rep, const sf_scene *scene);
+
+/* The reference check in words (one paragraph, plain text, no newline),
+ * for report.md and report.html; "" when it is not present. */
+void sf_report_reference_check_text(const sf_report *rep, char *buf, size_t n);
 
 /* out_dir/metrics.json, report.md, report.html (atomically). */
 int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err);

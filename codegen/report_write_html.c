@@ -177,6 +177,13 @@ static void write_page(FILE *f, const sf_report *rep) {
     if (rep->reference[q] < 0) continue;
     fprintf(f, "<h2>%s</h2>\n", q == SF_CANDIDATE_TRANSMITTANCE ? "Transmittance" : "Sky radiance");
     model_table(f, rep, q);
+    if (q == SF_CANDIDATE_SKY_RADIANCE && rep->reference_check.present) {
+      char text[2048];
+      sf_report_reference_check_text(rep, text, sizeof text);
+      fputs("<p class=\"note\">", f);
+      esc(f, text);
+      fputs("</p>\n", f);
+    }
     if (sf_report_write_plot(f, rep, q))
       fputs("<p class=\"note\">Orange: analytic baselines; blue: fitted models; grey: table lookup; hollow: a model "
             "that cannot ship (it needs the tables at run time, cannot be emitted or is valid on part of the domain "

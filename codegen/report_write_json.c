@@ -127,6 +127,29 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
   }
   if (rep->views_note[0]) cJSON_AddStringToObject(root, "views_note", rep->views_note);
   if (rep->notes[0]) cJSON_AddStringToObject(root, "notes", rep->notes);
+  if (rep->reference_check.present) {
+    static const char *const band_keys[SF_SKY_CHECK_BANDS] = {"sun_above_5.7_deg", "sun_0_to_5.7_deg",
+                                                              "sun_0_to_minus_5.7_deg", "sun_below_minus_5.7_deg"};
+    const sf_sky_table_check *c = &rep->reference_check;
+    cJSON *o = cJSON_AddObjectToObject(root, "reference_check");
+    cJSON_AddStringToObject(o, "what", "the sky tables' single scattering (phases applied) against direct integration");
+    add_number(o, "points", (double)c->n_points);
+    add_number(o, "rmse", c->rmse);
+    add_number(o, "rel_rmse", c->rel_rmse);
+    add_number(o, "max_abs", c->max_abs);
+    cJSON *w = cJSON_AddObjectToObject(o, "worst");
+    add_number(w, "h_km", c->worst_h_km);
+    add_number(w, "mu", c->worst_mu);
+    add_number(w, "mu_s", c->worst_mu_s);
+    add_number(w, "nu", c->worst_nu);
+    cJSON_AddStringToObject(w, "channel", c->worst_channel_name);
+    add_number(w, "table", c->worst_table);
+    add_number(w, "direct", c->worst_direct);
+    cJSON *bands = cJSON_AddObjectToObject(o, "rel_rmse_by_sun");
+    for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b)
+      if (c->band[b].n_points > 0 && isfinite(c->band[b].rel_rmse)) add_number(bands, band_keys[b], c->band[b].rel_rmse);
+    add_number(o, "multiple_share", c->multiple_share);
+  }
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
     cJSON *o = cJSON_AddObjectToObject(root, "spectral4");

@@ -86,6 +86,11 @@ static void write_md(FILE *f, const sf_report *rep) {
               m->candidate->name, m->errors_domain.h_min_km, m->errors_domain.h_max_km, m->errors_domain.mu_min,
               m->errors_domain.mu_max, m->errors_domain.mu_s_min, m->errors_domain.mu_s_max);
     }
+    if (q == SF_CANDIDATE_SKY_RADIANCE && rep->reference_check.present) {
+      char text[2048];
+      sf_report_reference_check_text(rep, text, sizeof text);
+      fprintf(f, "\n%s\n", text);
+    }
     if (!rep->views_rendered) continue;
     const sf_view_def *views;
     int nv = q == SF_CANDIDATE_TRANSMITTANCE ? sf_standard_transmittance_views(&views) : sf_standard_radiance_views(&views);

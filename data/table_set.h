@@ -24,7 +24,7 @@
 /* Bump whenever a change makes the tables' values differ. */
 #define SF_TABLES_CODE_VERSION "skyfit-tables 2"
 /* All orders (SPEC §6): up to the most, stopping once an order adds less
- * than 1e-3 of every channel's sky radiance (6 orders for the built-in
+ * than 1e-3 of every channel's sky radiance (7 orders for the built-in
  * Earth, whose orders shrink by about 0.3 each: the rest adds about 4e-4;
  * a fixed 4 had left the blue multiple scattering 4-5 % short of the path
  * tracer's). */

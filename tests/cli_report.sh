@@ -20,6 +20,25 @@ n_png=$(ls "$tmp/out/views/"*.png | wc -l); n_exr=$(ls "$tmp/out/views/"*-error.
 echo "views: $n_png PNG, $n_exr EXR error maps"
 [ "$n_png" -ge 12 ] && [ "$n_exr" -ge 5 ] || { echo "FAIL too few view files"; fail=1; }
 
+# The reference check (data/sky_table_check.h): its direct value at its
+# worst point is eval single_scattering --phase's there, summed over the
+# constituents (tests/test_tables.c checks the tables' side at entries).
+python3 - "$tmp/out/metrics.json" "$bin" <<'PY' || fail=1
+import json, subprocess, sys
+c = json.load(open(sys.argv[1]))["reference_check"]
+w = c["worst"]
+assert c["points"] == 5000 and 0 < c["rel_rmse"] < 1 and 0 < c["multiple_share"] < 1, c
+row = "%.17g,%.17g,%.17g,%.17g" % (w["h_km"], w["mu"], w["mu_s"], w["nu"])
+out = subprocess.run([sys.argv[2], "eval", "single_scattering", "--phase"], input="h_km,mu,mu_s,nu\n" + row + "\n",
+                     capture_output=True, text=True, check=True).stdout.splitlines()
+head, vals = out[0].split(","), [float(x) for x in out[1].split(",")]
+direct = sum(v for k, v in zip(head, vals) if k.endswith("_" + w["channel"]))
+if abs(direct - w["direct"]) > 1e-9 * abs(direct):
+    raise SystemExit(f"FAIL reference check: direct {w['direct']} at its worst point, eval gives {direct}")
+print(f"reference check: relative RMSE {c['rel_rmse']:.3g}; at its worst point direct {direct:.6g} as eval gives, "
+      f"table {w['table']:.6g}")
+PY
+
 # Every number in metrics.json is finite (null would mean a non-finite one).
 python3 - "$tmp/out/metrics.json" <<'PY' || fail=1
 import json, math, sys

@@ -15,6 +15,7 @@
 #include "data/precompute_single.h"
 #include "data/precompute_transmittance.h"
 #include "data/sky_lookup.h"
+#include "data/sky_table_check.h"
 #include "data/table_params.h"
 #include "data/table_set.h"
 #include "models/atmosphere_file.h"
@@ -490,6 +491,95 @@ static void test_order2_low_sun_vs_path_tracer(void) {
   sf_table_set_free(&set);
 }
 
+/* The reference check (data/sky_table_check.h): at table entries (those
+ * of rays not tangent to the ground, with a nu their mu and mu_s allow),
+ * where the lookup returns the entries themselves, the tables' single
+ * scattering with phases agrees with direct integration to float32's
+ * rounding (6e-7), so a check that took the phases, the multiple part or
+ * the viewer's ray differently from the lookup would fail here; between
+ * the entries it sees the interpolation error; its figures do not depend
+ * on the threads. */
+static void test_reference_check(void) {
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  sf_table_set set;
+  if (make_set(&set, &atm, SF_PARAM_BRUNETON, "64x16,8x32x8x4", 2, 2, NULL)) {
+    CHECK(0);
+    return;
+  }
+  sf_sky_tables sky;
+  sf_sky_tables_of_set(&sky, &atm, &set);
+  const sf_table_desc *d = &set.multiple.desc;
+  size_t n_entries = sf_table_desc_points(d), n = 0;
+  double *nodes = malloc(sizeof(double) * 4 * n_entries), *random = malloc(sizeof(double) * 4 * 2000);
+  CHECK(nodes && random);
+  if (!nodes || !random) {
+    free(nodes);
+    free(random);
+    sf_table_set_free(&set);
+    return;
+  }
+  for (size_t e = 0; e < n_entries; e += 3) {
+    int index[4];
+    size_t rest = e;
+    for (int a = 0; a < 4; ++a) {
+      index[a] = (int)(rest % d->axes[a].size);
+      rest /= d->axes[a].size;
+    }
+    double pos[4] = {index[0], index[1], index[2], index[3]};
+    sf_scattering_coord c;
+    sf_params_scattering_coord(&set.params, pos, &c);
+    /* not the entries of rays tangent to the ground: there the ray's
+     * value jumps, and which side a lookup takes is rounding's choice */
+    double r = atm.bottom_radius_km + c.h, mu_horizon = -sqrt(fmax(0.0, 1.0 - (atm.bottom_radius_km / r) *
+                                                                                (atm.bottom_radius_km / r)));
+    if (fabs(c.mu - mu_horizon) < 1e-6) continue;
+    /* nor those whose nu no sun at (mu, mu_s) has: the lookup clamps it,
+     * off the entry */
+    if (sf_clamp_nu(c.mu, c.mu_s, c.nu) != c.nu) continue;
+    double *q = nodes + 4 * n++;
+    q[0] = c.h, q[1] = c.mu, q[2] = c.mu_s, q[3] = c.nu;
+  }
+  unsigned long long state = 12345;
+  for (int i = 0; i < 2000; ++i) {
+    double u[4];
+    for (int k = 0; k < 4; ++k) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      u[k] = (double)(state >> 11) / 9007199254740992.0;
+    }
+    double mu = -1.0 + 2.0 * u[1], mu_s = -0.2 + 1.2 * u[2];
+    random[4 * i] = 60.0 * u[0];
+    random[4 * i + 1] = mu;
+    random[4 * i + 2] = mu_s;
+    random[4 * i + 3] = mu * mu_s + sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s)) * cos(SF_PI * u[3]);
+  }
+  sf_precompute_options one = {1, NULL, NULL}, two = {2, NULL, NULL};
+  sf_sky_table_check at_nodes, between1, between2;
+  sf_error err = {0};
+  CHECK(sf_sky_table_check_points(&sky, nodes, n, &one, &at_nodes, &err) == SF_OK);
+  CHECK(sf_sky_table_check_points(&sky, random, 2000, &one, &between1, &err) == SF_OK);
+  CHECK(sf_sky_table_check_points(&sky, random, 2000, &two, &between2, &err) == SF_OK);
+  printf("reference check: at %zu table entries relative RMSE %.3g (largest error %.3g); at 2000 random points "
+         "%.3g, multiple scattering %.3g of the RMS\n", at_nodes.n_points, at_nodes.rel_rmse, at_nodes.max_abs,
+         between1.rel_rmse, between1.multiple_share);
+  CHECK(at_nodes.present && at_nodes.n_points > 300);
+  printf("at the entries by sun elevation: %.3g (above 5.7 deg), %.3g, %.3g, %.3g (below -5.7 deg); largest error "
+         "%.3g at h %g km, mu %.4g, mu_s %.4g, nu %.4g: table %.6g, direct %.6g\n", at_nodes.band[0].rel_rmse,
+         at_nodes.band[1].rel_rmse, at_nodes.band[2].rel_rmse, at_nodes.band[3].rel_rmse, at_nodes.max_abs,
+         at_nodes.worst_h_km, at_nodes.worst_mu, at_nodes.worst_mu_s, at_nodes.worst_nu, at_nodes.worst_table,
+         at_nodes.worst_direct);
+  CHECK(at_nodes.band[0].n_points > 100 && at_nodes.rel_rmse <= 1e-5);
+  CHECK(between1.rel_rmse > 10.0 * at_nodes.rel_rmse);
+  CHECK(between1.multiple_share > 0.0 && between1.multiple_share < 1.0);
+  size_t in_bands = 0;
+  for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b) in_bands += between1.band[b].n_points;
+  CHECK(in_bands == between1.n_points);
+  CHECK(memcmp(&between1, &between2, sizeof between1) == 0);
+  free(nodes);
+  free(random);
+  sf_table_set_free(&set);
+}
+
 /* SPEC §10: very thin and very thick atmospheres (scale heights 0.01 and
  * 100 km, coefficients x1e3 and x1e-3), ground albedo 0.3. Every table
  * finite and non-negative; transmittance entries at 1e-7 and
@@ -854,6 +944,7 @@ int main(void) {
   test_irradiance_vs_reference();
   test_order2_vs_path_tracer();
   test_order2_low_sun_vs_path_tracer();
+  test_reference_check();
   test_extreme_atmospheres();
   test_threads_and_cache();
   test_bad_resolutions();
