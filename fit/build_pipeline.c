@@ -187,12 +187,14 @@ void sf_build_table_options(const sf_scene *scene, const sf_scene_domain *domain
 
 /* The reference's own error where it can be computed directly: the sky
  * tables' single scattering against direct integration on domain samples
- * (data/sky_table_check.h; 5000 take about a second on 2 cores). */
+ * (data/sky_table_check.h; 5000 take 0.7-0.9 s on 2 cores, the direct
+ * integration's; --quick checks 1000). */
 #define REFERENCE_CHECK_POINTS 5000
+#define REFERENCE_CHECK_POINTS_QUICK 1000
 static int reference_check(sf_report *rep, const sf_sky_tables *sky, const sf_build_options *o, sf_error *err) {
   sf_domain_samples s;
-  if (sf_domain_samples_make(&rep->domain, SF_CANDIDATE_SKY_RADIANCE, REFERENCE_CHECK_POINTS, o->report.seed + 2, &s,
-                             err) != SF_OK)
+  size_t n = o->quick ? REFERENCE_CHECK_POINTS_QUICK : REFERENCE_CHECK_POINTS;
+  if (sf_domain_samples_make(&rep->domain, SF_CANDIDATE_SKY_RADIANCE, n, o->report.seed + 2, &s, err) != SF_OK)
     return err->status;
   int status = sf_sky_table_check_points(sky, s.inputs, s.n, &o->report.run, &rep->reference_check, err);
   sf_domain_samples_free(&s);

@@ -20,14 +20,14 @@ n_png=$(ls "$tmp/out/views/"*.png | wc -l); n_exr=$(ls "$tmp/out/views/"*-error.
 echo "views: $n_png PNG, $n_exr EXR error maps"
 [ "$n_png" -ge 12 ] && [ "$n_exr" -ge 5 ] || { echo "FAIL too few view files"; fail=1; }
 
-# The reference check (data/sky_table_check.h): its direct value at its
+# The reference check (data/sky_table_check.h; 1000 points with --quick): its direct value at its
 # worst point is eval single_scattering --phase's there, summed over the
 # constituents (tests/test_tables.c checks the tables' side at entries).
 python3 - "$tmp/out/metrics.json" "$bin" <<'PY' || fail=1
 import json, subprocess, sys
 c = json.load(open(sys.argv[1]))["reference_check"]
 w = c["worst"]
-assert c["points"] == 5000 and 0 < c["rel_rmse"] < 1 and 0 < c["multiple_share"] < 1, c
+assert c["points"] == 1000 and 0 < c["rel_rmse"] < 1 and 0 < c["multiple_share"] < 1, c
 row = "%.17g,%.17g,%.17g,%.17g" % (w["h_km"], w["mu"], w["mu_s"], w["nu"])
 out = subprocess.run([sys.argv[2], "eval", "single_scattering", "--phase"], input="h_km,mu,mu_s,nu\n" + row + "\n",
                      capture_output=True, text=True, check=True).stdout.splitlines()
