@@ -25,7 +25,8 @@
  * Selecting (sf_report_select): per quantity, among the candidates that may
  * ship (baselines and fitted models) and that are valid over the whole
  * domain, the cheapest (median ns) whose budget metric — transmittance:
- * RMSE; sky radiance: relative RMSE — meets the scene's budget; if none
+ * RMSE; sky radiance: relative RMSE — meets the scene's budget (costs
+ * within SF_REPORT_COST_TIE of it tie, the smaller error winning); if none
  * does, the one with the smallest error, flagged as not meeting it. */
 #ifndef SKYFIT_CODEGEN_REPORT_H
 #define SKYFIT_CODEGEN_REPORT_H
@@ -45,6 +46,9 @@
  * the writers give the share of the others. */
 #define SF_REPORT_VIEW_WHOLE 0.9995
 #define SF_REPORT_PATH_LEN 4096
+/* Candidates within this fraction of the cheapest's cost tie; the smaller
+ * error wins (codegen/report_select.c). */
+#define SF_REPORT_COST_TIE 0.10
 
 typedef struct sf_report_view {
   char name[32];

@@ -1,6 +1,7 @@
 /* The selection and the Pareto front (codegen/report_select.c, SPEC §5,
  * §12) on made-up figures: the cheapest model that meets the budget among
- * those that can ship; the front only of those (a cheaper, better table
+ * those that can ship, costs within SF_REPORT_COST_TIE of it a tie that
+ * the smaller error breaks; the front only of those (a cheaper, better table
  * lookup must not push the selection off it); the best available, said
  * so, when none meets the budget; a fitted model whose error exceeds the
  * reference's RMS flagged as failed; a quantity the scene does not ask for
@@ -59,6 +60,22 @@ int main(void) {
   scene->transmittance_rmse_budget = 1e-3;
   sf_candidate cands[8];
   sf_report rep;
+
+  /* Costs within SF_REPORT_COST_TIE of the cheapest's tie, the smaller
+   * error winning; farther apart, the cheaper wins whatever its error. */
+  for (int far = 0; far < 2; ++far) {
+    const fake tie[] = {{"reference", SF_ROLE_REFERENCE, 0, 1, 0, 0, 0},
+                        {"flat", SF_ROLE_BASELINE, 1, 1, 0.253, 6.7e-4, 7e-4},
+                        {"chapman", SF_ROLE_BASELINE, 1, 1, far ? 0.253 * 1.11 : 0.253 * 1.09, 2e-4, 2e-4}};
+    fill(&rep, cands, tie, 3);
+    sf_report_select(&rep, scene);
+    const sf_report_selection *s = &rep.selection[SF_CANDIDATE_TRANSMITTANCE];
+    printf("costs %s 10 %% apart: selected %s\n  %s\n", far ? "11" : "9",
+           s->model >= 0 ? rep.models[s->model].candidate->name : "none", s->reason);
+    CHECK(s->model == index_of(&rep, far ? "flat" : "chapman") && s->meets_budget);
+    CHECK((strstr(s->reason, "most accurate") != NULL) == !far);
+    free(rep.models);
+  }
 
   /* The table is cheaper and better than everything but cannot ship. */
   const fake within[] = {
