@@ -42,8 +42,8 @@ static void usage(FILE *out) {
           "                          removing the tables unused the longest (never this run's); none:\n"
           "                          no limit\n"
           "  --resolution T,S        reference tables MUxH,HxMUxMU_SxNU (default 128x32,16x64x16x8)\n"
-          "  --orders N              highest scattering order (default 12, stopping once an order\n"
-          "                          adds < 1e-4 of the sky)\n"
+          "  --orders N              highest scattering order (default 64, stopping once the orders\n"
+          "                          left would add < 5e-4 of the sky in every wavelength)\n"
           "  --threads N             worker threads (default: all cores); results do not depend on it\n"
           "  --quiet                 no progress, notes or summary\n"
           "  --help                  this text\n",

@@ -4,6 +4,7 @@
  * loaded, not recomputed; a corrupt one is reported and recomputed. */
 #include "util/make_folders.h"
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -178,10 +179,15 @@ int sf_cmd_sample(int argc, char **argv) {
   if (!o.quiet) {
     int cached = 0;
     for (int t = 0; t < set.n_tables; ++t) cached += set.from_cache[t];
-    if (set.multiple_computed)
-      for (int k = 2; k <= set.report.highest_order; ++k)
-        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far (in the channel it adds most to)\n", COMMAND, k,
-                set.report.added_fraction[k]);
+    for (int k = 2; set.multiple_computed && k <= set.report.highest_order; ++k) {
+      if (isfinite(set.report.remaining_fraction[k]))
+        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far, the orders left about %.3g "
+                "(in the channel where most)\n", COMMAND, k, set.report.added_fraction[k],
+                set.report.remaining_fraction[k]);
+      else
+        fprintf(stderr, "%s: scattering order %d adds %.3g of the sky radiance so far (in the channel where most)\n",
+                COMMAND, k, set.report.added_fraction[k]);
+    }
     fprintf(stderr, "%s: %d tables in %s (%d computed, %d from the cache); list in %s/tables.json\n",
             COMMAND, set.n_tables, out_dir, set.n_tables - cached, cached, out_dir);
   }

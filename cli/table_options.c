@@ -93,9 +93,9 @@ void sf_table_cli_help(FILE *out) {
           "  --resolution T,S        sample counts: transmittance MUxH, then scattering\n"
           "                          HxMUxMU_SxNU (default 256x64,32x128x32x8)\n"
           "  --orders N              highest scattering order, 1..%d (default %d; 1: single only)\n"
-          "  --stop-fraction F       stop earlier once an order adds less than F of the sky\n"
-          "                          radiance so far in every channel (default %g: all orders,\n"
-          "                          to about 4e-4 for Earth; 0: always N orders)\n"
+          "  --stop-fraction F       stop once the orders left would add less than F of the sky\n"
+          "                          radiance so far in every channel (a geometric tail of the\n"
+          "                          last two; default %g: all orders, 7 for Earth; 0: always N)\n"
           "  --threads N             worker threads (default: all cores); results do not depend on it\n"
           "  --quiet                 no progress bar or notes\n",
           SF_MULTIPLE_MAX_ORDERS, SF_TABLE_SET_DEFAULT_ORDERS, SF_TABLE_SET_DEFAULT_STOP_FRACTION);

@@ -23,8 +23,11 @@ void sf_report_reference_check_text(const sf_report *rep, char *buf, size_t n) {
   if (!c->present) return;
   append(buf, n,
          "Reference check: the tables' single scattering (phases applied) against direct integration "
-         "(models/single_scattering.h) at %zu points of the domain: relative RMSE %.3g %%",
-         c->n_points, 100.0 * c->rel_rmse);
+         "(models/single_scattering.h) at %zu points of the domain: ", c->n_points);
+  if (isfinite(c->rel_rmse))
+    append(buf, n, "relative RMSE %.3g %%", 100.0 * c->rel_rmse);
+  else
+    append(buf, n, "RMSE %.3g (the direct single scattering is 0 at every point)", c->rmse);
   int listed = 0;
   for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b) {
     if (c->band[b].n_points == 0 || !isfinite(c->band[b].rel_rmse)) continue;

@@ -59,10 +59,11 @@
 
 typedef struct sf_multiple_options {
   int orders;              /* highest order, >= 1 (1: no multiple scattering) */
-  double stop_fraction;    /* > 0: stop after the first order k >= 2 whose
-                              radiance, summed over the table, is less than
-                              this fraction of the sky radiance so far in
-                              every channel */
+  double stop_fraction;    /* > 0: stop after the first order k >= 3 after
+                              which the orders left (the geometric tail of
+                              the last two: report.remaining_fraction)
+                              would add less than this fraction of the sky
+                              radiance so far in every channel */
 } sf_multiple_options;
 
 typedef struct sf_multiple_report {
@@ -73,6 +74,10 @@ typedef struct sf_multiple_report {
   double order_total[SF_MULTIPLE_MAX_ORDERS + 1];      /* [k]: sum of L_k over
                                                           the internal grid and
                                                           the channels */
+  double remaining_fraction[SF_MULTIPLE_MAX_ORDERS + 1];   /* [k], k >= 2: the
+                  largest over the channels of what orders > k would add, as
+                  a geometric tail (INFINITY for k = 2, or where the orders
+                  do not shrink), over the sky radiance (orders 1..k) */
   double single_total;     /* the same sum of single scattering with phases */
   double ground_irradiance_total[SF_MULTIPLE_MAX_ORDERS + 1];  /* [k]: sum of
                                     E_k over the ground samples, k >= 1 */

@@ -73,8 +73,9 @@ int sf_sky_table_check_points(const sf_sky_tables *sky, const double *inputs, si
   }
   int nch = sky->atm->n_channels;
   size_t nv = n * (size_t)nch;
-  check_job job = {sky, inputs, n, malloc(sizeof(double) * nv), malloc(sizeof(double) * nv),
-                   malloc(sizeof(double) * nv), malloc(n ? n : 1)};
+  size_t nv1 = nv ? nv : 1;   /* malloc(0) may give NULL */
+  check_job job = {sky, inputs, n, malloc(sizeof(double) * nv1), malloc(sizeof(double) * nv1),
+                   malloc(sizeof(double) * nv1), malloc(n ? n : 1)};
   if (!job.table || !job.direct || !job.multiple || !job.inside) {
     free(job.table); free(job.direct); free(job.multiple); free(job.inside);
     return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the reference check (%zu points)", n);
@@ -118,7 +119,7 @@ int sf_sky_table_check_points(const sf_sky_tables *sky, const double *inputs, si
     double count = (double)out->n_points * nch;
     out->present = 1;
     out->rmse = sqrt(sq / count);
-    out->rel_rmse = ref_sq > 0.0 ? sqrt(sq / ref_sq) : 0.0;
+    out->rel_rmse = ref_sq > 0.0 ? sqrt(sq / ref_sq) : NAN;
     out->multiple_share = sky_sq > 0.0 ? sqrt(ms_sq / sky_sq) : 0.0;
     for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b)
       out->band[b].rel_rmse = band_ref_sq[b] > 0.0 ? sqrt(band_sq[b] / band_ref_sq[b]) : NAN;

@@ -33,7 +33,8 @@ typedef struct sf_sky_table_check_band {
 typedef struct sf_sky_table_check {
   int present;
   size_t n_points;             /* points inside the atmosphere's reach */
-  double rmse, rel_rmse;       /* every channel; rel_rmse = rmse / reference RMS */
+  double rmse, rel_rmse;       /* every channel; rel_rmse = rmse / reference RMS
+                                  (NAN where that is 0) */
   double max_abs;              /* and where: */
   double worst_h_km, worst_mu, worst_mu_s, worst_nu;
   int worst_channel;

@@ -11,6 +11,18 @@
 #include "models/atmosphere_file.h"
 #include "util/memory_limit.h"
 
+int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_options *o, char *text, size_t n) {
+  const sf_multiple_report *r = &set->report;
+  if (!set->multiple_computed || !(o->stop_fraction > 0.0) || r->highest_order != o->orders || o->orders < 3 ||
+      r->remaining_fraction[r->highest_order] < o->stop_fraction)
+    return 0;
+  snprintf(text, n,
+           "multiple scattering: after order %d, the most asked for, the orders left would still add about %.3g of "
+           "the sky radiance in its slowest channel (the stop fraction is %g): the tables lack it",
+           r->highest_order, r->remaining_fraction[r->highest_order], o->stop_fraction);
+  return 1;
+}
+
 void sf_table_set_options_default(sf_table_set_options *o) {
   memset(o, 0, sizeof *o);
   o->kind = SF_PARAM_BRUNETON;
@@ -207,6 +219,8 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
       status = sf_precompute_multiple(&setup, p, singles, &mo, &o->run, &set->multiple, &set->irradiance,
                                       &set->report, err);
     set->multiple_computed = status == SF_OK;
+    char text[400];
+    if (status == SF_OK && o->note && sf_table_set_orders_short(set, o, text, sizeof text)) o->note(o->note_ctx, text);
     for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&internal_single[k]);
   }
   sf_scattering_setup_free(&setup);

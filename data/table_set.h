@@ -23,13 +23,15 @@
 
 /* Bump whenever a change makes the tables' values differ. */
 #define SF_TABLES_CODE_VERSION "skyfit-tables 2"
-/* All orders (SPEC §6): up to the most, stopping once an order adds less
- * than 1e-3 of every channel's sky radiance (7 orders for the built-in
- * Earth, whose orders shrink by about 0.3 each: the rest adds about 4e-4;
- * a fixed 4 had left the blue multiple scattering 4-5 % short of the path
- * tracer's). */
+/* All orders (SPEC §6): up to the most, stopping once the orders left
+ * would add less than 5e-4 of every channel's sky radiance (estimated as
+ * the geometric tail of the last two; 7 orders for the built-in Earth,
+ * whose orders shrink by about 0.3 each; a fixed 4 had left the blue
+ * multiple scattering 4-5 % short of the path tracer's). A sky whose
+ * orders shrink slowly (thick, bright) may reach the most first: the set
+ * then says what is left (sf_table_set_options.note). */
 #define SF_TABLE_SET_DEFAULT_ORDERS SF_MULTIPLE_MAX_ORDERS
-#define SF_TABLE_SET_DEFAULT_STOP_FRACTION 1e-3
+#define SF_TABLE_SET_DEFAULT_STOP_FRACTION 5e-4
 
 typedef struct sf_table_set_options {
   sf_parameterization kind;
@@ -89,5 +91,11 @@ int sf_table_set_check(const sf_atmosphere *atm, const sf_table_set_options *o, 
 int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_table_set_options *o,
                       sf_error *err);
 void sf_table_set_free(sf_table_set *set);
+
+/* Whether the multiple scattering just computed ran out of orders (o's
+ * most) before the orders left fell below o's stop fraction; if so, says
+ * what the tables lack in text (at most n bytes). 0 for tables from the
+ * cache. */
+int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_options *o, char *text, size_t n);
 
 #endif

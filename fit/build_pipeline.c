@@ -316,6 +316,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   }
   notes->forward = o->note;
   notes->forward_ctx = o->note_ctx;
+  char orders_short[400];
+  if (sf_table_set_orders_short(&set, &topt, orders_short, sizeof orders_short)) log_note(notes, orders_short);
   /* Weights, views and report go to a staging folder, published when the
    * run has succeeded (fit/build_staging.h); the cache is written as it goes. */
   sf_build_staging stage;

@@ -228,8 +228,9 @@ static int metric_samples(const sf_sky_tables *sky, const sf_sky_elevation_optio
 }
 
 /* The fitted model's errors: RMSE, relative and normalised RMSE (each
- * elevation's residuals divided by its grid's RMS reference radiance, as
- * step 1 weighs them) over the grids of all metric elevations, the RMSE
+ * elevation's residuals divided by its metric grid's RMS reference
+ * radiance, as step 1 divides by its fit grid's; the held-out elevations
+ * have no fit grid) over the grids of all metric elevations, the RMSE
  * over the held-out ones alone, the largest error over the grids and the
  * bands. */
 static void sky_metrics(const sf_elevation_sky_model *model, int n_m, const int *held_out, const sf_sky_samples *grid,

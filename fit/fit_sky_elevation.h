@@ -58,7 +58,8 @@ typedef struct sf_sky_elevation_options {
   int n_elevations;          /* >= 6 (the curve has 6 control points); default
                                 19: with 10, the curves swung between the fit
                                 elevations (Mars' sky 0.0015 RMSE at them, 0.017
-                                on random suns, green at 80 deg; 0.0022 with 19) */
+                                on random suns, green at 80 deg; 0.0022 with 19,
+                                on the tables of the time) */
   int n_theta, n_phi;        /* view grid per elevation; default 16 x 24 */
   sf_lsq_options lsq;
   void (*progress)(void *ctx, const char *stage, double fraction);

@@ -34,8 +34,8 @@ void sf_spectral4_run_options_default(sf_spectral4_run_options *o) {
   o->res.scattering_mu = 64;
   o->res.scattering_mu_s = 16;
   o->res.scattering_nu = 8;
-  o->orders = 12;
-  o->stop_fraction = 1e-4;
+  o->orders = SF_TABLE_SET_DEFAULT_ORDERS;
+  o->stop_fraction = SF_TABLE_SET_DEFAULT_STOP_FRACTION;
   o->train = (sf_spectral4_grid){16, 24, 12, 1};
   o->eval = (sf_spectral4_grid){47, 32, 16, 0};
   sf_spectral4_fit_options_default(&o->fit);

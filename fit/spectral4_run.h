@@ -70,8 +70,10 @@ typedef struct sf_spectral4_run_options {
   sf_spectral4_fit_options fit;
 } sf_spectral4_run_options;
 
-/* 360-830/5 nm; tables 128x32, 16x64x16x8 (Bruneton); up to 12 orders,
- * stopping once an order adds < 1e-4 of the sky; training 16 suns x 24 mu x
+/* 360-830/5 nm; tables 128x32, 16x64x16x8 (Bruneton); all orders as the
+ * RGB tables take them (data/table_set.h: up to 64, stopping once the orders
+ * left would add < 5e-4 of the sky in every wavelength; up to 12 stopping
+ * once an order added < 1e-4 had left 1.3e-4 at 360 nm); training 16 suns x 24 mu x
  * 12 phi; evaluation 47 suns (every 2°) x 32 mu x 16 phi. */
 void sf_spectral4_run_options_default(sf_spectral4_run_options *o);
 

@@ -158,8 +158,8 @@ int main(void) {
   CHECK(5.0 * rep->rmse <= rep->preetham_rmse);
   /* independent recomputation of the refit's rmse from the tables: at the
    * fitted suns and halfway between them in x = (el / 90 deg)^(1/3) */
-  double sse2 = 0;
-  long n2 = 0;
+  double sse2 = 0, sse2_held = 0;
+  long n2 = 0, n2_held = 0;
   CHECK(rep->n_metric_elevations == 2 * rep->n_elevations - 1);
   for (int e = 0; e < 2 * rep->n_elevations - 1; ++e)
     for (int i = 0; i < 4 * o.n_theta; ++i)
@@ -174,9 +174,14 @@ int main(void) {
         sf_sky_lookup(&sky, 0, cos(th), sin(el), cg, &smp);
         double mod[SF_MAX_CHANNELS];
         sf_elevation_sky_radiance(m, el, th, acos(cg), mod);
-        for (int k = 0; k < 3; ++k, ++n2) sse2 += (mod[k] - smp.radiance[k]) * (mod[k] - smp.radiance[k]);
+        for (int k = 0; k < 3; ++k, ++n2) {
+          double d2 = (mod[k] - smp.radiance[k]) * (mod[k] - smp.radiance[k]);
+          sse2 += d2;
+          if (e % 2) sse2_held += d2, ++n2_held;
+        }
       }
   CHECK_REL(sqrt(sse2 / n2), rep->rmse, 1e-9);
+  CHECK_REL(sqrt(sse2_held / n2_held), rep->held_out_rmse, 1e-9);
   {
     /* The stated RMSE against random suns over the fitted range, on the
      * same view grid: with 10 fit elevations and the metrics at those only,
