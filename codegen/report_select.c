@@ -10,19 +10,11 @@
 #include "codegen/report.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static void append(char *buf, size_t n, const char *fmt, ...) {
-  size_t len = strlen(buf);
-  if (len + 1 >= n) return;
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(buf + len, n - len, fmt, ap);
-  va_end(ap);
-}
+#include "util/str_append.h"
 
 static const char *why_not_selectable(const sf_report_model *m) {
   const sf_candidate *c = m->candidate;
@@ -103,15 +95,16 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
     snprintf(sel->reason, sizeof sel->reason, "Budget: %s %s <= %.3g over the scene domain. ",
              sf_candidate_quantity_name((sf_candidate_quantity)q),
              q == SF_CANDIDATE_TRANSMITTANCE ? "RMSE" : "relative RMSE", sel->budget);
-    append(sel->reason, sizeof sel->reason, "%d candidate(s) may ship, %d meet the budget", n_selectable, n_meet);
+    sf_str_append(sel->reason, sizeof sel->reason, "%d candidate(s) may ship, %d meet the budget", n_selectable,
+                  n_meet);
     int listed = 0;
     for (int i = 0; i < rep->n_models; ++i) {
       const sf_report_model *m = &rep->models[i];
       if ((int)m->candidate->quantity != q || !m->selectable || !m->meets_budget) continue;
-      append(sel->reason, sizeof sel->reason, "%s%s (%.3g, %.3gx naive-16)", listed++ ? ", " : ": ",
-             m->candidate->name, m->budget_metric, m->cost_ratio_naive16);
+      sf_str_append(sel->reason, sizeof sel->reason, "%s%s (%.3g, %.3gx naive-16)", listed++ ? ", " : ": ",
+                    m->candidate->name, m->budget_metric, m->cost_ratio_naive16);
     }
-    append(sel->reason, sizeof sel->reason, ". ");
+    sf_str_append(sel->reason, sizeof sel->reason, ". ");
     /* the tie: the most accurate of those within SF_REPORT_COST_TIE of the
      * cheapest's cost */
     int cheapest = best_within;
@@ -127,27 +120,28 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
       sel->meets_budget = 1;
       const sf_report_model *m = &rep->models[best_within];
       if (best_within == cheapest)
-        append(sel->reason, sizeof sel->reason,
-               "Selected %s: the cheapest of those that meet it (%.3g ns per evaluation, %.3gx the naive "
-               "16-step raymarch; %s %.3g). ",
-               m->candidate->name, m->cost.ns_median, m->cost_ratio_naive16, sel->metric, m->budget_metric);
+        sf_str_append(sel->reason, sizeof sel->reason,
+                      "Selected %s: the cheapest of those that meet it (%.3g ns per evaluation, %.3gx the naive "
+                      "16-step raymarch; %s %.3g). ",
+                      m->candidate->name, m->cost.ns_median, m->cost_ratio_naive16, sel->metric, m->budget_metric);
       else
-        append(sel->reason, sizeof sel->reason,
-               "Selected %s: the most accurate of those that meet it within %.0f %% of the cheapest's cost, %s's "
-               "(%.3g ns per evaluation, %.3gx the naive 16-step raymarch against %.3gx; %s %.3g against %.3g). ",
-               m->candidate->name, 100.0 * SF_REPORT_COST_TIE, rep->models[cheapest].candidate->name,
-               m->cost.ns_median, m->cost_ratio_naive16, rep->models[cheapest].cost_ratio_naive16, sel->metric,
-               m->budget_metric, rep->models[cheapest].budget_metric);
+        sf_str_append(sel->reason, sizeof sel->reason,
+                      "Selected %s: the most accurate of those that meet it within %.0f %% of the cheapest's "
+                      "cost, %s's (%.3g ns per evaluation, %.3gx the naive 16-step raymarch against %.3gx; %s "
+                      "%.3g against %.3g). ",
+                      m->candidate->name, 100.0 * SF_REPORT_COST_TIE, rep->models[cheapest].candidate->name,
+                      m->cost.ns_median, m->cost_ratio_naive16, rep->models[cheapest].cost_ratio_naive16, sel->metric,
+                      m->budget_metric, rep->models[cheapest].budget_metric);
     } else if (best_error >= 0) {
       sel->model = best_error;
       const sf_report_model *m = &rep->models[best_error];
-      append(sel->reason, sizeof sel->reason,
-             "NO MODEL MEETS THE BUDGET. Selected the best available instead: %s, with the smallest error "
-             "(%s %.3g, %.3gx the budget; %.3gx naive-16 cost). ",
-             m->candidate->name, sel->metric, m->budget_metric, m->budget_metric / sel->budget,
-             m->cost_ratio_naive16);
+      sf_str_append(sel->reason, sizeof sel->reason,
+                    "NO MODEL MEETS THE BUDGET. Selected the best available instead: %s, with the smallest error "
+                    "(%s %.3g, %.3gx the budget; %.3gx naive-16 cost). ",
+                    m->candidate->name, sel->metric, m->budget_metric, m->budget_metric / sel->budget,
+                    m->cost_ratio_naive16);
     } else {
-      append(sel->reason, sizeof sel->reason, "No candidate can ship for this quantity. ");
+      sf_str_append(sel->reason, sizeof sel->reason, "No candidate can ship for this quantity. ");
     }
     int others = 0;
     for (int i = 0; i < rep->n_models; ++i) {
@@ -155,10 +149,10 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
       if ((int)m->candidate->quantity != q) continue;
       const char *why = why_not_selectable(m);
       if (why && m->candidate->role != SF_ROLE_REFERENCE)
-        append(sel->reason, sizeof sel->reason, "%s%s: %s", others++ ? "; " : "Not eligible: ",
-               m->candidate->name, why);
+        sf_str_append(sel->reason, sizeof sel->reason, "%s%s: %s", others++ ? "; " : "Not eligible: ",
+                      m->candidate->name, why);
     }
-    if (others) append(sel->reason, sizeof sel->reason, ".");
+    if (others) sf_str_append(sel->reason, sizeof sel->reason, ".");
     /* A fitted model whose error exceeds the reference's RMS did worse
      * than a black sky: its fit failed (Hosek's on --quick's few samples
      * has reached a relative RMSE of 300), which "misses" understates. */
@@ -166,8 +160,9 @@ void sf_report_select(sf_report *rep, const sf_scene *scene) {
       const sf_report_model *m = &rep->models[i];
       if ((int)m->candidate->quantity == q && m->candidate->role == SF_ROLE_FITTED && m->has_errors &&
           m->errors.rel_rmse > 1.0)
-        append(sel->reason, sizeof sel->reason, "%s%s FAILED: its relative RMSE is %.3g, an error larger than the "
-               "reference itself.", others ? " " : "", m->candidate->name, m->errors.rel_rmse);
+        sf_str_append(sel->reason, sizeof sel->reason,
+                      "%s%s FAILED: its relative RMSE is %.3g, an error larger than the reference itself.",
+                      others ? " " : "", m->candidate->name, m->errors.rel_rmse);
     }
     if (sel->model >= 0) {
       sel->meets_budget = rep->models[sel->model].meets_budget;

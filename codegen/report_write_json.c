@@ -147,7 +147,8 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
     add_number(w, "direct", c->worst_direct);
     cJSON *bands = cJSON_AddObjectToObject(o, "rel_rmse_by_sun");
     for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b)
-      if (c->band[b].n_points > 0 && isfinite(c->band[b].rel_rmse)) add_number(bands, band_keys[b], c->band[b].rel_rmse);
+      if (c->band[b].n_points > 0 && isfinite(c->band[b].rel_rmse))
+        add_number(bands, band_keys[b], c->band[b].rel_rmse);
     add_number(o, "multiple_share", c->multiple_share);
   }
   if (rep->spectral4.present) {

@@ -242,7 +242,10 @@ static void sky_metrics(const sf_elevation_sky_model *model, int n_m, const int 
     double weight[SF_MAX_CHANNELS];
     for (int k = 0; k < nk; ++k) {
       double ss = 0.0;
-      for (int i = 0; i < grid[e].n; ++i) ss += grid[e].radiance[(size_t)i * nk + k] * grid[e].radiance[(size_t)i * nk + k];
+      for (int i = 0; i < grid[e].n; ++i) {
+        double v = grid[e].radiance[(size_t)i * nk + k];
+        ss += v * v;
+      }
       weight[k] = ss > 0.0 ? sqrt(grid[e].n / ss) : 0.0;
     }
     for (int part = 0; part < 2; ++part) {
