@@ -14,7 +14,9 @@ void sf_report_reference_check_text(const sf_report *rep, char *buf, size_t n) {
   if (!c->present) return;
   sf_str_append(buf, n,
                 "Reference check: the tables' single scattering (phases applied) against direct integration "
-                "(models/single_scattering.h) at %zu points of the domain: ", c->n_points);
+                "(models/single_scattering.h) at %zu points of the domain", c->n_points);
+  if (c->n_outside) sf_str_append(buf, n, " (%zu more, whose rays miss the atmosphere, have no sky)", c->n_outside);
+  sf_str_append(buf, n, ": ");
   if (isfinite(c->rel_rmse))
     sf_str_append(buf, n, "relative RMSE %.3g %%", 100.0 * c->rel_rmse);
   else

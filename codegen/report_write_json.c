@@ -134,6 +134,7 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
     cJSON *o = cJSON_AddObjectToObject(root, "reference_check");
     cJSON_AddStringToObject(o, "what", "the sky tables' single scattering (phases applied) against direct integration");
     add_number(o, "points", (double)c->n_points);
+    add_number(o, "points_outside", (double)c->n_outside);
     add_number(o, "rmse", c->rmse);
     add_number(o, "rel_rmse", c->rel_rmse);
     add_number(o, "max_abs", c->max_abs);

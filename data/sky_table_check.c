@@ -87,7 +87,10 @@ int sf_sky_table_check_points(const sf_sky_tables *sky, const double *inputs, si
   double sq = 0.0, ref_sq = 0.0, ms_sq = 0.0, sky_sq = 0.0;
   double band_sq[SF_SKY_CHECK_BANDS] = {0}, band_ref_sq[SF_SKY_CHECK_BANDS] = {0};
   for (size_t i = 0; i < n; ++i) {
-    if (!job.inside[i]) continue;
+    if (!job.inside[i]) {
+      out->n_outside += 1;
+      continue;
+    }
     const double *p = inputs + 4 * i;
     int b = 0;
     while (b + 1 < SF_SKY_CHECK_BANDS && !(p[2] >= out->band[b].mu_s_min)) ++b;

@@ -33,6 +33,7 @@ typedef struct sf_sky_table_check_band {
 typedef struct sf_sky_table_check {
   int present;
   size_t n_points;             /* points inside the atmosphere's reach */
+  size_t n_outside;            /* the others: their rays never enter it */
   double rmse, rel_rmse;       /* every channel; rel_rmse = rmse / reference RMS
                                   (NAN where that is 0) */
   double max_abs;              /* and where: */

@@ -624,7 +624,7 @@ static void test_reference_check(void) {
   CHECK(between1.multiple_share > 0.0 && between1.multiple_share < 1.0);
   size_t in_bands = 0;
   for (int b = 0; b < SF_SKY_CHECK_BANDS; ++b) in_bands += between1.band[b].n_points;
-  CHECK(in_bands == between1.n_points);
+  CHECK(in_bands == between1.n_points && between1.n_points + between1.n_outside == 2000);
   CHECK(memcmp(&between1, &between2, sizeof between1) == 0);
   free(nodes);
   free(random);
