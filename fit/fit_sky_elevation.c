@@ -185,6 +185,17 @@ static void baseline_scan(const sf_sky_samples *samples, int n_e, const sf_atmos
   *best_rmse = sqrt(fmax(best_sse, 0.0) / (double)(n_total * nk));
 }
 
+/* Sum of the squared reference radiances of channel k over samples s (the
+ * RMS that normalises residuals per elevation, steps 1 and 4). */
+static double channel_sum_squares(const sf_sky_samples *s, int k, int nk) {
+  double ss = 0.0;
+  for (int i = 0; i < s->n; ++i) {
+    double v = s->radiance[(size_t)i * nk + k];
+    ss += v * v;
+  }
+  return ss;
+}
+
 /* Step 4's sun elevations: the fit's n_e and, held out, the n_e - 1
  * midpoints in x between them (where the curves are not fitted: with 10
  * fit elevations a Hosek fit of the built-in Earth measured 0.00096 at
@@ -241,11 +252,7 @@ static void sky_metrics(const sf_elevation_sky_model *model, int n_m, const int 
   for (int e = 0; e < n_m; ++e) {
     double weight[SF_MAX_CHANNELS];
     for (int k = 0; k < nk; ++k) {
-      double ss = 0.0;
-      for (int i = 0; i < grid[e].n; ++i) {
-        double v = grid[e].radiance[(size_t)i * nk + k];
-        ss += v * v;
-      }
+      double ss = channel_sum_squares(&grid[e], k, nk);
       weight[k] = ss > 0.0 ? sqrt(grid[e].n / ss) : 0.0;
     }
     for (int part = 0; part < 2; ++part) {
@@ -329,12 +336,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[e], err);
     rep->n_samples += status == SF_OK ? samples[e].n : 0;
     for (int k = 0; k < nk && status == SF_OK; ++k) {
-      double ss = 0;
-      for (int i = 0; i < samples[e].n; ++i) {
-        double v = samples[e].radiance[(size_t)i * nk + k];
-        ss += v * v;
-      }
-      double rms = sqrt(ss / samples[e].n);
+      double rms = sqrt(channel_sum_squares(&samples[e], k, nk) / samples[e].n);
       if (!(rms > 0) || !(samples[e].zenith_radiance[k] > 0))
         status = sf_fail(err, SF_ERR_INPUT,
                          "sky fit: the reference sky is dark in channel %d at sun elevation %g deg",

@@ -20,6 +20,7 @@
 #include "fit/fit_sigmoid.h"
 #include "fit/fit_sky_elevation.h"
 #include "models/atmosphere_file.h"
+#include "models/hosek_bezier.h"
 #include "models/optical_depth.h"
 #include "models/rng.h"
 #include "util/constants.h"
@@ -164,8 +165,8 @@ int main(void) {
   for (int e = 0; e < 2 * rep->n_elevations - 1; ++e)
     for (int i = 0; i < 4 * o.n_theta; ++i)
       for (int j = 0; j < o.n_phi; ++j) {
-        double x0 = cbrt(rep->elevation_rad[e / 2] / (0.5 * SF_PI)),
-               x1 = cbrt(rep->elevation_rad[(e + 1) / 2] / (0.5 * SF_PI)), x = 0.5 * (x0 + x1);
+        double x = 0.5 * (sf_bezier_x_of_elevation(rep->elevation_rad[e / 2]) +
+                          sf_bezier_x_of_elevation(rep->elevation_rad[(e + 1) / 2]));
         double el = e % 2 ? 0.5 * SF_PI * x * x * x : rep->elevation_rad[e / 2];
         double th = (i + 0.5) / (4 * o.n_theta) * 0.5 * SF_PI, ph = (double)j / (o.n_phi - 1) * SF_PI;
         double cg = cos(th) * sin(el) + sin(th) * cos(el) * cos(ph);
