@@ -1,7 +1,12 @@
 #include "codegen/emit_spectral4.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "models/color_space.h"
+#include "models/spectral_data.h"
 
 /* What an atmosphere file refuses (SPEC §4) is refused here too: the
  * wavelengths positive and increasing, their weights, the coefficients and
@@ -32,6 +37,59 @@ static int check_physical(const char *source, const sf_spectral4_emit *m, sf_err
   return SF_OK;
 }
 
+/* Matrix entries agree when they differ by less than this fraction of their
+ * row's largest entry: 8 float32 ulps, what the emitted constants round to
+ * anyway, and above the rounding of a file written to 7 significant digits
+ * (2.8e-7 on a fit of examples/scenes/spectral4.json: an sRGB entry sums 3
+ * rounded XYZ entries times up to 3.2). */
+#define MATRIX_MATCH 1e-6
+
+static double row_scale(const double row[4]) {
+  double s = 0.0;
+  for (int j = 0; j < 4; ++j) s = fmax(s, fabs(row[j]));
+  return s;
+}
+
+/* The two matrices are what the format defines (fit/spectral4_run.h):
+ * to_xyz[c][i] = cmf_c(l_i) w_i (seed 003 eq. 5.12) and to_linear_srgb =
+ * xyz_to_srgb . to_xyz. A file where they disagree would emit an XYZ and an
+ * sRGB conversion of two different spectral renderings. */
+static int check_matrices(const char *source, const sf_spectral4_emit *m, sf_error *err) {
+  sf_cmf *cmf = malloc(sizeof *cmf);
+  if (!cmf) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
+  int rc = sf_cmf_load(cmf, err);
+  double expected_xyz[3][4];
+  for (int j = 0; rc == SF_OK && j < 4; ++j) {
+    double bar[3];
+    sf_cmf_at(cmf, m->wavelengths_nm[j], bar);
+    for (int c = 0; c < 3; ++c) expected_xyz[c][j] = bar[c] * m->weights_nm[j];
+  }
+  free(cmf);
+  if (rc) return rc;
+  for (int c = 0; c < 3; ++c) {
+    double scale = fmax(row_scale(expected_xyz[c]), row_scale(m->to_xyz[c]));
+    for (int j = 0; j < 4; ++j)
+      if (!(fabs(m->to_xyz[c][j] - expected_xyz[c][j]) <= MATRIX_MATCH * scale))
+        return sf_fail(err, SF_ERR_INPUT, "%s: params.to_xyz[%d][%d]: must be the colour matching function at "
+                       "params.wavelengths_nm[%d] times params.weights_nm[%d] (%.9g), got %.9g", source, c, j, j, j,
+                       expected_xyz[c][j], m->to_xyz[c][j]);
+  }
+  for (int r = 0; r < 3; ++r) {
+    double expected[4];
+    for (int j = 0; j < 4; ++j) {
+      expected[j] = 0.0;
+      for (int c = 0; c < 3; ++c) expected[j] += sf_xyz_to_linear_srgb_matrix[r][c] * m->to_xyz[c][j];
+    }
+    double scale = fmax(row_scale(expected), row_scale(m->to_linear_srgb[r]));
+    for (int j = 0; j < 4; ++j)
+      if (!(fabs(m->to_linear_srgb[r][j] - expected[j]) <= MATRIX_MATCH * scale))
+        return sf_fail(err, SF_ERR_INPUT, "%s: params.to_linear_srgb[%d][%d]: must be the XYZ-to-linear-sRGB "
+                       "matrix times params.to_xyz (%.9g), got %.9g", source, r, j, expected[j],
+                       m->to_linear_srgb[r][j]);
+  }
+  return SF_OK;
+}
+
 int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error *err) {
   memset(out, 0, sizeof *out);
   int nc = w->atmosphere.n_constituents;
@@ -50,7 +108,8 @@ int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error
   if (sf_weights_param(w, "absorption", 2, sc4, flat, nc * 4, err)) return err->status;
   for (int c = 0; c < nc; ++c) memcpy(out->absorption[c], flat + 4 * c, sizeof out->absorption[c]);
   for (int c = 0; c < nc; ++c) snprintf(out->names[c], sizeof out->names[c], "%s", w->atmosphere.constituents[c].name);
-  return check_physical(w->source, out, err);
+  int rc = check_physical(w->source, out, err);
+  return rc ? rc : check_matrices(w->source, out, err);
 }
 
 static void emit_matrix_fn(sf_code_writer *w, const char *name, const double m[3][4]) {

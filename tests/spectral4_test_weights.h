@@ -1,18 +1,41 @@
 /* A spectral4 weights file (fit/spectral4_run.h's params) with plausible
- * values, for the tests that emit and run its header: the sRGB matrix has
- * entries of both signs, so its sums cancel. */
+ * values, for the tests that emit and run its header: the matrices are the
+ * format's (the colour matching functions at the wavelengths times the
+ * weights, and the sRGB matrix times that, which codegen checks), so the
+ * sRGB matrix has entries of both signs and its sums cancel. */
 #ifndef SKYFIT_TESTS_SPECTRAL4_TEST_WEIGHTS_H
 #define SKYFIT_TESTS_SPECTRAL4_TEST_WEIGHTS_H
 
+#include <stdlib.h>
+
 #include "models/atmosphere.h"
+#include "models/color_space.h"
+#include "models/spectral_data.h"
 #include "models/weights_file.h"
 
 static inline int write_spectral4_weights(const char *path, const sf_atmosphere *atm) {
   sf_scene_domain domain = {0.0, 100.0, -1.0, 1.0, -0.2, 1.0};
   cJSON *doc = sf_weights_new("spectral4", "sky_radiance", atm, &domain);
   double l[4] = {445.5, 518.25, 582.0, 630.75}, wgt[4] = {61.0, 72.5, 80.0, 95.25};
-  double xyz[12] = {3.1, 1.2, 30.5, 60.25, 0.9, 50.0, 60.5, 20.0, 45.0, 2.5, 0.01, 0.0};
-  double srgb[12] = {-10.5, -40.0, 50.0, 180.0, -5.0, 80.0, 40.0, -20.0, 55.0, -3.0, -8.0, 1.0};
+  double xyz[12], srgb[12];
+  sf_cmf *cmf = malloc(sizeof *cmf);
+  sf_error cmf_err;
+  sf_error_clear(&cmf_err);
+  if (!cmf || sf_cmf_load(cmf, &cmf_err)) {
+    free(cmf);
+    return SF_ERR_INPUT;
+  }
+  for (int i = 0; i < 4; ++i) {
+    double bar[3];
+    sf_cmf_at(cmf, l[i], bar);
+    for (int c = 0; c < 3; ++c) xyz[c * 4 + i] = bar[c] * wgt[i];
+  }
+  free(cmf);
+  for (int r = 0; r < 3; ++r)
+    for (int i = 0; i < 4; ++i) {
+      srgb[r * 4 + i] = 0.0;
+      for (int c = 0; c < 3; ++c) srgb[r * 4 + i] += sf_xyz_to_linear_srgb_matrix[r][c] * xyz[c * 4 + i];
+    }
   double sun[4] = {1.9, 1.85, 1.8, 1.6}, albedo[4] = {0.3, 0.3, 0.3, 0.3};
   double sc[12] = {0.0331, 0.0196, 0.0120, 0.0087, 0.0040, 0.0040, 0.0040, 0.0040, 0.0, 0.0, 0.0, 0.0};
   double ab[12] = {0.0, 0.0, 0.0, 0.0, 4.4e-4, 4.4e-4, 4.4e-4, 4.4e-4, 1.0e-4, 1.2e-3, 1.9e-3, 8.5e-4};
