@@ -41,6 +41,11 @@ static inline int check_report(int ok, const char *what, const char *file, int l
     check_report(ok_, #got " vs " #want, __FILE__, __LINE__);                  \
   } while (0)
 
+/* The larger of a running worst error and e, where a NaN wins and stays:
+ * fmax would drop it (fmax(0, NaN) is 0), and a NaN error must fail the
+ * bound checked on the worst. */
+static inline double worst_of(double worst, double e) { return isnan(worst) || e <= worst ? worst : e; }
+
 static inline int check_summary(void) {
   printf("%d passed, %d failed\n", check_passed_count, check_failed_count);
   return check_failed_count == 0 ? 0 : 1;

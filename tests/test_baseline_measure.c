@@ -47,7 +47,7 @@ int main(void) {
       for (int k = 0; k < SF_BASELINE_COUNT; ++k) {
         sf_baseline_transmittance(&b[k], h, mu, 0.0, INFINITY, got);
         for (int c = 0; c < atm->n_channels; ++c)
-          if (fabs(got[c] - ref[c]) > dense_max[k]) {
+          if (!(fabs(got[c] - ref[c]) <= dense_max[k])) {
             dense_max[k] = fabs(got[c] - ref[c]);
             worst_h[k] = h;
             worst_mu[k] = mu;

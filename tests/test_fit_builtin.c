@@ -114,7 +114,7 @@ int main(void) {
         sf_transmittance_from_depth(atm, depth, ref);
         sf_sigmoid_model_eval(sm, h, mu, mod);
         for (int k = 0; k < 3; ++k)
-          if (fabs(mod[k] - ref[k]) > dense_max) {
+          if (!(fabs(mod[k] - ref[k]) <= dense_max)) {
             dense_max = fabs(mod[k] - ref[k]);
             dense_h = h;
             dense_mu = mu;

@@ -172,7 +172,7 @@ int main(void) {
     double xr, xm, xr_ref, xm_ref;
     sf_mlp_bruneton_coords(R, Rt, h, mu, &xr, &xm);
     textbook_coords(R, Rt, h, mu, &xr_ref, &xm_ref);
-    worst = fmax(worst, fmax(fabs(xr - xr_ref), fabs(xm - xm_ref)));
+    worst = worst_of(worst_of(worst, fabs(xr - xr_ref)), fabs(xm - xm_ref));
   }
   printf("x_r, x_mu against long-double textbook formulas, 20000 points: max |diff| %.3g\n", worst);
   double worst_inverse = 0.0;
@@ -182,7 +182,7 @@ int main(void) {
     double mu = mu_h + (1.0 - mu_h) * sf_rng_uniform(&rng), h2, mu2, xr, xm;
     sf_mlp_bruneton_coords(R, Rt, h, mu, &xr, &xm);
     sf_mlp_bruneton_inverse(R, Rt, xr, xm, &h2, &mu2);
-    worst_inverse = fmax(worst_inverse, fmax(fabs(h2 - h) / top, fabs(mu2 - mu)));
+    worst_inverse = worst_of(worst_of(worst_inverse, fabs(h2 - h) / top), fabs(mu2 - mu));
   }
   printf("inverse (h, mu) of (x_r, x_mu), 20000 points: max |diff| %.3g (h / top, mu)\n", worst_inverse);
   CHECK(worst_inverse < 1e-8);
@@ -211,7 +211,7 @@ int main(void) {
     float Tf[3];
     sf_mlp_transmittance_top(&t, h, fmax(mu, sf_horizon_mu(R + h, R)), Td);
     sf_mlp_transmittance_top_f(&t, (float)h, (float)fmax(mu, sf_horizon_mu(R + h, R)), Tf);
-    for (int c = 0; c < 3; ++c) worst_top = fmax(worst_top, fabs(Tf[c] - Td[c]));
+    for (int c = 0; c < 3; ++c) worst_top = worst_of(worst_top, fabs(Tf[c] - Td[c]));
     sf_mlp_transmittance(&t, h, mu, Td);
     sf_mlp_transmittance_f(&t, (float)h, (float)mu, Tf);
     for (int c = 0; c < 3; ++c) worst_full = fmax(worst_full, fabs(Tf[c] - Td[c]));
@@ -273,7 +273,7 @@ int main(void) {
     /* float32 (what shaders do) bit for bit; double within rounding of the
      * printed parameters */
     same &= memcmp(af, bf, sizeof af) == 0;
-    for (int c = 0; c < 3; ++c) worst_double = fmax(worst_double, fabs(a[c] - b[c]));
+    for (int c = 0; c < 3; ++c) worst_double = worst_of(worst_double, fabs(a[c] - b[c]));
   }
   printf("weights file round trip (x_r, x_mu): mapping %s, float32 bit-identical %d, double max diff %.3g\n",
          sf_mlp_input_map_name(back.input_map), same, worst_double);

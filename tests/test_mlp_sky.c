@@ -205,7 +205,7 @@ int main(void) {
       if (!sf_ray_sphere_intersections(r, mu, R, &tn, &tf)) continue;
       sf_mlp_transmittance(&t, h, mu, full);
       sf_mlp_transmittance_segment(&t, h, mu, tn, seg);
-      for (int c = 0; c < 3; ++c) worst_ground = fmax(worst_ground, fabs(full[c] - seg[c]));
+      for (int c = 0; c < 3; ++c) worst_ground = worst_of(worst_ground, fabs(full[c] - seg[c]));
     }
     CHECK_ABS(worst_ground, 0.0, 1e-7);   /* r_d rounding at the ground point */
 
@@ -228,8 +228,9 @@ int main(void) {
       sf_mlp_transmittance_f(&t, (float)h, (float)mu, atf);   /* the full ray ends on the ground too */
       sf_mlp_transmittance_segment_f(&t, (float)h, (float)mu, (float)beyond, pastf);
       for (int c = 0; c < 3; ++c) {
-        worst_past = fmax(worst_past, fmax(fabs(at[c] - past[c]), fabs(sat[c] - spast[c]) / fmax(sat[c], 1e-12)));
-        worst_past_f = fmax(worst_past_f, fabs((double)atf[c] - (double)pastf[c]));
+        worst_past = worst_of(worst_past, fabs(at[c] - past[c]));
+        worst_past = worst_of(worst_past, fabs(sat[c] - spast[c]) / fmax(sat[c], 1e-12));
+        worst_past_f = worst_of(worst_past_f, fabs((double)atf[c] - (double)pastf[c]));
       }
     }
     CHECK_ABS(worst_past, 0.0, 1e-7);
@@ -258,9 +259,9 @@ int main(void) {
       for (int c = 0; c < 3; ++c) {
         if (!(T01[c] < 1.0 && T12[c] < 1.0 && T02[c] < 1.0)) continue;
         ++tested;
-        worst_t = fmax(worst_t, fabs(T01[c] * T12[c] - T02[c]));
+        worst_t = worst_of(worst_t, fabs(T01[c] * T12[c] - T02[c]));
         if (S01[c] > 0 && S12[c] > 0 && S02[c] > 0)
-          worst_s = fmax(worst_s, fabs(S01[c] + T01[c] * S12[c] - S02[c]) / fmax(S02[c], 1e-12));
+          worst_s = worst_of(worst_s, fabs(S01[c] + T01[c] * S12[c] - S02[c]) / fmax(S02[c], 1e-12));
       }
     }
     printf("split %d: composition tested on %d segments\n", split, tested);

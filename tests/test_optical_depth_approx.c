@@ -583,6 +583,7 @@ static void test_against_reference(void) {
    * (flat: mu >= 0.1) / ozone seen from below the shell */
   double worst[N_METHODS][3][2];
   memset(worst, 0, sizeof worst);
+  int nonfinite = 0;
   for (int k = 0; k < 6; ++k)
     for (int j = 0; j < 8; ++j) {
       double r = EARTH_R + hs[k], mu = mus[j], t0, t1, ref[3];
@@ -593,7 +594,17 @@ static void test_against_reference(void) {
         double out[3];
         run_method(m, &earth, &fv, &fc, r, mu, t0, t1, out);
         for (int i = 0; i < 3; ++i) {
-          if (!(ref[i] > 0.0) || isnan(out[i])) continue;
+          if (!(ref[i] > 0.0)) continue;
+          /* NAN only where the method does not apply (Chapman and Taylor:
+           * a non-exponential profile, the ozone tent); anywhere else it
+           * is an error. */
+          if (isnan(out[i]) && (m == M_CHAPMAN || m == M_TAYLOR) &&
+              !sf_constituent_exponential(&earth.constituents[i], NULL, NULL))
+            continue;
+          if (!isfinite(out[i])) {
+            ++nonfinite;
+            continue;
+          }
           double rel = fabs(out[i] - ref[i]) / ref[i];
           int steep = (m == M_FLAT_VIEWER || m == M_FLAT_CLOSEST) ? mu >= 0.1 : mu >= 0.5;
           if (i == 2 && hs[k] > 10.0) continue;   /* ozone: viewers below the layer */
@@ -603,6 +614,8 @@ static void test_against_reference(void) {
         }
       }
     }
+  printf("   non-finite values where the method applies: %d\n", nonfinite);
+  CHECK(nonfinite == 0);
   for (int m = 0; m < N_METHODS; ++m)
     printf("   %-24s worst rel. error: rayleigh %.3e (steep %.3e)  mie %.3e (steep %.3e)"
            "  ozone %.3e\n", method_names[m], worst[m][0][0], worst[m][0][1], worst[m][1][0],

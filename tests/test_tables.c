@@ -96,8 +96,8 @@ static void test_round_trips(void) {
             sf_params_scattering_pos(&p, &c, back);
             double e = 0.0;   /* in texture coordinates uv = (pos + 0.5) / n */
             for (int k = 0; k < 4; ++k)
-              e = fmax(e, fabs(sf_params_uv_of_pos(back[k], size[k]) - sf_params_uv_of_pos(pos[k], size[k])));
-            worst = fmax(worst, e);
+              e = worst_of(e, fabs(sf_params_uv_of_pos(back[k], size[k]) - sf_params_uv_of_pos(pos[k], size[k])));
+            worst = worst_of(worst, e);
             ++counted;
           }
     printf("%s scattering round trip uv -> (h, mu, mu_s, nu) -> uv over %d positions: max |uv error| %.3g\n",
@@ -157,7 +157,7 @@ static void test_transmittance(void) {
         sf_transmittance_from_depth(&atm, depth, want);
         const float *got = sf_table_at(&t, index);
         for (int ch = 0; ch < atm.n_channels; ++ch) {
-          worst = fmax(worst, fabs(got[ch] - want[ch]) / want[ch]);
+          worst = worst_of(worst, fabs(got[ch] - want[ch]) / want[ch]);
           smallest = fmin(smallest, want[ch]);
         }
       }
@@ -226,7 +226,7 @@ static void test_single(void) {
         for (int ch = 0; ch < 3; ++ch) {
           double want = want_all[i][k * 3 + ch], got = got_all[i][k * 3 + ch];
           double e = fabs(got - want) / fmax(want, 1e-6 * scale[k][ch]);
-          worst = fmax(worst, e);
+          worst = worst_of(worst, e);
           sum += e;
           ++counted;
         }
@@ -249,7 +249,7 @@ static void test_single(void) {
   double worst_grazing = 0.0;
   for (int k = 0; k < setup.n_scattering; ++k)
     for (int ch = 0; ch < 3; ++ch)
-      worst_grazing = fmax(worst_grazing, fabs(got[k * 3 + ch] - want[setup.scattering[k] * 3 + ch]) /
+      worst_grazing = worst_of(worst_grazing, fabs(got[k * 3 + ch] - want[setup.scattering[k] * 3 + ch]) /
                                               want[setup.scattering[k] * 3 + ch]);
   printf("grazing sun rays (h 0, mu 0, mu_s 0, nu -1): relative error %.3g vs the reference's lit limit\n",
          worst_grazing);
@@ -712,7 +712,7 @@ static void test_extreme_atmospheres(void) {
     for (int i = 0; i < m; ++i)
       for (int k = 0; k < 6; ++k) {
         double e = fabs(got_all[i][k] - want_all[i][k]) / fmax(want_all[i][k], 1e-6 * scale[k]);
-        worst = fmax(worst, e);
+        worst = worst_of(worst, e);
         mean += e;
       }
     mean /= 6.0 * m;
