@@ -44,7 +44,7 @@ enum sf_code_helper {
   SF_HELPER_EXPM1 = 1u << 4,         /* skyfit_expm1 */
   SF_HELPER_CHAPMAN_UP = 1u << 5,    /* skyfit_chapman_diff */
   SF_HELPER_TAYLOR_PIECE = 1u << 6,  /* skyfit_taylor_piece */
-  SF_HELPER_SIGMOID = 1u << 7,       /* skyfit_sigmoid */
+  /* 1u << 7 was skyfit_sigmoid, used by no emitter now */
   SF_HELPER_ASIN_ACOS = 1u << 8,     /* skyfit_asin, skyfit_acos */
   SF_HELPER_RAY_ENTER = 1u << 9,     /* skyfit_ray_enter: space viewers to the top */
   SF_HELPER_RADIUS_AT = 1u << 10,    /* skyfit_radius_at */

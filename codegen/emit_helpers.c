@@ -172,18 +172,6 @@ static void taylor_piece(sf_code_writer *w) {
   guard_close(w);
 }
 
-static void sigmoid(sf_code_writer *w) {
-  guard_open(w, "SIGMOID");
-  sf_cw_emit(w,
-      "/* 1 / (1 + exp(-x)), written so that neither branch overflows. */\n"
-      "@fn float skyfit_sigmoid(float x) {\n"
-      "  if (x >= 0.0f) return 1.0f / (1.0f + @exp(-x));\n"
-      "  float e = @exp(x);\n"
-      "  return e / (1.0f + e);\n"
-      "}\n");
-  guard_close(w);
-}
-
 static void ray_enter(sf_code_writer *w) {
   guard_open(w, "RAY_ENTER");
   sf_cw_emit(w,
@@ -281,7 +269,6 @@ void sf_emit_helpers(sf_code_writer *w, unsigned needed) {
   if (needed & SF_HELPER_EXPM1) expm1_helper(w);
   if (needed & SF_HELPER_CHAPMAN_UP) chapman_diff(w);
   if (needed & SF_HELPER_TAYLOR_PIECE) taylor_piece(w);
-  if (needed & SF_HELPER_SIGMOID) sigmoid(w);
   if (needed & SF_HELPER_ASIN_ACOS) asin_acos(w);
   if (needed & SF_HELPER_RAY_ENTER) ray_enter(w);
   if (needed & SF_HELPER_RADIUS_AT) radius_at(w);

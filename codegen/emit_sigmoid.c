@@ -108,7 +108,14 @@ void sf_emit_sigmoid_ray(sf_code_writer *w, const sf_sigmoid_emit *e) {
              "  @vec2 g = skyfit_sphere_hits(r, m, %F, -h);\n"
              "  @vec2 top = skyfit_sphere_hits(r, m, %F, %F - h);\n"
              "  int ground = m < 0.0f && g.x <= g.y ? 1 : 0;  /* as skyfit_sigmoid_log_full decides */\n"
-             "  d = @min(d, ground != 0 ? @max(g.x, 0.0f) : @max(top.y, 0.0f));\n"
+             "  float end = ground != 0 ? @max(g.x, 0.0f) : @max(top.y, 0.0f);\n"
+             "  if (d >= end) {  /* the whole ray: the fit's T_top at the exit is not 1 exactly */\n"
+             "    %V l = skyfit_sigmoid_log_line(h, m, ground);\n"
+             "    return ",
+             nk, R, h_top, ones, R, R, R + h_top, h_top, nk);
+  emit_combine(w, nk, "@exp(l%s)");
+  sf_cw_emit(w,
+             "  }\n"
              "  float h_raw = skyfit_altitude_at(%F, h, m, d);\n"
              "  float h_d = @min(@max(h_raw, 0.0f), %F);\n"
              "  float mu_d = @min(@max((r * m + d) / @max(%F + h_raw, 1e-6f), -1.0f), 1.0f);\n"
@@ -121,37 +128,8 @@ void sf_emit_sigmoid_ray(sf_code_writer *w, const sf_sigmoid_emit *e) {
              "    lb = skyfit_sigmoid_log_line(h_d, mu_d, 0);\n"
              "  }\n"
              "  return ",
-             nk, R, h_top, ones, R, R, R + h_top, h_top, R, h_top, R, nk);
+             R, h_top, R, nk);
   emit_combine(w, nk, "@exp(@min(la%s - lb%s, 0.0f))");
   sf_cw_emit(w, "}\n\n");
   sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_SPHERE_HITS | SF_HELPER_ALTITUDE_AT);
-}
-
-void sf_emit_sigmoid(sf_code_writer *w, const sf_sigmoid_model *m) {
-  int nc = m->n_constituents, nk = m->n_channels;
-  double *flat = malloc(sizeof(double) * (size_t)(nc * nk * SF_SIGMOID_N_COEFFS));
-  if (!flat) {
-    sf_cw_emit(w, "@outofmemory");
-    return;
-  }
-  for (int c = 0; c < nc; ++c)
-    for (int k = 0; k < nk; ++k)
-      for (int j = 0; j < SF_SIGMOID_N_COEFFS; ++j)
-        flat[(c * nk + k) * SF_SIGMOID_N_COEFFS + j] = m->a[c][k][j];
-  sf_cw_emit(w, "/* sigmoid: seed 000 §9.5, T = prod over constituents of\n"
-                " * 1 / (1 + exp(-(a1 + a2 h + a3 mu + a4 mu^2))); a[constituent][channel][4]. */\n");
-  sf_cw_emit(w, "@fn %V skyfit_sigmoid_transmittance(float h_km, float mu) {\n", nk);
-  sf_cw_const_floats(w, "  ", "a", flat, nc * nk * SF_SIGMOID_N_COEFFS);
-  free(flat);
-  sf_cw_emit(w, "  float t[4];\n"
-                "  for (int k = 0; k < %d; ++k) {\n"
-                "    t[k] = 1.0f;\n"
-                "    for (int c = 0; c < %d; ++c) {\n"
-                "      int i = (c * %d + k) * 4;\n"
-                "      t[k] *= skyfit_sigmoid(a[i] + a[i + 1] * h_km + a[i + 2] * mu + a[i + 3] * mu * mu);\n"
-                "    }\n"
-                "  }\n",
-             nk, nc, nk);
-  emit_return_t(w, nk, "t");
-  sf_cw_need(w, SF_HELPER_SIGMOID);
 }

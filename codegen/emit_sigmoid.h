@@ -25,10 +25,4 @@ typedef struct sf_sigmoid_emit {
 /* The functions above. */
 void sf_emit_sigmoid_ray(sf_code_writer *w, const sf_sigmoid_emit *m);
 
-/* The earlier form, kept for callers that know only the model
- * (fit/candidate_sigmoid.c): skyfit_sigmoid_transmittance(h_km, mu) alone,
- * the polynomial evaluated at h as given (no space viewers, no segment).
- * Prefer sf_emit_sigmoid_ray. */
-void sf_emit_sigmoid(sf_code_writer *w, const sf_sigmoid_model *m);
-
 #endif

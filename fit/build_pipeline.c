@@ -52,12 +52,43 @@ static int output_paths(const sf_scene *scene, const sf_build_options *o, char *
   return SF_OK;
 }
 
+/* The emitted part of report model m for quantity q. */
+static void model_part(const sf_report *rep, const sf_scene *scene, const sf_report_model *m,
+                       sf_candidate_quantity q, sf_codegen_part *p) {
+  const sf_candidate *c = m->candidate;
+  memset(p, 0, sizeof *p);
+  snprintf(p->name, sizeof p->name, "%s", c->emit_name);
+  snprintf(p->quantity, sizeof p->quantity, "%s", sf_candidate_quantity_name(q));
+  snprintf(p->summary, sizeof p->summary, "%s: %s", c->label, c->description);
+  snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
+  snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
+  p->domain = rep->domain;
+  snprintf(p->error, sizeof p->error, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
+           m->errors.rmse, m->errors.max_abs, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
+           m->meets_budget ? "" : " (does NOT meet the scene's budget)");
+  p->emit = c->emit;
+  p->model = c->emit_model;
+}
+
+/* The transmittance network among the build's models (fitted and
+ * emittable), or -1. */
+static int transmittance_network(const sf_report *rep) {
+  for (int k = 0; k < rep->n_models; ++k) {
+    const sf_candidate *c = rep->models[k].candidate;
+    if (c->quantity == SF_CANDIDATE_TRANSMITTANCE && c->role == SF_ROLE_FITTED && c->emit && c->emit_model &&
+        strcmp(c->emit_name, "mlp") == 0)
+      return k;
+  }
+  return -1;
+}
+
 /* The selected models' headers, written to temporaries beside their paths
  * (headers: committed with the other outputs, fit/build_staging.h). */
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
                           sf_codegen_files *headers, sf_error *err) {
-  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 2];
+  sf_codegen_part parts[SF_CANDIDATE_N_QUANTITIES + 3];
   int n = 0;
+  int part_of[SF_CANDIDATE_N_QUANTITIES] = {-1, -1};   /* the selected model's part per quantity */
   sf_selection_alias alias;
   memset(&alias, 0, sizeof alias);
   alias.n_channels = scene->atmosphere.n_channels;
@@ -71,19 +102,8 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
                c->name, sf_candidate_quantity_name((sf_candidate_quantity)q));
       continue;
     }
-    sf_codegen_part *p = &parts[n++];
-    memset(p, 0, sizeof *p);
-    snprintf(p->name, sizeof p->name, "%s", c->emit_name);
-    snprintf(p->quantity, sizeof p->quantity, "%s", sf_candidate_quantity_name((sf_candidate_quantity)q));
-    snprintf(p->summary, sizeof p->summary, "%s: %s", c->label, c->description);
-    snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
-    snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
-    p->domain = rep->domain;
-    snprintf(p->error, sizeof p->error, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
-             m->errors.rmse, m->errors.max_abs, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
-             m->meets_budget ? "" : " (does NOT meet the scene's budget)");
-    p->emit = c->emit;
-    p->model = c->emit_model;
+    part_of[q] = n;
+    model_part(rep, scene, m, (sf_candidate_quantity)q, &parts[n++]);
     if (q == SF_CANDIDATE_TRANSMITTANCE) {
       snprintf(alias.transmittance, sizeof alias.transmittance, "%s", c->emit_name);
     } else {
@@ -91,22 +111,45 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
       alias.sky_takes_altitude = !(c->valid.h_min_km == 0.0 && c->valid.h_max_km == 0.0);
     }
   }
-  /* the network's sky segment needs the transmittance network beside it */
-  alias.sky_has_segment = strcmp(alias.sky_radiance, "mlp") == 0 && strcmp(alias.transmittance, "mlp") == 0;
+  /* The sky network's segment function (eq. 44) takes the transmittance
+   * network's: where another transmittance model was selected, the network
+   * is emitted beside it for the segments (README: renderers call
+   * skyfit_sky_radiance_segment whatever the selection). */
+  int sky_network = strcmp(alias.sky_radiance, "mlp") == 0;
+  int t_part = strcmp(alias.transmittance, "mlp") == 0 ? part_of[SF_CANDIDATE_TRANSMITTANCE] : -1;
+  if (sky_network && t_part < 0) {
+    int k = transmittance_network(rep);
+    if (k >= 0) {
+      t_part = n;
+      model_part(rep, scene, &rep->models[k], SF_CANDIDATE_TRANSMITTANCE, &parts[n++]);
+      size_t len = strlen(parts[t_part].summary);
+      snprintf(parts[t_part].summary + len, sizeof parts[t_part].summary - len,
+               " (not selected: emitted for the sky network's segments)");
+    } else {
+      sf_report_selection *s = &rep->selection[SF_CANDIDATE_SKY_RADIANCE];
+      snprintf(s->emit_note, sizeof s->emit_note,
+               "No transmittance network is among this build's models, so skyfit_sky_radiance_segment "
+               "(eq. 44, which takes its transmittance) is not emitted.");
+    }
+  }
+  alias.sky_has_segment = sky_network && t_part >= 0;
   /* Two networks both emit skyfit_mlp_* functions: one part holds both. */
   sf_mlp_emit_pair pair;
-  if (n == 2 && strcmp(parts[0].name, "mlp") == 0 && strcmp(parts[1].name, "mlp") == 0) {
-    pair.transmittance = parts[0].model;
-    pair.scattering = parts[1].model;
-    parts[0].emit = sf_candidate_emit_mlp_pair;
-    parts[0].model = &pair;
-    snprintf(parts[0].quantity, sizeof parts[0].quantity, "transmittance, sky_radiance");
+  if (alias.sky_has_segment) {
+    int s_part = part_of[SF_CANDIDATE_SKY_RADIANCE];
+    sf_codegen_part *t = &parts[t_part], *sky = &parts[s_part];
+    pair.transmittance = t->model;
+    pair.scattering = sky->model;
+    t->emit = sf_candidate_emit_mlp_pair;
+    t->model = &pair;
+    snprintf(t->quantity, sizeof t->quantity, "transmittance, sky_radiance");
     char summary[SF_CODEGEN_TEXT_LEN], error[SF_CODEGEN_TEXT_LEN];
-    snprintf(summary, sizeof summary, "%.250s | %.250s", parts[0].summary, parts[1].summary);
-    snprintf(error, sizeof error, "transmittance: %.230s | sky radiance: %.230s", parts[0].error, parts[1].error);
-    snprintf(parts[0].summary, sizeof parts[0].summary, "%s", summary);
-    snprintf(parts[0].error, sizeof parts[0].error, "%s", error);
-    n = 1;
+    snprintf(summary, sizeof summary, "%.250s | %.250s", t->summary, sky->summary);
+    snprintf(error, sizeof error, "transmittance: %.230s | sky radiance: %.230s", t->error, sky->error);
+    snprintf(t->summary, sizeof t->summary, "%s", summary);
+    snprintf(t->error, sizeof t->error, "%s", error);
+    memmove(&parts[s_part], &parts[s_part + 1], (size_t)(n - s_part - 1) * sizeof parts[0]);
+    --n;
   }
   if (n > 0) {   /* the stable names (codegen/emit_selection_alias.h) */
     sf_codegen_part *p = &parts[n++];

@@ -1,7 +1,8 @@
 /* The sigmoid-polynomial transmittance as a candidate: fitted with
  * sf_fit_sigmoid over the scene's domain (fit/fit_sigmoid.h), evaluated
- * with sf_sigmoid_model_eval, timed in float32 as the emitted code
- * computes it (codegen/emit_sigmoid.h). */
+ * with sf_sigmoid_model_eval, emitted with its ray geometry and segments
+ * (codegen/emit_sigmoid.h sf_emit_sigmoid_ray) and timed in float32 as that
+ * code computes it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,44 +12,16 @@
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sigmoid.h"
 #include "fit/fit_weights_doc.h"
+#include "models/ray_geometry.h"
 #include "util/cache_prune.h"
 
 typedef struct sigmoid_ctx {
   sf_sigmoid_model model;
+  sf_sigmoid_emit emitted;   /* the model with its atmosphere's radii */
   int n_constituents, n_channels;
   float a[SF_MAX_CONSTITUENTS][4][SF_SIGMOID_N_COEFFS];
+  float bottom_f, top_f;
 } sigmoid_ctx;
-
-static void sigmoid_eval(const void *ctx, const double *in, double *out) {
-  sf_sigmoid_model_eval(&((const sigmoid_ctx *)ctx)->model, in[0], in[1], out);
-}
-
-static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
-  const sigmoid_ctx *s = ctx;
-  const int nc = s->n_channels;
-  for (size_t p = 0; p < n; ++p) {
-    float h = in[2 * p], mu = in[2 * p + 1];
-    for (int k = 0; k < nc; ++k) {
-      float t = 1.0f;
-      for (int c = 0; c < s->n_constituents; ++c) {
-        const float *a = s->a[c][k];
-        t *= 1.0f / (1.0f + expf(-(a[0] + a[1] * h + a[2] * mu + a[3] * mu * mu)));   /* seed 000 §9.5 */
-      }
-      out[(size_t)nc * p + (size_t)k] = t;
-    }
-  }
-}
-
-static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sigmoid(w, model); }
-
-int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len) {
-  if (in->atm->n_channels > 4) {
-    snprintf(why, why_len, "the emitted sigmoid holds at most 4 channels, the atmosphere has %d",
-             in->atm->n_channels);
-    return 0;
-  }
-  return 1;
-}
 
 /* Fits and writes the weights file (models/sigmoid_transmittance.h) to path (if not ""). */
 static int fit_and_store(const sf_candidate_inputs *in, const sf_sigmoid_fit_options *o, const char *path,
@@ -59,6 +32,76 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sigmoid_fit_opt
   if (status == SF_OK && path[0]) status = sf_sigmoid_weights_write(in->atm, &in->domain, o, m, rep, path, err);
   free(rep);
   return status;
+}
+
+static void sigmoid_eval(const void *ctx, const double *in, double *out) {
+  sf_sigmoid_model_eval(&((const sigmoid_ctx *)ctx)->model, in[0], in[1], out);
+}
+
+/* log T_top per channel in float32: sum_c -softplus(-x) (seed 000 §9.5). */
+static void log_top_f(const sigmoid_ctx *s, float h, float mu, float *out) {
+  for (int k = 0; k < s->n_channels; ++k) {
+    out[k] = 0.0f;
+    for (int c = 0; c < s->n_constituents; ++c) {
+      const float *a = s->a[c][k];
+      float x = a[0] + a[1] * h + a[2] * mu + a[3] * mu * mu;
+      out[k] -= fmaxf(-x, 0.0f) + logf(1.0f + expf(-fabsf(x)));
+    }
+  }
+}
+
+/* The full ray in float32, steps 1-5 of models/sigmoid_transmittance.h as
+ * the emitted skyfit_sigmoid_transmittance computes them (a viewer in
+ * space moved to where its ray enters, ground rays reversed, eq. 43):
+ * what the report times. */
+static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const sigmoid_ctx *s = ctx;
+  const int nc = s->n_channels;
+  const float R = s->bottom_f;
+  for (size_t p = 0; p < n; ++p) {
+    float *T = out + (size_t)nc * p;
+    float h = fmaxf(in[2 * p], 0.0f), mu = fminf(fmaxf(in[2 * p + 1], -1.0f), 1.0f);
+    float r = R + h, t0, t1;
+    if (r > s->top_f) {   /* a viewer above the top: where the ray enters, from its closest approach p */
+      float p_close = r * sqrtf((1.0f - mu) * (1.0f + mu));
+      if (mu >= 0.0f || !(p_close < s->top_f)) {
+        for (int k = 0; k < nc; ++k) T[k] = 1.0f;
+        continue;
+      }
+      mu = -sqrtf((s->top_f - p_close) * (s->top_f + p_close)) / s->top_f;
+      r = s->top_f;
+      h = s->top_f - R;
+    }
+    int ground = 0;
+    sf_ray_atmosphere_segment_f(r, mu, R, s->top_f, &t0, &t1, &ground);
+    float up[4], other[4];
+    if (mu >= 0.0f) {
+      log_top_f(s, h, mu, up);
+      for (int k = 0; k < nc; ++k) T[k] = expf(up[k]);
+      continue;
+    }
+    float disc = -h * (r + R) + (r * mu) * (r * mu);
+    log_top_f(s, h, -mu, up);
+    if (!ground) {   /* past the tangent point and up again */
+      float h_t = fmaxf(-disc, 0.0f) / (sqrtf(r * r * ((1.0f - mu) * (1.0f + mu))) + R);
+      log_top_f(s, h_t, 0.0f, other);
+      for (int k = 0; k < nc; ++k) T[k] = expf(fminf(0.0f, 2.0f * other[k] - up[k]));
+    } else {         /* reversed rays from the ground point (eq. 43) */
+      log_top_f(s, 0.0f, sqrtf(fmaxf(disc, 0.0f)) / R, other);
+      for (int k = 0; k < nc; ++k) T[k] = expf(fminf(0.0f, other[k] - up[k]));
+    }
+  }
+}
+
+static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sigmoid_ray(w, model); }
+
+int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len) {
+  if (in->atm->n_channels > 4) {
+    snprintf(why, why_len, "the emitted sigmoid holds at most 4 channels, the atmosphere has %d",
+             in->atm->n_channels);
+    return 0;
+  }
+  return 1;
 }
 
 int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err) {
@@ -104,6 +147,11 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
     free(s);
     return err->status;
   }
+  s->emitted.model = s->model;
+  s->emitted.bottom_radius_km = in->atm->bottom_radius_km;
+  s->emitted.top_radius_km = in->atm->top_radius_km;
+  s->bottom_f = (float)in->atm->bottom_radius_km;
+  s->top_f = (float)in->atm->top_radius_km;
   s->n_constituents = s->model.n_constituents;
   s->n_channels = s->model.n_channels;
   for (int c = 0; c < s->n_constituents; ++c)
@@ -120,7 +168,7 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   out->valid = in->domain;
   snprintf(out->emit_name, sizeof out->emit_name, "sigmoid");
   out->emit = emit;
-  out->emit_model = &s->model;
+  out->emit_model = &s->emitted;
   out->eval = sigmoid_eval;
   out->eval_f32 = sigmoid_eval_f32;
   out->ctx = s;

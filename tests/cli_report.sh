@@ -329,8 +329,11 @@ print(f"spectral4 on sun -10..90 deg: weights domain mu_s {d['mu_s']}")
 assert abs(d["mu_s"][0] - math.sin(math.radians(-2))) < 1e-12, f"FAIL spectral4 domain {d}"
 PY
 # Its weights file is checked as an atmosphere is (SPEC §4): impossible
-# physics exits 2 naming the key, nothing emitted (codegen had emitted them).
-for edit in "ground_albedo 0 7" "scattering 0 -1" "wavelengths_nm 0 -5" "sun_irradiance 2 -1"; do
+# physics exits 2 naming the key, nothing emitted (codegen had emitted them);
+# so do matrices that are not the colour matching functions at the
+# wavelengths times the weights, or whose sRGB is not the XYZ's.
+for edit in "ground_albedo 0 7" "scattering 0 -1" "wavelengths_nm 0 -5" "sun_irradiance 2 -1" \
+            "to_xyz 2 7" "to_linear_srgb 1 7" "weights_nm 3 1"; do
   read -r key index value <<<"$edit"
   python3 - "$tmp/s4/weights/spectral4.json" "$tmp/s4-bad.json" "$key" "$index" "$value" <<'PY'
 import json, sys
@@ -345,6 +348,17 @@ PY
   [ $rc -eq 2 ] && grep -q "params.$key" "$tmp/err" && [ -z "$(ls -A "$tmp/s4-cg" 2>/dev/null)" ] ||
     { echo "FAIL spectral4 weights with $key = $value: exit $rc: $(cat "$tmp/err")"; fail=1; }
 done
+# Matrices written to 7 significant digits (by hand or another tool) agree.
+python3 - "$tmp/s4/weights/spectral4.json" "$tmp/s4-7.json" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1]))
+for key in ("to_xyz", "to_linear_srgb"):
+    w["params"][key] = [[float("%.7g" % v) for v in row] for row in w["params"][key]]
+json.dump(w, open(sys.argv[2], "w"))
+PY
+rm -rf "$tmp/s4-cg" && mkdir "$tmp/s4-cg"
+"$bin" codegen --weights "$tmp/s4-7.json" --lang both --out "$tmp/s4-cg" 2> "$tmp/err" ||
+  { echo "FAIL spectral4 weights rounded to 7 digits: $(cat "$tmp/err")"; fail=1; }
 # The headers ship the 4-wavelength model beside the selected sky model.
 for f in "$tmp/s4/sky.h" "$tmp/s4/sky.glsl"; do
   grep -q "skyfit_spectral4_to_linear_srgb" "$f" || { echo "FAIL $f lacks the spectral4 functions"; fail=1; }
@@ -416,6 +430,32 @@ header = open(f"{d}/ext/sky.hpp").read()
 assert re.search(rf"skyfit_{prefix}_transmittance\(", header), f"FAIL chose {chosen}: no skyfit_{prefix}_transmittance"
 print(f"named outputs: chose {chosen}, emitted as skyfit_{prefix}_transmittance")
 PY
+# A flying scene's sky is the network; a loose transmittance budget selects
+# another transmittance model. skyfit_sky_radiance_segment (eq. 44) takes
+# the transmittance network's, which the build then emits beside the
+# selection (it had been emitted only when the network was selected for
+# transmittance too, and a renderer's call did not compile).
+cat > "$tmp/seg-scene.json" <<'EOF'
+{"viewer_altitude_km": [0, 10], "view": "all", "sun_elevation_deg": [0, 90], "quantities": ["sky_radiance", "transmittance"],
+ "error_budget": {"transmittance_rmse": 0.5, "sky_radiance_rel_rmse": 10}}
+EOF
+"$bin" build "$tmp/seg-scene.json" "${tiny[@]}" --out "$tmp/seg" > "$tmp/seg.out" 2>&1 ||
+  { echo "FAIL build of the segment scene"; cat "$tmp/seg.out"; fail=1; }
+grep "chose" "$tmp/seg.out"
+python3 - "$tmp/seg" <<'PY' || fail=1
+import json, sys
+d = sys.argv[1]
+sel = json.load(open(f"{d}/metrics.json"))["selection"]
+t, s = sel["transmittance"]["model"], sel["sky_radiance"]["model"]
+assert s == "mlp-scattering" and t != "mlp-transmittance", f"FAIL the scene should select the sky network and another transmittance model: {t}, {s}"
+for f in ("sky.h", "sky.glsl"):
+    text = open(f"{d}/{f}").read()
+    assert "skyfit_sky_radiance_segment(" in text, f"FAIL {f}: no skyfit_sky_radiance_segment with {t} selected"
+print(f"segment scene: chose {t} and {s}; skyfit_sky_radiance_segment emitted")
+PY
+printf '#include "sky.h"\nint main(void) {\n  skyfit_vec3 v = skyfit_sky_radiance_segment(1.0f, 0.3f, 0.5f, 0.2f, 10.0f);\n  skyfit_vec3 w = skyfit_sky_radiance(1.0f, 0.3f, 0.5f, 0.2f);\n  return !(v.x > 0.0f && v.x < w.x);\n}\n' > "$tmp/seg/main.c"
+cc -std=c99 -Wall -Wextra -Werror -pedantic -I "$tmp/seg" "$tmp/seg/main.c" -o "$tmp/seg/main" -lm && "$tmp/seg/main" ||
+  { echo "FAIL skyfit_sky_radiance_segment: does not compile, or the first 10 km are not part of the ray's radiance"; fail=1; }
 cc -std=c99 -Wall -Wextra -Werror -pedantic -fsyntax-only -x c "$tmp/named/ext/sky.hpp" ||
   { echo "FAIL ext/sky.hpp does not compile as C99"; fail=1; }
 listing() { (cd "$tmp/named" && find out ext -type f ! -path "out/cache/*" -exec sha256sum {} + | sort -k2); }

@@ -6,7 +6,7 @@
  *               first t km, [t0, t1]);
  *   sigmoid:    the model's own full ray (sf_sigmoid_model_eval); segments
  *               as models/sigmoid_transmittance.h states them, with double
- *               ray geometry, the segment cut at the ray's end;
+ *               ray geometry, the whole ray from the ray's end on;
  *   hosek, preetham: sf_sky_radiance_clamped (codegen/emit_sky.h);
  *   mlp:        models/mlp_sky.h in double;
  *   spectral4:  the 3x4 matrices and constants of the weights file.
@@ -60,11 +60,14 @@ static inline void emitted_sigmoid_segment(const void *ctx, const float *p, doub
     t1 -= t0;
   }
   if (!(d > 0.0)) return;
-  d = fmin(d, t1);
-  double r_d = sf_ray_radius_at(r, mu, d);
-  double mu_d = fmin(fmax((r * mu + d) / r_d, -1.0), 1.0), h_d = fmin(fmax(r_d - R, 0.0), Rt - R);
   double a[SF_MAX_CHANNELS], b[SF_MAX_CHANNELS];
   sf_sigmoid_model_eval(m, h, mu, a);
+  if (d >= t1) {   /* the whole ray */
+    for (int k = 0; k < n; ++k) out[k] = a[k];
+    return;
+  }
+  double r_d = sf_ray_radius_at(r, mu, d);
+  double mu_d = fmin(fmax((r * mu + d) / r_d, -1.0), 1.0), h_d = fmin(fmax(r_d - R, 0.0), Rt - R);
   sf_sigmoid_model_eval(m, h_d, mu_d, b);
   for (int k = 0; k < n; ++k) {
     /* ground hit: eq. 43 with reversed rays (seed 000 §9.6.3) */
