@@ -16,6 +16,9 @@ TAB=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4 --orders 2)
 "$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/t1.json" --quiet
 "$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 2 --out "$TMP/t2.json" --quiet
 if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identical for 1 and 2 threads"; else fail "thread count changed the weights"; fi
+# The transmittance network reads the transmittance table alone, and makes no other.
+if [ -n "$(ls "$TMP/tables" | grep -v '^transmittance')" ]; then fail "fit mlp-transmittance made scattering tables: $(ls "$TMP/tables")"
+else pass "fit mlp-transmittance made the transmittance table only"; fi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 2 --out "$TMP/s2.json" --quiet
 if cmp -s "$TMP/s1.json" "$TMP/s2.json"; then pass "scattering weights identical for 1 and 2 threads"; else fail "thread count changed the scattering weights"; fi
