@@ -2,6 +2,13 @@
 
 #include "models/ray_geometry.h"
 
+/* A segment may end this far past the ground point, relative to its
+ * length, and still end on it: a caller's own ground distance differs from
+ * ours by rounding (an orbit viewer's exact ground distance, less the entry
+ * distance, was 1.25e-12 km past it and refused). 1e-12 of 1000 km is a
+ * micrometre. */
+#define GROUND_SLACK 1e-12
+
 int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_end end,
                      double distance, sf_view_ray *out, const char **why) {
   out->r = atm->bottom_radius_km + h_km;
@@ -13,6 +20,9 @@ int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_en
   int enters = sf_ray_atmosphere_segment(out->r, mu, atm->bottom_radius_km,
                                          atm->top_radius_km, &t_enter, &t_exit, &hits_ground);
   if (distance >= 0.0) {
+    if (enters && hits_ground && distance > t_exit) {
+      if (distance - t_exit <= GROUND_SLACK * distance) distance = t_exit;
+    }
     if (enters && hits_ground && distance > t_exit) {
       *why = "the segment passes below the ground";
       return -1;
@@ -56,6 +66,14 @@ int sf_view_ray_make_at_entry(const sf_atmosphere *atm, double h_km, double mu, 
     out->hits_ground = 0;
     return 0;
   }
-  return sf_view_ray_make(atm, atm->top_radius_km - atm->bottom_radius_km, mu_e, end,
-                          distance >= 0.0 ? distance - t_enter : distance, out, why);
+  double inside = distance >= 0.0 ? distance - t_enter : distance;
+  if (distance >= 0.0) {   /* the slack relative to the viewer's distance, whose rounding the difference keeps */
+    double t0, t1;
+    int ground;
+    if (sf_ray_atmosphere_segment(atm->top_radius_km, mu_e, atm->bottom_radius_km, atm->top_radius_km, &t0, &t1,
+                                  &ground) &&
+        ground && inside > t1 && inside - t1 <= GROUND_SLACK * distance)
+      inside = t1;
+  }
+  return sf_view_ray_make(atm, atm->top_radius_km - atm->bottom_radius_km, mu_e, end, inside, out, why);
 }

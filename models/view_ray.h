@@ -17,7 +17,8 @@ typedef struct sf_view_ray {
  * (end = SF_RAY_END_NEAREST), or to the top (SF_RAY_END_TOP: fails if the
  * ray hits the ground first). With distance >= 0, the segment from the viewer
  * to the point at that distance (parts outside the atmosphere count for
- * nothing; fails if it would pass below the ground). A ray that never enters
+ * nothing; fails if it would pass below the ground by more than 1e-12 of
+ * the distance, and ends on the ground if by less). A ray that never enters
  * the atmosphere gives an empty stretch. Returns 0, or -1 with *why set. */
 int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_end end,
                      double distance, sf_view_ray *out, const char **why);

@@ -112,6 +112,21 @@ check_rel "rayleigh(0,1, to 10 km) = 8(1-e^-1.25)" "$(column rayleigh "$OUT" 1)"
 run_ok "--to top, 0,1" $'h_km,mu\n0,1\n' optical_depth --to top || true
 check_rel "--to top rayleigh(0,1) = default" "$(column rayleigh "$OUT" 1)" "$ray" 0
 expect_error "--to top on a ground-hitting row" $'h_km,mu\n0,1\n1,-0.5\n' 'row 3' optical_depth --to top
+# An orbit viewer's segment to its ray's ground point, the distance
+# correctly rounded (50 digits): the whole ray, not "below the ground" (the
+# entry distance taken off had left it 1.25e-12 km past the ground point)
+d_ground=$(python3 -c "
+from decimal import Decimal, getcontext
+getcontext().prec = 50
+R, r, mu = Decimal(6360), Decimal(6510), Decimal('-0.5')
+print(repr(float(-r * mu - (R * R - r * r * (1 - mu * mu)).sqrt())))")
+run_ok "--to-distance at the ground point, 150 km up" $'h_km,mu\n150,-0.5\n' optical_depth --to-distance "$d_ground" || true
+at_ground="$OUT"
+run_ok "the whole ray, 150 km up" $'h_km,mu\n150,-0.5\n' optical_depth || true
+check_rel "--to-distance $d_ground rayleigh(150,-0.5) = the whole ray" "$(column rayleigh "$at_ground" 1)" \
+  "$(column rayleigh "$OUT" 1)" 1e-12
+expect_error "a segment 1e-8 km past the ground point" $'h_km,mu\n150,-0.5\n' 'below the ground' optical_depth \
+  --to-distance "$(python3 -c "print(repr($d_ground + 1e-8))")"
 
 # ---- single scattering ------------------------------------------------------
 SS_IN=$'h_km,mu,mu_s,nu\n1,0.5,0.7,0.3\n0.5,0.2,0.9,-0.1\n'
