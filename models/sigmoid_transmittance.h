@@ -18,11 +18,10 @@
  * Full ray, sf_sigmoid_model_eval(m, h, mu) (the viewer's ray to the ground
  * if it hits it, else to the top), per channel k, with L_k = log T_top_k:
  *   1. h < 0 is taken as 0, mu clamped to [-1, 1]. A viewer above the top
- *      (h > H) is moved to where its ray enters: r = R + h,
- *      disc_t = (Rt - r)(Rt + r) + (r mu)^2; if mu >= 0 or disc_t < 0 the
- *      ray never enters: T = 1; otherwise
- *      t_enter = (r - Rt)(r + Rt) / (sqrt(disc_t) - r mu) (the near root,
- *      cancellation-free), mu <- (r mu + t_enter) / Rt, h <- H.
+ *      (h > H) is moved to where its ray enters (sf_ray_enter_from_above:
+ *      from the closest approach p = r sqrt(1 - mu^2), r = R + h; if
+ *      mu >= 0 or p >= Rt the ray never enters: T = 1; otherwise
+ *      mu <- -sqrt((Rt - p)(Rt + p)) / Rt, h <- H).
  *   2. r = R + h, disc = (R - r)(R + r) + (r mu)^2 (the ground sphere's
  *      discriminant, cancellation-free; models/ray_geometry.h).
  *   3. mu >= 0:                          T_k = exp(L_k(h, mu)).

@@ -240,6 +240,30 @@ expect_error "atmosphere: empty constituents" $'h_km,mu\n0,1\n' 'empty\.json: co
 SRC="${SKYFIT_SOURCE_DIR:?SKYFIT_SOURCE_DIR must name the source folder}"
 W="$SRC/weights/default"
 
+# The fitted models in double (--model) for viewers far out, straight down:
+# the values of the ray from the top (the sigmoid had given T_b 0.9995 for
+# 0.659 from 1e13 km, its entry taken from a discriminant that cancels; the
+# networks no atmosphere from 1e20 km, the top sphere's two crossings merged
+# in the viewer's radius).
+far_same() {   # NAME QUANTITY MODEL COLUMNS_AFTER_INPUTS ROWS
+  printf '%s' "$5" | "$BIN" eval "$2" --model "$W/$3.json" 2>/dev/null >"$TMP/far_model.csv"
+  if python3 - "$TMP/far_model.csv" "$4" <<'PY'
+import sys
+rows = [[float(x) for x in l.split(",")] for l in open(sys.argv[1]).read().splitlines()[1:]]
+n = int(sys.argv[2])
+assert len(rows) >= 4 and all(0 < v < 1 for v in rows[0][-n:]), rows
+for r in rows[1:]:
+    for a, b in zip(r[-n:], rows[0][-n:]):
+        assert abs(a - b) <= 1e-12 * abs(b), f"{r} vs {rows[0]}"
+PY
+  then pass "$1 in double: viewers 1e13, 1e20, 1e300 km out see the ray from the top"
+  else fail "$1 in double, viewers far out: $(cat "$TMP/far_model.csv")"; fi
+}
+far_same sigmoid transmittance sigmoid 3 $'h_km,mu\n200,-1\n1e13,-1\n1e20,-1\n1e300,-1\n'
+far_same mlp-transmittance transmittance mlp-transmittance 3 $'h_km,mu\n200,-1\n1e13,-1\n1e20,-1\n1e300,-1\n'
+far_same mlp-scattering sky_radiance mlp-scattering 3 \
+  $'h_km,mu,mu_s,nu\n200,-1,0.5,-0.5\n1e13,-1,0.5,-0.5\n1e20,-1,0.5,-0.5\n1e300,-1,0.5,-0.5\n'
+
 # points FILE SEED MU_MIN: 3000 rays, h uniform in [0, 100] km, mu in [MU_MIN, 1]
 points() {
   python3 - "$1" "$2" "$3" <<'PY'
