@@ -8,6 +8,7 @@
 #include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/progress_bar.h"
+#include "cli/size_pair_option.h"
 #include "fit/build_pipeline.h"
 #include "fit/candidate_fitted.h"
 #include "fit/output_norm.h"
@@ -130,9 +131,8 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       }
     } else if (!strcmp(a, "--views") && v) {
       int w, h;
-      char extra;
       ++i;
-      if (sscanf(v, "%dx%d%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 8192 || h > 8192) {
+      if (sf_cli_parse_size_pair(v, 1, 8192, &w, &h)) {
         fprintf(stderr, "%s: --views: expected WxH (1..8192 each), got '%s'\n", command, v);
         return 2;
       }

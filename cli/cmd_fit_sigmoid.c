@@ -10,6 +10,7 @@
 
 #include "cli/fit_commands.h"
 #include "cli/progress_bar.h"
+#include "cli/size_pair_option.h"
 #include "fit/fit_sigmoid.h"
 #include "fit/fit_weights_doc.h"
 #include "models/atmosphere_file.h"
@@ -82,8 +83,7 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
     } else if (strcmp(a, "--check") == 0) {
       check = argv[++i];
     } else if (strcmp(a, "--grid") == 0) {
-      if (sscanf(argv[++i], "%dx%d", &opt.n_h, &opt.n_mu) != 2 || opt.n_h < 2 || opt.n_mu < 2 ||
-          opt.n_h > 2000 || opt.n_mu > 2000) {
+      if (sf_cli_parse_size_pair(argv[++i], 2, 2000, &opt.n_h, &opt.n_mu)) {
         fprintf(stderr, "%s: --grid: expected NHxNMU with 2..2000 each, got '%s'\n", COMMAND, argv[i]);
         return 2;
       }

@@ -10,6 +10,7 @@
 
 #include "cli/csv_points.h"
 #include "cli/progress_bar.h"
+#include "cli/size_pair_option.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
@@ -422,8 +423,7 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
       }
       n_elevations = (int)n;
     } else if (strcmp(a, "--grid") == 0) {
-      if (sscanf(argv[++i], "%dx%d", &n_theta, &n_phi) != 2 || n_theta < 2 || n_phi < 2 ||
-          n_theta > 1024 || n_phi > 1024) {
+      if (sf_cli_parse_size_pair(argv[++i], 2, 1024, &n_theta, &n_phi)) {
         fprintf(stderr, "%s: --grid: expected NTxNP with 2..1024 each, got '%s'\n", command, argv[i]);
         return 2;
       }

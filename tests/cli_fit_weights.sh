@@ -47,6 +47,13 @@ bad = copy.deepcopy(h); bad["params"]["sun_elevation_rad"] = [0, 2.5]; dump("hra
 bad = copy.deepcopy(h); bad["inputs"] = w["inputs"]; dump("hinputs.json", bad)
 bad = copy.deepcopy(w); bad["inputs"][0]["scale"] = 2; dump("sinputs.json", bad)
 PY
+# --grid and --views take digits 'x' digits and nothing else (cli/size_pair_option.h)
+for g in 8x16x3 8x16abc 8x16,3 +8x+16 " 8x16" 1x16; do
+  expect 2 "sigmoid --grid '$g'" "expected NHxNMU" -- "$bin" fit sigmoid --grid "$g" --out "$tmp/g.json"
+done
+expect 2 "hosek --grid 4x4junk" "expected NTxNP" -- "$bin" fit hosek --grid 4x4junk --check "$tmp/s.json"
+expect 2 "build --views 10x10x" "expected WxH" -- "$bin" build --views 10x10x --out "$tmp/views"
+[ ! -e "$tmp/g.json" ] && [ ! -e "$tmp/views" ] || { echo "FAIL a refused option wrote output"; fail=1; }
 expect 2 "sigmoid wrong shape" "params.a" -- "$bin" fit sigmoid --check "$tmp/shape.json"
 expect 2 "sigmoid non-finite" "nan.json" -- "$bin" fit sigmoid --check "$tmp/nan.json"
 expect 2 "sigmoid hash mismatch" "hash" -- "$bin" fit sigmoid --check "$tmp/hash.json"
