@@ -57,7 +57,7 @@ static int check_weights(const char *path) {
 
 int sf_cmd_fit_sigmoid(int argc, char **argv) {
   const char *out = NULL, *scene_path = NULL, *atm_path = NULL, *check = NULL;
-  int quiet = 0;
+  int quiet = 0, grid_given = 0;
   sf_sigmoid_fit_options opt;
   sf_sigmoid_fit_options_default(&opt);
   for (int i = 1; i < argc; ++i) {
@@ -87,10 +87,16 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
         fprintf(stderr, "%s: --grid: expected NHxNMU with 2..2000 each, got '%s'\n", COMMAND, argv[i]);
         return 2;
       }
+      grid_given = 1;
     } else {
       fprintf(stderr, "%s: unknown option '%s'; see --help\n", COMMAND, a);
       return 2;
     }
+  }
+  if (check && (out || scene_path || atm_path || grid_given)) {   /* they had been accepted and ignored */
+    fprintf(stderr, "%s: --check validates a weights file; --out, --scene, --atmosphere and --grid do not apply\n",
+            COMMAND);
+    return 2;
   }
   if (check) return check_weights(check);
   if (!out) {

@@ -381,6 +381,10 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
   sf_table_cli_default(&o);
   const char *out = NULL, *scene = NULL, *tables = NULL, *samples = NULL, *check = NULL;
   int n_elevations = 0, n_theta = 0, n_phi = 0, scale_given = 0, unbounded = 0;
+  /* the first option of the tables' fit given (--atmosphere, --resolution,
+   * --elevations, ...): --samples and --check take none (they had been
+   * accepted and ignored) */
+  const char *table_option = NULL;
   double scale = 1.0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
@@ -390,6 +394,7 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
     }
     int used = sf_table_cli_option(&o, command, argc, argv, &i);
     if (used < 0) return 2;
+    if (used && strcmp(a, "--quiet") != 0 && strcmp(a, "--scene") != 0 && !table_option) table_option = a;
     if (used) continue;
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (strcmp(a, "--unbounded") == 0) {
@@ -422,17 +427,29 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
         return 2;
       }
       n_elevations = (int)n;
+      if (!table_option) table_option = a;
     } else if (strcmp(a, "--grid") == 0) {
       if (sf_cli_parse_size_pair(argv[++i], 2, 1024, &n_theta, &n_phi)) {
         fprintf(stderr, "%s: --grid: expected NTxNP with 2..1024 each, got '%s'\n", command, argv[i]);
         return 2;
       }
+      if (!table_option) table_option = a;
     } else {
       fprintf(stderr, "%s: unknown option '%s'; see --help\n", command, a);
       return 2;
     }
   }
   if (o.scene_path) scene = o.scene_path;   /* parsed by the shared table options */
+  if ((check || samples) && table_option) {
+    fprintf(stderr, "%s: %s applies to the fit over the reference tables; %s does not take it\n", command,
+            table_option, check ? "--check" : "--samples");
+    return 2;
+  }
+  if (check && (out || scene || tables || samples || scale_given || unbounded)) {
+    fprintf(stderr, "%s: --check validates a weights file; --out, --scene, --tables, --samples, --scale and "
+            "--unbounded do not apply\n", command);
+    return 2;
+  }
   if (check) return check_weights(form, command, check);
   if (samples) {
     if (out || scene || tables) {

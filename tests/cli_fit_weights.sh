@@ -54,6 +54,17 @@ done
 expect 2 "hosek --grid 4x4junk" "expected NTxNP" -- "$bin" fit hosek --grid 4x4junk --check "$tmp/s.json"
 expect 2 "build --views 10x10x" "expected WxH" -- "$bin" build --views 10x10x --out "$tmp/views"
 [ ! -e "$tmp/g.json" ] && [ ! -e "$tmp/views" ] || { echo "FAIL a refused option wrote output"; fail=1; }
+# --check and --samples take none of the options of a fit (they had been accepted and ignored)
+expect 2 "sigmoid --check with --grid" "do not apply" -- "$bin" fit sigmoid --check "$tmp/s.json" --grid 8x8
+expect 2 "sigmoid --check with --atmosphere" "do not apply" -- "$bin" fit sigmoid --check "$tmp/s.json" \
+  --atmosphere "$src/examples/atmospheres/mars_dusty.json"
+expect 2 "hosek --check with --out" "do not apply" -- "$bin" fit hosek --check "$tmp/h.json" --out "$tmp/h2.json"
+for o in "--elevations 10" "--grid 4x4" "--orders 3" "--resolution 8x8,4x4x4x4" "--threads 1" "--atmosphere x.json"; do
+  expect 2 "hosek --check with $o" "${o%% *} applies to the fit over the reference tables" -- \
+    "$bin" fit hosek --check "$tmp/s.json" $o
+  expect 2 "preetham --samples with $o" "${o%% *} applies to the fit over the reference tables" -- \
+    "$bin" fit preetham --samples "$tmp/none.csv" $o
+done
 expect 2 "sigmoid wrong shape" "params.a" -- "$bin" fit sigmoid --check "$tmp/shape.json"
 expect 2 "sigmoid non-finite" "nan.json" -- "$bin" fit sigmoid --check "$tmp/nan.json"
 expect 2 "sigmoid hash mismatch" "hash" -- "$bin" fit sigmoid --check "$tmp/hash.json"
