@@ -31,6 +31,7 @@ static void usage(FILE *out, const char *command, int emit) {
           "\n"
           "options:\n"
           "  --out DIR            output folder (default skyfit-out), created if missing\n"
+          "%s"
           "  --resolution T,S     table sample counts (default 256x64,32x128x32x8)\n"
           "  --views WxH          size of the standard views (default 192x108)\n"
           "  --no-views           skip the standard views\n"
@@ -69,6 +70,10 @@ static void usage(FILE *out, const char *command, int emit) {
                  "mu, mu_s, nu) call the selected ones, so a renderer's code outlives a new selection;\n"
                  "--prefix P names them P_... instead, for two scenes' headers in one program),\n"
                : "builds\nthe candidates,\n",
+          emit ? "  --header-c F         the C header (default: the scene's outputs.c, else DIR/sky.h)\n"
+                 "  --header-glsl F      the GLSL file (default: the scene's outputs.glsl, else DIR/sky.glsl)\n"
+                 "  --prefix P           emitted names begin with P_ instead of skyfit_ (types and macros too)\n"
+               : "",
           SF_BUILD_MLP_TRANSMITTANCE_EPOCHS, SF_BUILD_MLP_SCATTERING_EPOCHS, SF_OUTPUT_NORM_CAP_BELOW,
           SF_BUILD_MLP_RESTARTS, SF_BUILD_RESTART_MAX_MISS, SF_CACHE_LIMIT_DEFAULT_BYTES / MIB);
 }

@@ -245,11 +245,19 @@ int sf_cmd_codegen(int argc, char **argv) {
   sf_error_clear(&err);
   int status = run(&o, job, &err);
   if (status != SF_OK) fprintf(stderr, "skyfit codegen: %s\n", err.message);
-  else if (!o.quiet)
+  else if (!o.quiet) {
     for (int p = 0; p < job->n_parts; ++p)
       fprintf(stderr, "skyfit codegen: %s %s -> %s/%s%s%s\n", job->parts[p].name,
               job->parts[p].quantity, o.out_dir, o.name,
               o.want_c ? ".h" : "", o.want_glsl ? (o.want_c ? " .glsl" : ".glsl") : "");
+    /* eq. 44 takes the transmittance network's values: without one the
+     * segment function is left out, which a renderer would otherwise find
+     * only when its call does not compile */
+    for (int i = 0; i < job->n_weights; ++i)
+      if (job->fitted[i] && job->fitted[i]->kind == SF_FITTED_MLP_SCATTERING && !job->fitted[i]->transmittance)
+        fprintf(stderr, "skyfit codegen: %s: no transmittance network of its atmosphere among --weights, so "
+                "skyfit_mlp_sky_radiance_segment (eq. 44) is not emitted\n", job->weights[i].source);
+  }
   for (int i = 0; i < job->n_weights; ++i) {
     sf_fitted_free(job->fitted[i]);
     sf_weights_free(&job->weights[i]);

@@ -91,10 +91,12 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
     }
   } else if (strcmp(a, "--loss-floor") == 0 || strcmp(a, "--lr") == 0 || strcmp(a, "--lr-decay") == 0 ||
              strcmp(a, "--validation") == 0) {
-    int is_frac = strcmp(a, "--validation") == 0;
-    if (sf_mlp_cli_parse_double(v, is_frac ? 0.0 : 1e-300, is_frac ? 0.9 : (strcmp(a, "--lr-decay") == 0 ? 1.0 : 1e3), &x)) {
-      fprintf(stderr, "%s: %s: expected a %s, got '%s'\n", command, a,
-              is_frac ? "fraction in [0, 0.9]" : "positive number", v);
+    int is_frac = strcmp(a, "--validation") == 0, is_decay = strcmp(a, "--lr-decay") == 0;
+    double hi = is_frac ? 0.9 : is_decay ? 1.0 : 1e3;
+    if (sf_mlp_cli_parse_double(v, is_frac ? 0.0 : 1e-300, hi, &x)) {
+      fprintf(stderr, "%s: %s: expected %s, got '%s'\n", command, a,
+              is_frac ? "a fraction in [0, 0.9]" : is_decay ? "a factor in (0, 1]" : "a positive number up to 1000",
+              v);
       return -1;
     }
     if (strcmp(a, "--loss-floor") == 0) t->loss_floor = x;

@@ -44,8 +44,14 @@ check "previous output untouched" "cmp -s $tmp/a/skyfit.h $tmp/before.h"
 # The scattering network's segment function calls the transmittance
 # network's: given in either order, the header declares them first (it
 # did not compile with the scattering weights first).
-if [ -n "${SKYFIT_SOURCE_DIR:-}" ]; then
+command -v glslangValidator >/dev/null || { echo "FAIL glslangValidator is not installed (scripts/setup.sh installs it)"; fail=1; }
+if [ -z "${SKYFIT_SOURCE_DIR:-}" ]; then echo "FAIL SKYFIT_SOURCE_DIR is not set (ctest sets it)"; fail=1; else
   w="$SKYFIT_SOURCE_DIR/weights/default"
+  # Without a transmittance network the segment is left out, and codegen says so.
+  mkdir -p "$tmp/alone"
+  "$SKYFIT_BIN" codegen --weights "$w/mlp-scattering.json" --lang c --out "$tmp/alone" 2> "$tmp/alone/err.txt"
+  check "a sky network alone: no segment function, and a note naming it" \
+    "! grep -q skyfit_mlp_sky_radiance_segment $tmp/alone/skyfit.h && grep -q 'skyfit_mlp_sky_radiance_segment (eq. 44) is not emitted' $tmp/alone/err.txt"
   for order in "mlp-transmittance mlp-scattering" "mlp-scattering mlp-transmittance"; do
     set -- $order
     mkdir -p "$tmp/order"

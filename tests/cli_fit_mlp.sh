@@ -295,6 +295,8 @@ if command -v glslangValidator >/dev/null; then
     printf 'void main() { v[0] = vec4(skyfit_mlp_transmittance(v[1].x, v[1].y), 0.0); }\n'; } >"$TMP/t.comp"
   glslangValidator "$TMP/t.comp" >"$TMP/glslang.log" 2>&1 && pass "glslangValidator: the x_r, x_mu GLSL compiles" ||
     { cat "$TMP/glslang.log"; fail "glslangValidator rejected the x_r, x_mu GLSL"; }
+else
+  fail "glslangValidator is not installed (scripts/setup.sh installs it)"
 fi
 
 # A sky network whose output can go negative (linear) is held at 0, in the
