@@ -317,6 +317,8 @@ static void add_fitted_functions(const sweep_atmosphere *sa, swept_function *fs,
       case SF_FITTED_MLP_SCATTERING:
         add_fn(fs, n, "skyfit_mlp_sky_radiance", "ffff", 3, HI_SKY, emitted_mlp_s, m, 1e-6, ROW_MLP_S, PHYS_NONE)
             ->scale_eval = emitted_mlp_s;
+        /* the shipped networks share the atmosphere: linked, the segment is emitted and swept */
+        CHECK(m->transmittance != NULL);
         if (m->transmittance)
           add_fn(fs, n, "skyfit_mlp_sky_radiance_segment", "fffff", 3, HI_SKY_T, emitted_mlp_s_segment, m, 1e-6,
                  ROW_MLP_S, PHYS_NONE)->scale_eval = emitted_mlp_s;
@@ -403,7 +405,8 @@ static int is_public(const char *name) {
 
 /* Every function the header defines whose name is a model's public API
  * (skyfit_<model>_<quantity>[_segment|_between|_top], skyfit_spectral4_*)
- * must be swept. Returns the number missing. */
+ * must be swept, and every swept one defined. Returns the number missing
+ * (plus 1 when the counts differ). */
 static int check_coverage(const char *header_path, const swept_function *fs, int n) {
   FILE *f = fopen(header_path, "rb");
   if (!f) return -1;
@@ -428,7 +431,9 @@ static int check_coverage(const char *header_path, const swept_function *fs, int
   }
   fclose(f);
   printf("header defines %d public functions, %d swept\n", public_count, n);
-  return missing;
+  /* every swept function found among the header's (none found: the
+   * emitter's line format changed and this check saw nothing) */
+  return public_count == n ? missing : missing + 1;
 }
 
 /* ---- errors ---------------------------------------------------------------------------- */
