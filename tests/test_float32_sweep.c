@@ -12,6 +12,10 @@
  * atmospheres the sigmoid fitted here (fit/fit_sigmoid.h, Ceres, 24 x 48
  * rays, ~0.05 s). The MLPs and the ground-level skies are not refitted on
  * the extreme atmospheres (their training needs the scattering tables).
+ * Their emitted code depends on the atmosphere only through the radii
+ * (the same in all five) and the fitted numbers: an extreme atmosphere
+ * changes only those numbers, and saturated, large-weight networks, the
+ * float32 hazard such a fit brings, are checked in tests/test_mlp_sky.c.
  *
  * The header is compiled (cc -std=c99 -O2 -Wall -Wextra -Werror -pedantic,
  * ISO mode: no contraction) into a shared object and called in-process
