@@ -51,6 +51,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_SEGMENT sf_ray_atmosphere_segment
 #define RAY_HITS sf_ray_hits_sphere_from_above
 #define RAY_RADIUS_AT sf_ray_radius_at
+#define RAY_ALTITUDE_AT sf_ray_altitude_at
 #define RAY_INTERSECT sf_ray_sphere_intersections
 #define RAY_DISC sf_ray_sphere_discriminant
 #define OFFSET offset
@@ -68,6 +69,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef RAY_SEGMENT
 #undef RAY_HITS
 #undef RAY_RADIUS_AT
+#undef RAY_ALTITUDE_AT
 #undef RAY_INTERSECT
 #undef RAY_DISC
 #undef OFFSET
@@ -85,6 +87,7 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define RAY_SEGMENT sf_ray_atmosphere_segment_f
 #define RAY_HITS sf_ray_hits_sphere_from_above_f
 #define RAY_RADIUS_AT sf_ray_radius_at_f
+#define RAY_ALTITUDE_AT sf_ray_altitude_at_f
 #define RAY_INTERSECT sf_ray_sphere_intersections_f
 #define RAY_DISC sf_ray_sphere_discriminant_f
 #define OFFSET offset_f

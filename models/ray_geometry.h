@@ -13,6 +13,12 @@ double sf_ray_closest_radius_sq(double r, double mu);
 double sf_ray_radius_at(double r, double mu, double t);
 /* Cosine of the zenith angle at distance t along the ray. */
 double sf_ray_mu_at(double r, double mu, double t);
+/* Altitude above the sphere of radius bottom at distance t along the ray
+ * from altitude h: (h (r + bottom) + t (t + 2 r mu)) / (radius + bottom),
+ * without radius - bottom's cancellation (in float32 the radius of a
+ * 6360 km planet is 5e-4 km coarse: 5 % of a 10 m atmosphere), as the
+ * emitted skyfit_altitude_at computes it. */
+double sf_ray_altitude_at(double bottom, double h, double mu, double t);
 
 /* R^2 - r^2 (1 - mu^2), whose sign says whether the ray's line meets the
  * sphere of radius R, without cancellation near the sphere (from (R - r)(R
@@ -54,6 +60,7 @@ int sf_ray_enter_from_above(double r, double mu, double mu_s, double nu, double 
 /* The same in float32. */
 float sf_ray_closest_radius_sq_f(float r, float mu);
 float sf_ray_radius_at_f(float r, float mu, float t);
+float sf_ray_altitude_at_f(float bottom, float h, float mu, float t);
 float sf_ray_sphere_discriminant_f(float r, float mu, float sphere_radius);
 int sf_ray_hits_sphere_from_above_f(float r, float mu, float sphere_radius);
 float sf_horizon_mu_f(float r, float sphere_radius);

@@ -272,7 +272,7 @@ int main(void) {
     /* 3. hard cases in float32, ordinary and saturated networks, thin and thick shells */
     static const double tops[3] = {100.0, 0.01, 1000.0};
     int finite = 1;
-    double worst_f = 0.0;
+    double worst_f = 0.0, worst_seg = 0.0, worst_l = 0.0, worst_lseg = 0.0;
     long cases = 0;
     for (int shell = 0; shell < 3; ++shell)
       for (int sat = 0; sat < 2; ++sat) {
@@ -304,10 +304,22 @@ int main(void) {
                 finite &= ok;
                 /* float vs double away from the horizon discontinuity of the ray's end */
                 /* (float)h rounds viewers 1e-6 km above the top onto it: skip those */
-                if (!sat && fabs(mus[im] - hz) > 1e-3 && fabs(mus[im] - hz_top) > 1e-3 && fabs(hs[ih] - tops[shell]) > 1e-3)
+                if (!sat && fabs(mus[im] - hz) > 1e-3 && fabs(mus[im] - hz_top) > 1e-3 && fabs(hs[ih] - tops[shell]) > 1e-3) {
+                  double Tsd[3], Ld[3], Lsd[3];
+                  /* the double functions at the float inputs */
+                  double hf = (float)hs[ih], mf = (float)mus[im], sf = (float)sun[is], nf = (float)nus[in];
+                  sf_mlp_transmittance_segment(&tt, hf, mf, d, Tsd);
+                  sf_mlp_scattering(&ss, hf, mf, sf, nf, Ld);
+                  sf_mlp_scattering_segment(&ss, &tt, hf, mf, sf, nf, d, Lsd);
+                  /* radiance relative to the ray's brightest channel (the segment: the whole ray's) */
+                  double scale = fmax(fmax(fabs(Ld[0]), fmax(fabs(Ld[1]), fabs(Ld[2]))), 1e-30);
                   for (int c = 0; c < 3; ++c) {
-                    worst_f = fmax(worst_f, fabs(Tf[c] - Td[c]));
+                    worst_f = worst_of(worst_f, fabs(Tf[c] - Td[c]));
+                    worst_seg = worst_of(worst_seg, fabs(Tsf[c] - Tsd[c]));
+                    worst_l = worst_of(worst_l, fabs(Lf[c] - Ld[c]) / scale);
+                    worst_lseg = worst_of(worst_lseg, fabs(Lsf[c] - Lsd[c]) / scale);
                   }
+                }
                 ++cases;
               }
         }
@@ -316,7 +328,12 @@ int main(void) {
       }
     printf("split %d: float32 hard cases: %ld, all finite: %d\n", split, cases, finite);
     CHECK(finite);
+    printf("split %d: float32 vs double off the horizons, unsaturated: T %.3g, T segment %.3g, L %.3g, "
+           "L segment %.3g (relative to the ray's L)\n", split, worst_f, worst_seg, worst_l, worst_lseg);
     CHECK_ABS(worst_f, 0.0, 1e-3);
+    CHECK_ABS(worst_seg, 0.0, 1e-3);
+    CHECK_ABS(worst_l, 0.0, 1e-3);
+    CHECK_ABS(worst_lseg, 0.0, 1e-3);
     sf_mlp_sky_free(&t);
     sf_mlp_sky_free(&s);
   }

@@ -393,7 +393,43 @@ static void test_far_viewers(void) {
   check_report(all_in, "far viewers: float discriminant within 8 eps (R^2 + p^2)", __FILE__, __LINE__);
 }
 
+/* Altitude along the ray (sf_ray_altitude_at): (h (r + R) + t (t + 2 r mu))
+ * / (r_t + R) is r_t - R without the cancellation, so its error is a few
+ * eps of the altitude itself plus the rounding of t (t + 2 r mu), not of the
+ * radius. The same identity in long double is the reference; in float the
+ * radius of a 6360 km planet alone is 4.9e-4 km coarse. */
+static void test_altitude_at(void) {
+  printf("-- altitude along the ray, double and float, against long double\n");
+  const double R = 6360.0;
+  const double hs[] = {0.0, 0.005, 0.5, 10.0, 99.0};
+  const double mus[] = {-0.3, -1e-4, 0.0, 1e-6, 0.2, 1.0};
+  const double ts[] = {1e-4, 0.0037, 1.0, 50.0};
+  double worst_d = 0.0, worst_f = 0.0;
+  for (size_t i = 0; i < sizeof hs / sizeof hs[0]; ++i)
+    for (size_t j = 0; j < sizeof mus / sizeof mus[0]; ++j)
+      for (size_t k = 0; k < sizeof ts / sizeof ts[0]; ++k) {
+        /* the float inputs exactly, so that both see the same ray */
+        float hf = (float)hs[i], mf = (float)mus[j], tf = (float)ts[k];
+        long double r = (long double)R + hf;
+        /* r_t^2 - R^2 with r - R = h exact, over r_t + R: sqrtl(r2) - R
+         * itself loses 3e-16 km to the radius, 4e-4 of a 7.9e-13 km rise */
+        long double rise = (long double)hf * (r + (long double)R) + (long double)tf * ((long double)tf + 2.0L * r * mf);
+        if (rise < 0.0L) continue;   /* below the ground: not an altitude */
+        long double want = rise / (sqrtl(r * r + (long double)tf * ((long double)tf + 2.0L * r * mf)) + (long double)R);
+        double scale = (double)want + 1e-3 * tf;   /* altitude plus the rounding of t's terms */
+        worst_d = worst_of(worst_d, fabs(sf_ray_altitude_at(R, hf, mf, tf) - (double)want) / scale);
+        worst_f = worst_of(worst_f, fabs((double)sf_ray_altitude_at_f((float)R, hf, mf, tf) - (double)want) / scale);
+      }
+  printf("   worst |error| / (altitude + 1e-3 t): double %.3g, float %.3g\n", worst_d, worst_f);
+  CHECK(worst_d <= 16 * DBL_EPSILON);
+  CHECK(worst_f <= 16 * FLT_EPSILON);
+  /* the thin shell's case: 3.7 m along a level ray 5 m up (r_t - R in float: 0 or 4.9e-4 km) */
+  float h_thin = sf_ray_altitude_at_f(6360.0f, 0.005f, 0.0f, 0.0037f);
+  CHECK_REL(h_thin, 0.005 + 0.0037 * 0.0037 / (2.0 * 6360.005), 1e-6);
+}
+
 int main(void) {
+  test_altitude_at();
   test_inside_viewers();
   test_horizon();
   test_boundaries();
