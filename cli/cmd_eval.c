@@ -26,6 +26,7 @@ typedef struct eval_options {
   int phase;
   sf_ray_end end;
   double distance;      /* < 0: none */
+  int quiet;            /* no note on stderr (points outside a model's domain) */
 } eval_options;
 
 static const char *const ray_columns[] = {"h_km", "mu", NULL};
@@ -64,6 +65,7 @@ static void eval_usage(FILE *out) {
           "                     (default), or the top (rays that hit the ground are an error)\n"
           "  --to-distance D    the segment from the viewer to distance D km along the ray\n"
           "                     (--to top and --to-distance: the reference, or mlp-transmittance)\n"
+          "  --quiet            no notes on stderr (errors are still reported)\n"
           "  --help             this text\n");
 }
 
@@ -83,6 +85,8 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       o->model_path = argv[++i];
     } else if (strcmp(a, "--phase") == 0) {
       o->phase = 1;
+    } else if (strcmp(a, "--quiet") == 0) {
+      o->quiet = 1;
     } else if (strcmp(a, "--to") == 0 && i + 1 < argc) {
       const char *v = argv[++i];
       to_given = 1;
@@ -328,7 +332,7 @@ int sf_cmd_eval(int argc, char **argv) {
   for (long row = 0; row < pts.n_rows; ++row)
     evaluate_row(&atm, &o, fitted, &pts, row, &rays[row], results + row * n_out);
   long n_outside = fitted ? count_outside(fitted, &pts) : 0;
-  if (n_outside > 0) {
+  if (n_outside > 0 && !o.quiet) {
     const sf_scene_domain *d = &fitted->domain;
     char mu_s[64] = "";
     if (o.what == Q_SKY_RADIANCE) snprintf(mu_s, sizeof mu_s, ", mu_s %g..%g", d->mu_s_min, d->mu_s_max);

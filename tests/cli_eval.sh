@@ -339,6 +339,9 @@ for m in preetham hosek; do
     pass "$m: a ground viewer's values whatever h_km; h_km 5 counted outside its domain"
   else fail "$m: 0 km '$a' against 5 km '$b'; stderr $(cat "$TMP/err_ground" "$TMP/err_high")"; fi
 done
+c=$("$BIN" eval sky_radiance --model "$W/hosek.json" --quiet <"$TMP/high.csv" 2>"$TMP/err_quiet" | cut -d, -f2-)
+if [[ $c == "$b" && ! -s "$TMP/err_quiet" ]]; then pass "--quiet: the same values, no note"
+else fail "--quiet: '$c' against '$b'; stderr $(cat "$TMP/err_quiet")"; fi
 
 # ---- against the emitted code -----------------------------------------------
 # The emitted float32 functions (skyfit codegen from the same weights) at
