@@ -3,8 +3,10 @@
  * scattering) against the Monte Carlo path tracer (models/path_tracer.h, all
  * orders) at points that cover the scene domain of SPEC §5: ground at noon
  * and at sunset, 5 km, the top of the atmosphere, a viewer in space, the
- * planet's shadow, ground albedo 0 and 0.3 (issue 3). Each point and channel
- * must agree within max(3 standard errors, 2 %).
+ * planet's shadow, ground albedo 0 and 0.3 (issue 3), and SPEC §10's
+ * tangent rays (and 1e-6 either side), nu = +-1 and a horizontal ray from
+ * the ground. Each point and channel must agree within max(3 standard
+ * errors, 2 %; 3 % at the tangent, below).
  *
  * The tables are computed at a reduced resolution so that the test stays
  * short: 16 altitudes (half the default), 128 mu, 32 mu_s, 8 nu. The mu axis
@@ -48,6 +50,7 @@ typedef struct sky_point {
   const char *name;
   int albedo_case;            /* 0: ground albedo 0; 1: 0.3 */
   double h, mu, mu_s, nu;
+  double rel_bound;           /* the relative part of the bound */
 } sky_point;
 
 static double seconds_now(void) {
@@ -93,24 +96,35 @@ int main(int argc, char **argv) {
   sf_sky_tables sky[2];
   for (int a = 0; a < 2; ++a) sf_sky_tables_of_set(&sky[a], &atm[a], &set[a]);
 
-  /* The horizon cosine of a viewer at 400 km, to aim at the limb. */
-  double mu_limb_400 = sf_horizon_mu(R + 400.0, R);
+  /* The horizon cosine of a viewer at 400 km, to aim at the limb, and of
+   * one at 5 km (SPEC §10: tangent rays, and 1e-6 either side). */
+  double mu_limb_400 = sf_horizon_mu(R + 400.0, R), mu_h5 = sf_horizon_mu(R + 5.0, R);
   const sky_point points[] = {
-      {"ground, noon, zenith", 0, 0.0, 1.0, 0.999, 0.999},
-      {"ground, noon, low sky", 0, 0.0, 0.1, 0.98, 0.25},
-      {"ground, sunset, towards the sun", 0, 0.0, 0.15, 0.02, 0.95},
-      {"ground, sunset, away from the sun", 0, 0.0, 0.3, 0.02, -0.6},
-      {"5 km, looking down", 0, 5.0, -0.4, 0.6, 0.1},
-      {"5 km, near the horizon", 0, 5.0, 0.02, 0.3, 0.5},
-      {"100 km, looking down", 0, 100.0, -0.6, 0.7, -0.2},
-      {"400 km, nadir", 0, 400.0, -1.0, 0.8, -0.8},
-      {"400 km, limb", 0, 400.0, mu_limb_400 + 0.01, 0.3, 0.2},
-      {"planet shadow, ground, sun -5 deg", 0, 0.0, 0.2, -0.0872, -0.5},
-      {"planet shadow, 20 km, sun -8 deg, away", 0, 20.0, 0.05, -0.139, -0.9},
-      {"albedo 0.3, ground, noon", 1, 0.0, 0.5, 0.95, 0.6},
-      {"albedo 0.3, 5 km, looking down", 1, 5.0, -0.5, 0.7, -0.1},
-      {"albedo 0.3, 400 km, nadir", 1, 400.0, -1.0, 0.8, -0.8},
-      {"albedo 0.3, ground, sunset", 1, 0.0, 0.2, 0.05, 0.3},
+      {"ground, noon, zenith", 0, 0.0, 1.0, 0.999, 0.999, 0.02},
+      {"ground, noon, low sky", 0, 0.0, 0.1, 0.98, 0.25, 0.02},
+      {"ground, sunset, towards the sun", 0, 0.0, 0.15, 0.02, 0.95, 0.02},
+      {"ground, sunset, away from the sun", 0, 0.0, 0.3, 0.02, -0.6, 0.02},
+      {"5 km, looking down", 0, 5.0, -0.4, 0.6, 0.1, 0.02},
+      {"5 km, near the horizon", 0, 5.0, 0.02, 0.3, 0.5, 0.02},
+      {"100 km, looking down", 0, 100.0, -0.6, 0.7, -0.2, 0.02},
+      {"400 km, nadir", 0, 400.0, -1.0, 0.8, -0.8, 0.02},
+      {"400 km, limb", 0, 400.0, mu_limb_400 + 0.01, 0.3, 0.2, 0.02},
+      {"planet shadow, ground, sun -5 deg", 0, 0.0, 0.2, -0.0872, -0.5, 0.02},
+      {"planet shadow, 20 km, sun -8 deg, away", 0, 20.0, 0.05, -0.139, -0.9, 0.02},
+      {"albedo 0.3, ground, noon", 1, 0.0, 0.5, 0.95, 0.6, 0.02},
+      {"albedo 0.3, 5 km, looking down", 1, 5.0, -0.5, 0.7, -0.1, 0.02},
+      {"albedo 0.3, 400 km, nadir", 1, 400.0, -1.0, 0.8, -0.8, 0.02},
+      {"albedo 0.3, ground, sunset", 1, 0.0, 0.2, 0.05, 0.3, 0.02},
+      /* SPEC §10's hard cases. At the tangent the table's 16 altitudes
+       * (half the default) show: red -2.1 % just below it, where the
+       * default resolution gives -0.50 % (and -0.47 % on it, -0.11 % above;
+       * `test_sky_vs_path_tracer 256x64,32x128x32x8 1000000 7`): 3 % there */
+      {"5 km, tangent to the ground", 0, 5.0, mu_h5, 0.3, 0.2, 0.03},
+      {"5 km, 1e-6 above the tangent", 0, 5.0, mu_h5 + 1e-6, 0.3, 0.2, 0.03},
+      {"5 km, 1e-6 below the tangent", 0, 5.0, mu_h5 - 1e-6, 0.3, 0.2, 0.03},
+      {"ground, towards the sun (nu = 1)", 0, 0.0, 0.3, 0.3, 1.0, 0.02},
+      {"5 km, away from the sun (nu = -1)", 0, 5.0, -0.5, 0.5, -1.0, 0.02},
+      {"ground, horizontal (mu = 0)", 0, 0.0, 0.0, 0.4, 0.1, 0.02},
   };
   int n_points = (int)(sizeof points / sizeof points[0]);
   printf("tables %s, %d orders, computed in %.1f s (2 atmospheres); path tracer %lld paths per channel\n",
@@ -135,7 +149,7 @@ int main(int argc, char **argv) {
     }
     for (int ch = 0; ch < a->n_channels; ++ch) {
       double got = table.radiance[ch], want = mc.radiance[ch], sigma = mc.std_error[ch];
-      double bound = fmax(3.0 * sigma, 0.02 * fabs(want));
+      double bound = fmax(3.0 * sigma, pt->rel_bound * fabs(want));
       double diff = fabs(got - want);
       int ok = isfinite(got) && want > 0.0 && diff <= bound;
       printf("%s %-35s %2d %12.5g %12.5g %10.3g %+7.2f%% %7.2f%%\n", ok ? "ok  " : "FAIL", pt->name, ch, got,
