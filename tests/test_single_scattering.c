@@ -161,16 +161,27 @@ static void test_against_nested(const sf_atmosphere *atm) {
                      -l1->constant / l1->linear_per_km};
   /* h, mu, mu_s, nu: ground at noon, sunset looking at the sun, a view
    * through the shadow at dusk, a plane at 10 km looking down, a viewer at
-   * 100 km looking at the limb, one in space looking down. */
-  double R = atm->bottom_radius_km;
+   * 100 km looking at the limb, one in space looking down; SPEC §10's rays
+   * tangent to the ground from 5 km (the horizon cosine and 1e-6 either
+   * side: the ray ends on the ground or passes it), a space viewer's ray
+   * grazing the top (1e-6 inside its horizon cosine), the sun straight
+   * behind (nu = -1). */
+  double R = atm->bottom_radius_km, Rt = atm->top_radius_km;
+  double mh5 = sf_horizon_mu(R + 5.0, R), mt500 = sf_horizon_mu(R + 500.0, Rt);
   double pts[][4] = {{0.0, 1.0, 1.0, 1.0},
                      {0.0, 0.05, 0.0, 0.99},
                      {0.0, 0.2, -0.08, -0.3},
                      {10.0, -0.3, 0.5, 0.1},
                      {100.0, sf_horizon_mu(R + 100.0, R) + 0.002, 0.2, 0.6},
-                     {500.0, -0.95, 0.7, -0.6}};
+                     {500.0, -0.95, 0.7, -0.6},
+                     {5.0, mh5, 0.3, 0.2},
+                     {5.0, mh5 + 1e-6, 0.3, 0.2},
+                     {5.0, mh5 - 1e-6, 0.3, 0.2},
+                     {500.0, mt500 - 1e-6, 0.3, 0.2},
+                     {5.0, -0.5, 0.5, -1.0}};
+  int n_pts = (int)(sizeof pts / sizeof pts[0]);
   double max_err = 0.0;
-  for (int p = 0; p < 6; ++p) {
+  for (int p = 0; p < n_pts; ++p) {
     sf_view_ray ray;
     const char *why;
     sf_view_ray_make(atm, pts[p][0], pts[p][1], SF_RAY_END_NEAREST, -1.0, &ray, &why);
@@ -193,7 +204,7 @@ static void test_against_nested(const sf_atmosphere *atm) {
         double want = (double)(s * (ld)atm->sun_irradiance[ch] * (ld)atm->constituents[c].scattering[ch]);
         double g = got[c * atm->n_channels + ch];
         double e = fabs(g - want) / want;
-        if (e > max_err) max_err = e;
+        max_err = worst_of(max_err, e);
         printf("%s h=%g mu=%.6g mu_s=%g nu=%.6g %s_%s: got %.12g want %.12g rel %.2e\n",
                e <= 1e-7 ? "ok  " : "FAIL", pts[p][0], pts[p][1], pts[p][2], nu,
                atm->constituents[c].name, atm->channel_names[ch], g, want, e);
