@@ -62,7 +62,9 @@ static void sky_usage(FILE *out, int scattering) {
                        "                          (fit/target_root.h; default 1): K = 4 cuts the error of\n"
                        "                          rays to the ground near the horizon several-fold, as\n"
                        "                          skyfit build does, at a higher error on the grid points\n");
-  fprintf(out, "  --resolution, --orders, --atmosphere   as for skyfit sample (tables)\n");
+  fprintf(out, scattering ? "  --resolution, --orders, --stop-fraction, --atmosphere   as for skyfit sample (tables)\n"
+                         : "  --resolution, --atmosphere   as for skyfit sample (the transmittance table alone: no\n"
+                           "                               --orders or --stop-fraction)\n");
   sf_mlp_cli_help(out);
 }
 
@@ -190,7 +192,16 @@ static int run_sky(int argc, char **argv, int scattering) {
       return 0;
     }
     int r = sf_mlp_cli_option(&job.mlp, command, argc, argv, &i);
-    if (r == 0) r = sf_table_cli_option(&job.tables, command, argc, argv, &i);
+    if (r == 0) {
+      r = sf_table_cli_option(&job.tables, command, argc, argv, &i);
+      /* the transmittance network reads the transmittance table alone:
+       * the scattering orders would be accepted and ignored */
+      if (r > 0 && !scattering && (strcmp(a, "--orders") == 0 || strcmp(a, "--stop-fraction") == 0)) {
+        fprintf(stderr, "%s: %s: the transmittance network takes the transmittance table alone, which has no "
+                "scattering orders\n", command, a);
+        return 2;
+      }
+    }
     if (r < 0) return 2;
     if (r > 0) continue;
     int has_value = i + 1 < argc;

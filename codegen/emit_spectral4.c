@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "models/color_space.h"
 #include "models/spectral_data.h"
 
 /* What an atmosphere file refuses (SPEC §4) is refused here too: the
@@ -58,28 +57,24 @@ static int check_matrices(const char *source, const sf_spectral4_emit *m, sf_err
   sf_cmf *cmf = malloc(sizeof *cmf);
   if (!cmf) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
   int rc = sf_cmf_load(cmf, err);
-  double expected_xyz[3][4];
-  for (int j = 0; rc == SF_OK && j < 4; ++j) {
-    double bar[3];
-    sf_cmf_at(cmf, m->wavelengths_nm[j], bar);
-    for (int c = 0; c < 3; ++c) expected_xyz[c][j] = bar[c] * m->weights_nm[j];
-  }
+  /* row-major 3 x 4, as models/spectral_data.h's functions take them */
+  double file_xyz[12], expected_xyz[12], expected_srgb[12];
+  memcpy(file_xyz, m->to_xyz, sizeof file_xyz);
+  if (rc == SF_OK) sf_spectral4_to_xyz(cmf, m->wavelengths_nm, m->weights_nm, expected_xyz);
+  sf_spectral4_srgb_of_xyz(file_xyz, expected_srgb);   /* of the file's own to_xyz */
   free(cmf);
   if (rc) return rc;
   for (int c = 0; c < 3; ++c) {
-    double scale = fmax(row_scale(expected_xyz[c]), row_scale(m->to_xyz[c]));
+    const double *expected = expected_xyz + 4 * c;
+    double scale = fmax(row_scale(expected), row_scale(m->to_xyz[c]));
     for (int j = 0; j < 4; ++j)
-      if (!(fabs(m->to_xyz[c][j] - expected_xyz[c][j]) <= MATRIX_MATCH * scale))
+      if (!(fabs(m->to_xyz[c][j] - expected[j]) <= MATRIX_MATCH * scale))
         return sf_fail(err, SF_ERR_INPUT, "%s: params.to_xyz[%d][%d]: must be the colour matching function at "
                        "params.wavelengths_nm[%d] times params.weights_nm[%d] (%.9g), got %.9g", source, c, j, j, j,
-                       expected_xyz[c][j], m->to_xyz[c][j]);
+                       expected[j], m->to_xyz[c][j]);
   }
   for (int r = 0; r < 3; ++r) {
-    double expected[4];
-    for (int j = 0; j < 4; ++j) {
-      expected[j] = 0.0;
-      for (int c = 0; c < 3; ++c) expected[j] += sf_xyz_to_linear_srgb_matrix[r][c] * m->to_xyz[c][j];
-    }
+    const double *expected = expected_srgb + 4 * r;
     double scale = fmax(row_scale(expected), row_scale(m->to_linear_srgb[r]));
     for (int j = 0; j < 4; ++j)
       if (!(fabs(m->to_linear_srgb[r][j] - expected[j]) <= MATRIX_MATCH * scale))

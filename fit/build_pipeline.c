@@ -70,16 +70,20 @@ static void model_part(const sf_report *rep, const sf_scene *scene, const sf_rep
   p->model = c->emit_model;
 }
 
-/* The transmittance network among the build's models (fitted and
- * emittable), or -1. */
+/* The most accurate transmittance network among the build's models
+ * (fitted, emittable; restarts included), or -1. */
 static int transmittance_network(const sf_report *rep) {
+  int best = -1;
   for (int k = 0; k < rep->n_models; ++k) {
-    const sf_candidate *c = rep->models[k].candidate;
-    if (c->quantity == SF_CANDIDATE_TRANSMITTANCE && c->role == SF_ROLE_FITTED && c->emit && c->emit_model &&
-        strcmp(c->emit_name, "mlp") == 0)
-      return k;
+    const sf_report_model *m = &rep->models[k];
+    const sf_candidate *c = m->candidate;
+    if (c->quantity != SF_CANDIDATE_TRANSMITTANCE || c->role != SF_ROLE_FITTED || !c->emit || !c->emit_model ||
+        strcmp(c->emit_name, "mlp") != 0)
+      continue;
+    const sf_report_model *b = best >= 0 ? &rep->models[best] : NULL;
+    if (!b || (m->has_errors && (!b->has_errors || m->errors.rmse < b->errors.rmse))) best = k;
   }
-  return -1;
+  return best;
 }
 
 /* The selected models' headers, written to temporaries beside their paths
@@ -113,8 +117,10 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   }
   /* The sky network's segment function (eq. 44) takes the transmittance
    * network's: where another transmittance model was selected, the network
-   * is emitted beside it for the segments (README: renderers call
-   * skyfit_sky_radiance_segment whatever the selection). */
+   * is emitted beside it for the segments, so renderers keep calling
+   * skyfit_sky_radiance_segment whatever the transmittance selection. A
+   * build without a transmittance network (a scene that does not ask for
+   * transmittance) emits no segment, and its report says so. */
   int sky_network = strcmp(alias.sky_radiance, "mlp") == 0;
   int t_part = strcmp(alias.transmittance, "mlp") == 0 ? part_of[SF_CANDIDATE_TRANSMITTANCE] : -1;
   if (sky_network && t_part < 0) {

@@ -12,7 +12,6 @@
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sigmoid.h"
 #include "fit/fit_weights_doc.h"
-#include "models/ray_geometry.h"
 #include "util/cache_prune.h"
 
 typedef struct sigmoid_ctx {
@@ -20,7 +19,7 @@ typedef struct sigmoid_ctx {
   sf_sigmoid_emit emitted;   /* the model with its atmosphere's radii */
   int n_constituents, n_channels;
   float a[SF_MAX_CONSTITUENTS][4][SF_SIGMOID_N_COEFFS];
-  float bottom_f, top_f;
+  float bottom_f, h_top_f;   /* as the emitted code holds them */
 } sigmoid_ctx;
 
 /* Fits and writes the weights file (models/sigmoid_transmittance.h) to path (if not ""). */
@@ -50,43 +49,48 @@ static void log_top_f(const sigmoid_ctx *s, float h, float mu, float *out) {
   }
 }
 
-/* The full ray in float32, steps 1-5 of models/sigmoid_transmittance.h as
- * the emitted skyfit_sigmoid_transmittance computes them (a viewer in
- * space moved to where its ray enters, ground rays reversed, eq. 43):
- * what the report times. */
+/* The full ray in float32, operation for operation as the emitted
+ * skyfit_sigmoid_transmittance (codegen/emit_sigmoid.c, with the helpers
+ * skyfit_ray_enter and skyfit_sphere_hits of codegen/emit_helpers.c): a
+ * viewer in space moved to where its ray enters, rays to the ground
+ * reversed (eq. 43), rays past the tangent point through it. What the
+ * report times (tests/test_candidate_emit.c compares the two). */
 static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
   const sigmoid_ctx *s = ctx;
   const int nc = s->n_channels;
-  const float R = s->bottom_f;
+  const float R = s->bottom_f, h_top = s->h_top_f, Rt = R + h_top;
   for (size_t p = 0; p < n; ++p) {
     float *T = out + (size_t)nc * p;
     float h = fmaxf(in[2 * p], 0.0f), mu = fminf(fmaxf(in[2 * p + 1], -1.0f), 1.0f);
-    float r = R + h, t0, t1;
-    if (r > s->top_f) {   /* a viewer above the top: where the ray enters, from its closest approach p */
-      float p_close = r * sqrtf((1.0f - mu) * (1.0f + mu));
-      if (mu >= 0.0f || !(p_close < s->top_f)) {
+    if (h > h_top) {   /* skyfit_ray_enter */
+      float r = R + h, disc;
+      if (r > 2.0f * Rt) {
+        float p_close = r * sqrtf(fmaxf((1.0f - mu) * (1.0f + mu), 0.0f));
+        disc = (Rt - p_close) * (Rt + p_close);
+      } else {
+        disc = (h_top - h) * (Rt + r) + (r * mu) * (r * mu);
+      }
+      if (!(mu < 0.0f) || !(disc > 0.0f)) {
         for (int k = 0; k < nc; ++k) T[k] = 1.0f;
         continue;
       }
-      mu = -sqrtf((s->top_f - p_close) * (s->top_f + p_close)) / s->top_f;
-      r = s->top_f;
-      h = s->top_f - R;
+      mu = fminf(fmaxf(-sqrtf(disc) / Rt, -1.0f), 1.0f);
+      h = h_top;
     }
-    int ground = 0;
-    sf_ray_atmosphere_segment_f(r, mu, R, s->top_f, &t0, &t1, &ground);
     float up[4], other[4];
     if (mu >= 0.0f) {
       log_top_f(s, h, mu, up);
       for (int k = 0; k < nc; ++k) T[k] = expf(up[k]);
       continue;
     }
-    float disc = -h * (r + R) + (r * mu) * (r * mu);
+    float r = R + h;
+    float disc = -h * (r + R) + (r * mu) * (r * mu);   /* skyfit_sphere_hits(r, mu, R, -h) */
     log_top_f(s, h, -mu, up);
-    if (!ground) {   /* past the tangent point and up again */
+    if (!(disc >= 0.0f)) {   /* past the tangent point and up again */
       float h_t = fmaxf(-disc, 0.0f) / (sqrtf(r * r * ((1.0f - mu) * (1.0f + mu))) + R);
       log_top_f(s, h_t, 0.0f, other);
       for (int k = 0; k < nc; ++k) T[k] = expf(fminf(0.0f, 2.0f * other[k] - up[k]));
-    } else {         /* reversed rays from the ground point (eq. 43) */
+    } else {                 /* reversed rays from the ground point (eq. 43) */
       log_top_f(s, 0.0f, sqrtf(fmaxf(disc, 0.0f)) / R, other);
       for (int k = 0; k < nc; ++k) T[k] = expf(fminf(0.0f, other[k] - up[k]));
     }
@@ -151,7 +155,7 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   s->emitted.bottom_radius_km = in->atm->bottom_radius_km;
   s->emitted.top_radius_km = in->atm->top_radius_km;
   s->bottom_f = (float)in->atm->bottom_radius_km;
-  s->top_f = (float)in->atm->top_radius_km;
+  s->h_top_f = (float)(in->atm->top_radius_km - in->atm->bottom_radius_km);
   s->n_constituents = s->model.n_constituents;
   s->n_channels = s->model.n_channels;
   for (int c = 0; c < s->n_constituents; ++c)
@@ -159,8 +163,9 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
       for (int j = 0; j < SF_SIGMOID_N_COEFFS; ++j) s->a[c][k][j] = (float)s->model.a[c][k][j];
   sf_candidate_init(out, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED, "sigmoid", "Sigmoid polynomial (fitted)");
   snprintf(out->description, sizeof out->description,
-           "T = prod_c 1/(1+exp(-a1 - a2 h - a3 mu - a4 mu^2)) per constituent and channel (seed 000 §9.5), "
-           "least squares (Ceres) on the scene's (h, mu) box.");
+           "T_top = prod_c 1/(1+exp(-a1 - a2 h - a3 mu - a4 mu^2)) per constituent and channel (seed 000 §9.5), "
+           "least squares (Ceres) on rays to the top over the scene's (h, mu) box; other rays from it by eq. 43 "
+           "(rays to the ground reversed).");
   snprintf(out->weights_path, sizeof out->weights_path, "%s", weights);
   out->n_channels = s->n_channels;
   out->n_params = (long)s->n_constituents * s->n_channels * SF_SIGMOID_N_COEFFS;

@@ -173,10 +173,10 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   double to_xyz[12], to_rgb[12], sun[4], albedo[4];
   int n = spectral->n_channels, nc = spectral->n_constituents;
   double scattering[SF_MAX_CONSTITUENTS * 4], absorption[SF_MAX_CONSTITUENTS * 4];
+  sf_spectral4_to_xyz(cmf, p->lambda_nm, p->weight_nm, to_xyz);
+  sf_spectral4_srgb_of_xyz(to_xyz, to_rgb);
   for (int i = 0; i < 4; ++i) {
-    double bar[3], l = p->lambda_nm[i];
-    sf_cmf_at(cmf, l, bar);
-    for (int c = 0; c < 3; ++c) to_xyz[c * 4 + i] = bar[c] * p->weight_nm[i];
+    double l = p->lambda_nm[i];
     sun[i] = sf_spectrum_at(n, spectral->wavelengths_nm, spectral->sun_irradiance, l);
     albedo[i] = sf_spectrum_at(n, spectral->wavelengths_nm, spectral->ground_albedo, l);
     for (int k = 0; k < nc; ++k) {
@@ -184,11 +184,6 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
       absorption[k * 4 + i] = sf_spectrum_at(n, spectral->wavelengths_nm, spectral->constituents[k].absorption, l);
     }
   }
-  for (int r = 0; r < 3; ++r)
-    for (int i = 0; i < 4; ++i) {
-      to_rgb[r * 4 + i] = 0.0;
-      for (int c = 0; c < 3; ++c) to_rgb[r * 4 + i] += sf_xyz_to_linear_srgb_matrix[r][c] * to_xyz[c * 4 + i];
-    }
   int s4[1] = {4}, s34[2] = {3, 4}, sc4[2] = {nc, 4};
   sf_weights_add_param(doc, "wavelengths_nm", 1, s4, p->lambda_nm);
   sf_weights_add_param(doc, "weights_nm", 1, s4, p->weight_nm);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "models/color_space.h"
 #include "util/data_path.h"
 
 #define CSV_LINE_MAX 1024
@@ -149,4 +150,21 @@ void sf_cmf_at(const sf_cmf *cmf, double lambda_nm, double xyz_bar[3]) {
   const sf_spectrum *s[3] = {&cmf->x, &cmf->y, &cmf->z};
   for (int i = 0; i < 3; ++i)
     xyz_bar[i] = sf_spectrum_covers(s[i], lambda_nm) ? sf_spectrum_linear(s[i], lambda_nm) : 0.0;
+}
+
+void sf_spectral4_to_xyz(const sf_cmf *cmf, const double lambda_nm[4], const double weight_nm[4],
+                         double to_xyz[12]) {
+  for (int i = 0; i < 4; ++i) {
+    double bar[3];
+    sf_cmf_at(cmf, lambda_nm[i], bar);
+    for (int c = 0; c < 3; ++c) to_xyz[c * 4 + i] = bar[c] * weight_nm[i];
+  }
+}
+
+void sf_spectral4_srgb_of_xyz(const double to_xyz[12], double to_linear_srgb[12]) {
+  for (int r = 0; r < 3; ++r)
+    for (int i = 0; i < 4; ++i) {
+      to_linear_srgb[r * 4 + i] = 0.0;
+      for (int c = 0; c < 3; ++c) to_linear_srgb[r * 4 + i] += sf_xyz_to_linear_srgb_matrix[r][c] * to_xyz[c * 4 + i];
+    }
 }

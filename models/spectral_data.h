@@ -46,4 +46,12 @@ int sf_cmf_load(sf_cmf *out, sf_error *err);
  * 360-830 nm (the table's ends are already ~1e-4 of the peak). */
 void sf_cmf_at(const sf_cmf *cmf, double lambda_nm, double xyz_bar[3]);
 
+/* The 4-wavelength model's conversion matrices (seed 003 eq. 5.12; the
+ * spectral4 weights format, fit/spectral4_run.h), row-major 3 x 4:
+ * to_xyz[c][i] = cmf_c(l_i) w_i, and to_linear_srgb = M_srgb . to_xyz
+ * (models/color_space.h). */
+void sf_spectral4_to_xyz(const sf_cmf *cmf, const double lambda_nm[4], const double weight_nm[4],
+                         double to_xyz[12]);
+void sf_spectral4_srgb_of_xyz(const double to_xyz[12], double to_linear_srgb[12]);
+
 #endif

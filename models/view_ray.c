@@ -9,8 +9,10 @@
  * micrometre. */
 #define GROUND_SLACK 1e-12
 
-int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_end end,
-                     double distance, sf_view_ray *out, const char **why) {
+/* sf_view_ray_make, a segment ending up to slack_km past the ground point
+ * ending on it. */
+static int make_with_slack(const sf_atmosphere *atm, double h_km, double mu, sf_ray_end end, double distance,
+                           double slack_km, sf_view_ray *out, const char **why) {
   out->r = atm->bottom_radius_km + h_km;
   out->mu = mu;
   out->t0 = out->t1 = 0.0;
@@ -20,9 +22,7 @@ int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_en
   int enters = sf_ray_atmosphere_segment(out->r, mu, atm->bottom_radius_km,
                                          atm->top_radius_km, &t_enter, &t_exit, &hits_ground);
   if (distance >= 0.0) {
-    if (enters && hits_ground && distance > t_exit) {
-      if (distance - t_exit <= GROUND_SLACK * distance) distance = t_exit;
-    }
+    if (enters && hits_ground && distance > t_exit && distance - t_exit <= slack_km) distance = t_exit;
     if (enters && hits_ground && distance > t_exit) {
       *why = "the segment passes below the ground";
       return -1;
@@ -42,6 +42,11 @@ int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_en
   out->t1 = t_exit;
   out->hits_ground = hits_ground;
   return 0;
+}
+
+int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_end end,
+                     double distance, sf_view_ray *out, const char **why) {
+  return make_with_slack(atm, h_km, mu, end, distance, GROUND_SLACK * distance, out, why);
 }
 
 int sf_view_ray_make_at_entry(const sf_atmosphere *atm, double h_km, double mu, double mu_s, double nu,
@@ -66,14 +71,7 @@ int sf_view_ray_make_at_entry(const sf_atmosphere *atm, double h_km, double mu, 
     out->hits_ground = 0;
     return 0;
   }
-  double inside = distance >= 0.0 ? distance - t_enter : distance;
-  if (distance >= 0.0) {   /* the slack relative to the viewer's distance, whose rounding the difference keeps */
-    double t0, t1;
-    int ground;
-    if (sf_ray_atmosphere_segment(atm->top_radius_km, mu_e, atm->bottom_radius_km, atm->top_radius_km, &t0, &t1,
-                                  &ground) &&
-        ground && inside > t1 && inside - t1 <= GROUND_SLACK * distance)
-      inside = t1;
-  }
-  return sf_view_ray_make(atm, atm->top_radius_km - atm->bottom_radius_km, mu_e, end, inside, out, why);
+  /* the slack relative to the viewer's distance, whose rounding distance - t_enter keeps */
+  return make_with_slack(atm, atm->top_radius_km - atm->bottom_radius_km, mu_e, end,
+                         distance >= 0.0 ? distance - t_enter : distance, GROUND_SLACK * distance, out, why);
 }

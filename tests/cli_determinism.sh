@@ -46,7 +46,7 @@ run_all() {
     "$BIN" fit hosek --out "$d/weights/hosek.json" --tables "$d/tables" --resolution $res --orders 2 \
       --elevations 6 --grid 8x8 "${threads[@]}" --quiet
     "$BIN" fit mlp-transmittance --out "$d/weights/mlp-transmittance.json" --tables "$d/tables" --resolution $res \
-      --orders 2 --epochs 20 --polish 3 "${threads[@]}" --quiet
+      --epochs 20 --polish 3 "${threads[@]}" --quiet
     "$BIN" fit mlp-scattering --out "$d/weights/mlp-scattering.json" --tables "$d/tables" --resolution $res \
       --orders 2 --epochs 4 --batch 0 --validation 0.05 --polish 2 "${threads[@]}" --quiet
     "$BIN" codegen --weights "$d/weights/sigmoid.json" --weights "$d/weights/hosek.json" \

@@ -12,11 +12,18 @@ failed=0
 fail() { echo "FAIL: $*"; failed=$((failed + 1)); }
 pass() { echo "ok    $*"; passed=$((passed + 1)); }
 TAB=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4 --orders 2)
+TT=(--tables "$TMP/tables" --resolution 64x16,8x16x8x4)   # the transmittance network: no scattering orders
 
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/t1.json" --quiet
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 2 --out "$TMP/t2.json" --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/t1.json" --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --polish 20 --threads 2 --out "$TMP/t2.json" --quiet
 if cmp -s "$TMP/t1.json" "$TMP/t2.json"; then pass "transmittance weights identical for 1 and 2 threads"; else fail "thread count changed the weights"; fi
-# The transmittance network reads the transmittance table alone, and makes no other.
+# The transmittance network reads the transmittance table alone, makes no
+# other, and refuses the scattering tables' options.
+if "$BIN" fit mlp-transmittance "${TAB[@]}" --out "$TMP/orders.json" 2>"$TMP/orders.err"; then
+  fail "fit mlp-transmittance took --orders"
+elif grep -q -- "--orders: the transmittance network takes the transmittance table alone" "$TMP/orders.err" &&
+  [ ! -e "$TMP/orders.json" ]; then pass "fit mlp-transmittance refuses --orders"
+else fail "fit mlp-transmittance --orders: $(cat "$TMP/orders.err")"; fi
 if [ -n "$(ls "$TMP/tables" | grep -v '^transmittance')" ]; then fail "fit mlp-transmittance made scattering tables: $(ls "$TMP/tables")"
 else pass "fit mlp-transmittance made the transmittance table only"; fi
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --threads 1 --out "$TMP/s1.json" --quiet
@@ -104,7 +111,7 @@ set +e
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sp.json" --stop-after-polish-steps 2 \
   --quiet 2>"$TMP/sp.err"
 rc_s=$?
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" \
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" \
   --stop-after-polish-steps 5 --quiet 2>"$TMP/tp.err"
 rc_t=$?
 set -e
@@ -115,7 +122,7 @@ set -e
   pass "polish interrupted: exit 130, trained states kept, no weights" ||
   fail "polish interrupted: rc $rc_s $rc_t, $(cat "$TMP/sp.err" "$TMP/tp.err")"
 "$BIN" fit mlp-scattering "${TAB[@]}" --epochs 3 --batch 64 --polish 3 --out "$TMP/sp.json" --resume --quiet
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" --resume --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --polish 20 --threads 1 --out "$TMP/tp.json" --resume --quiet
 cmp -s "$TMP/sp.json" "$TMP/s1.json" && cmp -s "$TMP/tp.json" "$TMP/t1.json" && [ ! -e "$TMP/sp.json.checkpoint" ] &&
   [ ! -e "$TMP/tp.json.checkpoint" ] && pass "polish interrupted, resumed: identical to the straight runs, checkpoints removed" ||
   fail "polish resume differs or left a checkpoint"
@@ -126,20 +133,20 @@ cmp -s "$TMP/sp.json" "$TMP/s1.json" && cmp -s "$TMP/tp.json" "$TMP/t1.json" && 
 
 # interruption by the test hook, twice, then --resume
 set +e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --stop-after-epochs 7 --quiet
 rc=$?
 set -e
 [ "$rc" = 130 ] && [ -f "$TMP/r.json.checkpoint" ] && [ ! -f "$TMP/r.json" ] && pass "interrupted: exit 130, checkpoint, no weights" || fail "interrupt: rc $rc"
 set +e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
 set -e
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --quiet
-"$BIN" fit mlp-transmittance "${TAB[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/straight.json" --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/straight.json" --quiet
 if cmp -s "$TMP/r.json" "$TMP/straight.json"; then pass "resumed run identical to the straight run"; else fail "resume differs"; fi
 [ ! -f "$TMP/r.json.checkpoint" ] && pass "checkpoint removed after the finished run" || fail "checkpoint left behind"
 
 # dataset dump and fit mlp on it; a real SIGINT and --resume
-"$BIN" fit mlp-transmittance "${TAB[@]}" --dump-dataset "$TMP/t.csv" --quiet
+"$BIN" fit mlp-transmittance "${TT[@]}" --dump-dataset "$TMP/t.csv" --quiet
 rows=$(($(wc -l <"$TMP/t.csv") - 1))
 header=$(head -1 "$TMP/t.csv")
 [ "$header" = "x_r,x_mu,T_r,T_g,T_b" ] && [ "$rows" -gt 500 ] && pass "dump: $rows rows, header $header" || fail "dump: $rows rows, header $header"
@@ -156,7 +163,7 @@ awk -v a="$m0" -v b="$m1" 'BEGIN { exit !(b > 0 && b < 0.8 * a) }' && pass "poli
 # roots; fit mlp trains the same network on it, and the weights file holds
 # that network turned into T's: the output biases less ln 4, every other
 # parameter the same bits; its validation figures in transmittance
-"$BIN" fit mlp-transmittance "${TAB[@]}" --target-root 4 --epochs 30 --polish 20 --threads 1 \
+"$BIN" fit mlp-transmittance "${TT[@]}" --target-root 4 --epochs 30 --polish 20 --threads 1 \
   --dump-dataset "$TMP/t4.csv" --out "$TMP/t4.json" --quiet
 "$BIN" fit mlp --data "$TMP/t4.csv" --inputs 2 --layers 2,16,16,3 --output exp_neg_exp --epochs 30 --batch 256 \
   --lr-decay 0.995 --polish 20 --validation 0.1 --seed 1 --threads 1 --out "$TMP/t4_csv.json" --quiet >/dev/null
@@ -249,7 +256,7 @@ esac
 # (skyfit eval), which a wrong mapping in the emitter would miss by far; the
 # GLSL compiles. (test_mlp_input_map: float vs double, file round trip.)
 metric() { /usr/bin/python3 -c 'import json, sys; m = json.load(open(sys.argv[1]))["metrics"]; print(eval(sys.argv[2]))' "$@"; }
-"$BIN" fit mlp-transmittance "${TAB[@]}" --input-map bruneton --layers 2,8,8,3 --epochs 100 --polish 300 \
+"$BIN" fit mlp-transmittance "${TT[@]}" --input-map bruneton --layers 2,8,8,3 --epochs 100 --polish 300 \
   --out "$TMP/tb.json" --quiet
 grep -q '"name":[[:space:]]*"x_r"' "$TMP/tb.json" && grep -q '"name":[[:space:]]*"x_mu"' "$TMP/tb.json" &&
   pass "weights file names the inputs x_r, x_mu" || fail "input names x_r, x_mu missing"
@@ -373,7 +380,7 @@ expect_error "checkpoint is the data" "the same file as another of the run's fil
 cmp -s "$TMP/t.csv" "$TMP/t-copy.csv" && pass "checkpoint is the data: the data untouched" || fail "the data were overwritten"
 expect_error "checkpoint is --out" "the same file as --out" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 \
   --checkpoint "$TMP/bad.json" --out "$TMP/bad.json"
-expect_error "--out in a missing folder" "cannot write here" "$BIN" fit mlp-transmittance "${TAB[@]}" \
+expect_error "--out in a missing folder" "cannot write here" "$BIN" fit mlp-transmittance "${TT[@]}" \
   --out "$TMP/no-such-folder/w.json"
 expect_error "--patience without validation" "give --validation" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 \
   --layers 2,4,3 --patience 3 --out "$TMP/bad.json"

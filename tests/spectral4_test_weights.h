@@ -9,7 +9,6 @@
 #include <stdlib.h>
 
 #include "models/atmosphere.h"
-#include "models/color_space.h"
 #include "models/spectral_data.h"
 #include "models/weights_file.h"
 
@@ -25,17 +24,9 @@ static inline int write_spectral4_weights(const char *path, const sf_atmosphere 
     free(cmf);
     return SF_ERR_INPUT;
   }
-  for (int i = 0; i < 4; ++i) {
-    double bar[3];
-    sf_cmf_at(cmf, l[i], bar);
-    for (int c = 0; c < 3; ++c) xyz[c * 4 + i] = bar[c] * wgt[i];
-  }
+  sf_spectral4_to_xyz(cmf, l, wgt, xyz);
   free(cmf);
-  for (int r = 0; r < 3; ++r)
-    for (int i = 0; i < 4; ++i) {
-      srgb[r * 4 + i] = 0.0;
-      for (int c = 0; c < 3; ++c) srgb[r * 4 + i] += sf_xyz_to_linear_srgb_matrix[r][c] * xyz[c * 4 + i];
-    }
+  sf_spectral4_srgb_of_xyz(xyz, srgb);
   double sun[4] = {1.9, 1.85, 1.8, 1.6}, albedo[4] = {0.3, 0.3, 0.3, 0.3};
   double sc[12] = {0.0331, 0.0196, 0.0120, 0.0087, 0.0040, 0.0040, 0.0040, 0.0040, 0.0, 0.0, 0.0, 0.0};
   double ab[12] = {0.0, 0.0, 0.0, 0.0, 4.4e-4, 4.4e-4, 4.4e-4, 4.4e-4, 1.0e-4, 1.2e-3, 1.9e-3, 8.5e-4};

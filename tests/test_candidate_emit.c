@@ -48,11 +48,12 @@ static int build_library(const char *dir, const char *header, const char *so) {
   return system(cmd) == 0 ? 0 : -1;
 }
 
-/* The rays: h over the scene's altitudes (0-100 km), mu from straight down
- * through the horizon (and 1e-4 either side of it) to straight up. */
-enum { N_H = 6, N_MU = 13 };
+/* The rays: h over the default scene's altitudes (the ground to 400 km:
+ * viewers in space too), mu from straight down through the horizon (and
+ * 1e-4 either side of it) to straight up. */
+enum { N_H = 8, N_MU = 13 };
 static void ray(const sf_atmosphere *atm, int i, int j, double *h, double *mu) {
-  static const double heights[N_H] = {0.0, 0.5, 3.0, 12.0, 40.0, 95.0};
+  static const double heights[N_H] = {0.0, 0.5, 3.0, 12.0, 40.0, 95.0, 150.0, 400.0};
   static const double mus[N_MU] = {-1.0, -0.6, -0.3, -0.1, -0.02, 0.0, 0.02, 0.1, 0.3, 0.6, 1.0, 0.0, 0.0};
   *h = heights[i];
   *mu = mus[j];
@@ -98,7 +99,7 @@ static void check_candidate(const sf_candidate *c, const sf_atmosphere *atm, con
     dlclose(lib);
     return;
   }
-  double worst_emitted = 0.0, worst_f32 = 0.0, worst_segment = 0.0;
+  double worst_emitted = 0.0, worst_f32 = 0.0, worst_f32_emitted = 0.0, worst_segment = 0.0;
   int n = 0;
   for (int i = 0; i < N_H; ++i)
     for (int j = 0; j < N_MU; ++j) {
@@ -116,18 +117,23 @@ static void check_candidate(const sf_candidate *c, const sf_atmosphere *atm, con
       for (int k = 0; k < 3; ++k) {
         worst_emitted = worst_of(worst_emitted, fabs(full[k] - want[k]));
         worst_segment = worst_of(worst_segment, fabs(segment[k] - full[k]));
-        if (c->eval_f32) worst_f32 = worst_of(worst_f32, fabs(f32[k] - want[k]));
+        if (c->eval_f32) {
+          worst_f32 = worst_of(worst_f32, fabs(f32[k] - want[k]));
+          worst_f32_emitted = worst_of(worst_f32_emitted, fabs(f32[k] - full[k]));
+        }
       }
       ++n;
     }
-  /* float32 against double: the sweep's (tests/test_float32_sweep.c)
-   * domain and tangent bounds are below 5e-4 for these models; grazing
-   * rays +-1e-4 from the horizon are conditioned well enough for 2e-3. */
-  printf("%d rays: emitted C vs the candidate's double: max %.3g; its float32 evaluation: max %.3g%s; "
-         "segment past the end vs the whole ray: max %.3g\n",
-         n, worst_emitted, worst_f32, c->eval_f32 ? "" : " (none: timed in double)", worst_segment);
-  CHECK(worst_emitted <= 2e-3);
-  CHECK(worst_f32 <= 2e-3);
+  /* float32 against double, on rays 1e-4 or more from the horizon: a few
+   * float32 roundings of T's optical depth, well under 1e-4 (the sweep,
+   * tests/test_float32_sweep.c, bounds these models at the hard cases) */
+  printf("%d rays: emitted C vs the candidate's double: max %.3g; its float32 evaluation vs the double: max "
+         "%.3g, vs the emitted C: max %.3g%s; segment past the end vs the whole ray: max %.3g\n",
+         n, worst_emitted, worst_f32, worst_f32_emitted, c->eval_f32 ? "" : " (none: timed in double)",
+         worst_segment);
+  CHECK(worst_emitted <= 1e-4);
+  CHECK(worst_f32 <= 1e-4);
+  CHECK(worst_f32_emitted <= 1e-4);
   CHECK(worst_segment <= 1e-6);
   dlclose(lib);
 }

@@ -459,7 +459,7 @@ static int gl_close(const tested_function *f, const float *g, const float *c, do
     double d = fabs((double)g[ch] - c[ch]);
     double rel = d / fmax(fmax(fabs(c[ch]), scale), 1e-30);
     if (d > GL_ABS_FLOOR && rel > GL_REL_BOUND) ok = 0;
-    if (worst && d > GL_ABS_FLOOR) *worst = fmax(*worst, rel);
+    if (worst && d > GL_ABS_FLOOR) *worst = worst_of(*worst, rel);
   }
   return ok;
 }
@@ -523,7 +523,7 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
       }
       double worst_here = 0.0;
       if (gl_close(f, g, c, scale, &worst_here)) {
-        worst_gl_rel = fmax(worst_gl_rel, worst_here);
+        worst_gl_rel = worst_of(worst_gl_rel, worst_here);
         continue;
       }
       /* accepted at the point itself iff, per channel, GL lies within the
@@ -538,7 +538,7 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
       }
       if (in_envelope) {
         ++gl_envelope;
-        worst_envelope = fmax(worst_envelope, worst_here);
+        worst_envelope = worst_of(worst_envelope, worst_here);
         continue;
       }
       /* else accepted iff, per channel, GL lies within the C values (and
@@ -562,7 +562,7 @@ static void compare(const tested_function *fs, int n_fs, const point_set *pts, c
         if (gl_far++ < 3)
           printf("  GL vs C off at %.9g %.9g %.9g %.9g %.9g: GL %.9g C %.9g (rel %.3g)\n", p[0], p[1], p[2], p[3],
                  p[4], g[0], c[0], worst_here);
-        worst_gl_rel = fmax(worst_gl_rel, worst_here);
+        worst_gl_rel = worst_of(worst_gl_rel, worst_here);
       }
     }
     printf("%-40s %6d points: C float vs double max err %.3g (bound %.3g, norm %.3g)", f->name, count, worst_c,

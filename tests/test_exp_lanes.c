@@ -16,7 +16,7 @@ static double worst_ulp(double lo, double hi, int n) {
   double worst = 0.0;
   for (int i = 0; i <= n; ++i) {
     double x = lo + (hi - lo) * i / n;
-    worst = fmax(worst, ulp_error(sf_exp_lanes(x), exp(x)));
+    worst = worst_of(worst, ulp_error(sf_exp_lanes(x), exp(x)));
   }
   return worst;
 }

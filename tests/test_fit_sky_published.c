@@ -121,10 +121,10 @@ static void recovery(sf_sky_form form, const char *label, const double *truth, d
   double worst = 0, worst_c = 0;
   for (int i = 0; i < s.n; ++i) {
     double m = k * sf_sky_form_f(form, c, s.cos_theta[i], s.gamma[i], s.cos_gamma[i], NULL);
-    worst = fmax(worst, fabs(m - s.radiance[i]) / fabs(s.radiance[i]));
+    worst = worst_of(worst, fabs(m - s.radiance[i]) / fabs(s.radiance[i]));
   }
-  for (int i = 0; i < nc; ++i) worst_c = fmax(worst_c, fabs(c[i] - truth[i]) / fabs(truth[i]));
-  if (free_scale) worst_c = fmax(worst_c, fabs(k - scale) / scale);
+  for (int i = 0; i < nc; ++i) worst_c = worst_of(worst_c, fabs(c[i] - truth[i]) / fabs(truth[i]));
+  if (free_scale) worst_c = worst_of(worst_c, fabs(k - scale) / scale);
   printf("%s: cost %.3g -> %.3g in %d iterations (%s)\n", label, sum.initial_cost, sum.final_cost,
          sum.iterations, sf_lsq_termination_name(sum.termination));
   CHECK_ABS(worst, 0.0, 1e-6);
@@ -160,11 +160,11 @@ int main(void) {
       /* paper order = storage with H (8) and I (7) swapped */
       double mapped[10] = {c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[8], c[7], R};
       for (int k = 0; k < 10; ++k)
-        worst_state = fmax(worst_state, fabs(mapped[k] - s[k]) / fmax(fabs(s[k]), 1e-300));
+        worst_state = worst_of(worst_state, fabs(mapped[k] - s[k]) / fmax(fabs(s[k]), 1e-300));
       for (double th = 0.05; th < 1.5; th += 0.3)
         for (double g = 0.0; g < 3.1; g += 0.45) {
           double mine = sf_hosek_dataset_radiance(c, R, th, g), note = note_radiance(s, s[9], th, g);
-          worst_radiance = fmax(worst_radiance, fabs(mine - note) / fabs(note));
+          worst_radiance = worst_of(worst_radiance, fabs(mine - note) / fabs(note));
         }
     }
   CHECK_ABS(worst_state, 0.0, 1e-12);
@@ -181,7 +181,7 @@ int main(void) {
           double mine[3], note[3];
           sf_preetham_sky_yxy(&sky, th, g, mine);
           note_preetham(T, ts, th, g, note);
-          for (int q = 0; q < 3; ++q) worst_p = fmax(worst_p, fabs(mine[q] - note[q]) / fabs(note[q]));
+          for (int q = 0; q < 3; ++q) worst_p = worst_of(worst_p, fabs(mine[q] - note[q]) / fabs(note[q]));
         }
     }
   CHECK_ABS(worst_p, 0.0, 1e-12);

@@ -51,7 +51,7 @@ static double worst_gradient_error(const sf_mlp_shape *s, sf_mlp_loss_kind kind,
     }
     double fd = (4.0 * d[1] - d[0]) / 3.0;
     double e = fabs(g[k] - fd) / fmax(fabs(fd), 1e-3 * gmax);
-    worst = fmax(worst, e);
+    worst = worst_of(worst, e);
   }
   free(p);
   free(g);
@@ -158,7 +158,7 @@ static void many_samples(void) {
       d[r] = (fp - fm) / (2.0 * h);
     }
     double fd = (4.0 * d[1] - d[0]) / 3.0;
-    worst = fmax(worst, fabs(g[k] - fd) / fmax(fabs(fd), 1e-3 * gmax));
+    worst = worst_of(worst, fabs(g[k] - fd) / fmax(fabs(fd), 1e-3 * gmax));
   }
   printf("1001 shuffled samples: worst rel. gradient error of 10 parameters %.3g\n", worst);
   CHECK(worst <= 1e-6);

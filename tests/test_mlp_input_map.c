@@ -146,7 +146,7 @@ static double emitted_c_difference(const sf_mlp_sky *t, const float *pts, int n)
       int unresolved = pts[3 * i] < 1e-3f && pts[3 * i + 1] < 0.0f;
       for (int k = 0; k < 9; ++k) {
         if (!isfinite(got[k])) worst = INFINITY;
-        else if (!unresolved) worst = fmax(worst, fabsf(got[k] - want[k]));
+        else if (!unresolved) worst = worst_of(worst, fabsf(got[k] - want[k]));
       }
     }
     if (f) fclose(f);
@@ -214,11 +214,11 @@ int main(void) {
     for (int c = 0; c < 3; ++c) worst_top = worst_of(worst_top, fabs(Tf[c] - Td[c]));
     sf_mlp_transmittance(&t, h, mu, Td);
     sf_mlp_transmittance_f(&t, (float)h, (float)mu, Tf);
-    for (int c = 0; c < 3; ++c) worst_full = fmax(worst_full, fabs(Tf[c] - Td[c]));
+    for (int c = 0; c < 3; ++c) worst_full = worst_of(worst_full, fabs(Tf[c] - Td[c]));
     finite &= isfinite(Tf[0]) && isfinite(Tf[1]) && isfinite(Tf[2]);
     sf_mlp_transmittance_segment(&t, h, mu, dist, Td);
     sf_mlp_transmittance_segment_f(&t, (float)h, (float)mu, (float)dist, Tf);
-    for (int c = 0; c < 3; ++c) worst_seg = fmax(worst_seg, fabs(Tf[c] - Td[c]));
+    for (int c = 0; c < 3; ++c) worst_seg = worst_of(worst_seg, fabs(Tf[c] - Td[c]));
     finite &= isfinite(Tf[0]) && isfinite(Tf[1]) && isfinite(Tf[2]);
   }
   printf("float32 vs double, 20000 random points: T_top %.3g, full ray %.3g, segment %.3g\n", worst_top, worst_full,
@@ -243,7 +243,7 @@ int main(void) {
       /* float's r = R + h resolves 5e-4 km: within 1e-3 of the horizon
        * cosine float and double may take different sides of eq. 43 */
       if (fabs(mus[j] - mh) > 1e-3)
-        for (int c = 0; c < 3; ++c) worst_hard = fmax(worst_hard, fabs(Tf[c] - Td[c]));
+        for (int c = 0; c < 3; ++c) worst_hard = worst_of(worst_hard, fabs(Tf[c] - Td[c]));
       sf_mlp_transmittance_top_f(&t, (float)h, (float)mus[j], Tf);
       hard_finite &= isfinite(Tf[0]) && isfinite(Tf[1]) && isfinite(Tf[2]);
       ++n_hard;

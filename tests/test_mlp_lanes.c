@@ -37,7 +37,7 @@ static double worst_ulp(double lo, double hi, int n) {
     double x[SF_LANES], y[SF_LANES];
     for (int k = 0; k < SF_LANES; ++k) x[k] = lo + (hi - lo) * (double)(i + k < n ? i + k : n) / n;
     sf_lanes_store(y, sf_lanes_exp(sf_lanes_load(x)));
-    for (int k = 0; k < SF_LANES; ++k) worst = fmax(worst, ulp_error(y[k], exp(x[k])));
+    for (int k = 0; k < SF_LANES; ++k) worst = worst_of(worst, ulp_error(y[k], exp(x[k])));
   }
   return worst;
 }

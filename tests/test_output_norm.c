@@ -80,7 +80,7 @@ static void test_fit(void) {
   CHECK(sf_output_norm_fit(&d, 2, 3, INFINITY, &n, &err) == SF_OK);
   CHECK(n.active && n.degree_h == 2 && n.degree_mu_s == 3);
   double worst = 0.0;
-  for (int k = 0; k < 12; ++k) worst = fmax(worst, fabs(n.coef[k] - true_coef[k]));
+  for (int k = 0; k < 12; ++k) worst = worst_of(worst, fabs(n.coef[k] - true_coef[k]));
   printf("largest coefficient error %.3g\n", worst);
   CHECK(worst < 1e-12);
   double *y0 = malloc(sizeof *y0 * (size_t)d.n * 3);
@@ -92,14 +92,14 @@ static void test_fit(void) {
     double sq = 0.0;
     for (int k = 0; k < PER; ++k)
       for (int o = 0; o < 3; ++o) sq += pow(d.y[((long)k * (NU * NV + 3) + s) * 3 + o], 2);
-    worst_rms = fmax(worst_rms, fabs(sqrt(sq / (PER * 3)) - 1.0));
+    worst_rms = worst_of(worst_rms, fabs(sqrt(sq / (PER * 3)) - 1.0));
   }
   printf("largest |slice RMS - 1| after apply %.3g\n", worst_rms);
   CHECK(worst_rms < 1e-12);
   sf_output_norm_restore(&n, &d);
   double worst_back = 0.0;
   for (long j = 0; j < d.n * 3; ++j)
-    worst_back = fmax(worst_back, fabs(d.y[j] - y0[j]) / (fabs(y0[j]) > 0.0 ? fabs(y0[j]) : 1.0));
+    worst_back = worst_of(worst_back, fabs(d.y[j] - y0[j]) / (fabs(y0[j]) > 0.0 ? fabs(y0[j]) : 1.0));
   printf("restore: largest relative change %.3g\n", worst_back);
   CHECK(worst_back < 1e-14);
   /* capped 1.5 below the brightest slice */
@@ -117,7 +117,7 @@ static void test_fit(void) {
     for (int k = 0; k < PER; ++k)
       for (int o = 0; o < 3; ++o) sq += pow(d.y[((long)k * (NU * NV + 3) + s) * 3 + o], 2);
     above += b > n.cap;
-    worst_rms = fmax(worst_rms, fabs(sqrt(sq / (PER * 3)) / exp(fmax(b - n.cap, 0.0)) - 1.0));
+    worst_rms = worst_of(worst_rms, fabs(sqrt(sq / (PER * 3)) / exp(fmax(b - n.cap, 0.0)) - 1.0));
   }
   printf("capped: %d slices above the cap; largest |slice RMS / exp(max(b - cap, 0)) - 1| %.3g\n", above, worst_rms);
   CHECK(above >= 3 && above < NU * NV / 2);
@@ -224,8 +224,8 @@ static void test_model(const sf_atmosphere *atm, int split, double cap) {
     sf_mlp_scattering_f(&raw, (float)h, (float)mu, (float)mu_s_net, (float)nu, F0);
     sf_mlp_scattering_f(&normed, (float)h, (float)mu, (float)mu_s, (float)nu, F1);
     for (int c = 0; c < 3; ++c) {
-      if (L0[c] > 0.0) worst_d = fmax(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
-      if (F0[c] > 0.0f) worst_f = fmax(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
+      if (L0[c] > 0.0) worst_d = worst_of(worst_d, fabs(L1[c] - f * L0[c]) / (f * L0[c]));
+      if (F0[c] > 0.0f) worst_f = worst_of(worst_f, fabs((double)F1[c] - f * (double)F0[c]) / (f * (double)F0[c]));
     }
   }
   printf("split %d, cap %g (%d ground rays, %d sky rays with the sun below the square, %d capped): normalised / raw "

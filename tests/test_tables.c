@@ -61,8 +61,8 @@ static void test_round_trips(void) {
           worst_t = 1.0;   /* a stored ray must be one the table holds */
           continue;
         }
-        worst_t = fmax(worst_t, fmax(fabs(sf_params_uv_of_pos(back[0], n0) - uv[0]),
-                                     fabs(sf_params_uv_of_pos(back[1], n1) - uv[1])));
+        worst_t = worst_of(worst_t, fabs(sf_params_uv_of_pos(back[0], n0) - uv[0]));
+        worst_t = worst_of(worst_t, fabs(sf_params_uv_of_pos(back[1], n1) - uv[1]));
       }
     printf("%s transmittance round trip: max |uv error| %.3g\n", kind_name(kind), worst_t);
     CHECK(worst_t <= 1e-12);
@@ -305,7 +305,7 @@ static void test_orders(void) {
   double worst_ratio = 0.0;
   for (int k = 3; k <= r->highest_order; ++k) {
     double ratio = r->order_total[k] / r->order_total[k - 1];
-    worst_ratio = fmax(worst_ratio, ratio);
+    worst_ratio = worst_of(worst_ratio, ratio);
     CHECK(r->order_total[k] < r->order_total[k - 1]);
     CHECK(r->added_fraction[k] < r->added_fraction[k - 1]);
   }
@@ -680,7 +680,7 @@ static void test_extreme_atmospheres(void) {
         for (int ch = 0; ch < 3; ++ch) {
           double got = sf_table_at(T, index)[ch];
           /* relative where T is a normal float, absolute below */
-          worst_t = fmax(worst_t, want[ch] > 1e-30 ? fabs(got - want[ch]) / want[ch] : fabs(got - want[ch]));
+          worst_t = worst_of(worst_t, want[ch] > 1e-30 ? fabs(got - want[ch]) / want[ch] : fabs(got - want[ch]));
         }
       }
     const sf_table_desc *d = &set.single[0].desc;
@@ -919,7 +919,7 @@ static void test_sky_lookup(void) {
     sf_sky_transmittance(&sky, hv, muv, got);
     sf_optical_depth_ray(&atm, hv, muv, SF_RAY_END_NEAREST, depth);
     sf_transmittance_from_depth(&atm, depth, want);
-    for (int ch = 0; ch < 3; ++ch) worst = fmax(worst, fabs(got[ch] - want[ch]));
+    for (int ch = 0; ch < 3; ++ch) worst = worst_of(worst, fabs(got[ch] - want[ch]));
   }
   printf("transmittance to the ground from the 256x64 Bruneton table (ratio of two lookups): max abs error %.3g\n",
          worst);
@@ -968,11 +968,11 @@ static void test_restricted_domain(void) {
     for (int k = 0; k < full.n_single; ++k)
       for (int ch = 0; ch < 3; ++ch) {
         double a = sf_table_at(&full.single[k], in_full)[ch], b = sf_table_at(&part.single[k], in_part)[ch];
-        worst_single = fmax(worst_single, fabs(a - b) / fabs(a));
+        worst_single = worst_of(worst_single, fabs(a - b) / fabs(a));
       }
     for (int ch = 0; ch < 3; ++ch) {
       double a = sf_table_at(&full.multiple, in_full)[ch], b = sf_table_at(&part.multiple, in_part)[ch];
-      worst_multiple = fmax(worst_multiple, fabs(a - b) / fabs(a));
+      worst_multiple = worst_of(worst_multiple, fabs(a - b) / fabs(a));
     }
   }
   printf("restricted vs full domain at shared entries: single max rel %.3g, multiple max rel %.3g\n",
