@@ -49,6 +49,22 @@ static double row_scale(const double row[4]) {
   return s;
 }
 
+/* -1, with its row and column, if an entry of got (3 x 4) differs from
+ * expected (row-major) by more than MATRIX_MATCH of its row's largest
+ * entry (the first such); 0 if none does. */
+static int first_mismatch(const double (*got)[4], const double *expected, int *row, int *col) {
+  for (int r = 0; r < 3; ++r) {
+    double scale = fmax(row_scale(expected + 4 * r), row_scale(got[r]));
+    for (int j = 0; j < 4; ++j)
+      if (!(fabs(got[r][j] - expected[4 * r + j]) <= MATRIX_MATCH * scale)) {
+        *row = r;
+        *col = j;
+        return -1;
+      }
+  }
+  return 0;
+}
+
 /* The two matrices are what the format defines (fit/spectral4_run.h):
  * to_xyz[c][i] = cmf_c(l_i) w_i (seed 003 eq. 5.12) and to_linear_srgb =
  * xyz_to_srgb . to_xyz. A file where they disagree would emit an XYZ and an
@@ -64,24 +80,15 @@ static int check_matrices(const char *source, const sf_spectral4_emit *m, sf_err
   sf_spectral4_srgb_of_xyz(file_xyz, expected_srgb);   /* of the file's own to_xyz */
   free(cmf);
   if (rc) return rc;
-  for (int c = 0; c < 3; ++c) {
-    const double *expected = expected_xyz + 4 * c;
-    double scale = fmax(row_scale(expected), row_scale(m->to_xyz[c]));
-    for (int j = 0; j < 4; ++j)
-      if (!(fabs(m->to_xyz[c][j] - expected[j]) <= MATRIX_MATCH * scale))
-        return sf_fail(err, SF_ERR_INPUT, "%s: params.to_xyz[%d][%d]: must be the colour matching function at "
-                       "params.wavelengths_nm[%d] times params.weights_nm[%d] (%.9g), got %.9g", source, c, j, j, j,
-                       expected[j], m->to_xyz[c][j]);
-  }
-  for (int r = 0; r < 3; ++r) {
-    const double *expected = expected_srgb + 4 * r;
-    double scale = fmax(row_scale(expected), row_scale(m->to_linear_srgb[r]));
-    for (int j = 0; j < 4; ++j)
-      if (!(fabs(m->to_linear_srgb[r][j] - expected[j]) <= MATRIX_MATCH * scale))
-        return sf_fail(err, SF_ERR_INPUT, "%s: params.to_linear_srgb[%d][%d]: must be the XYZ-to-linear-sRGB "
-                       "matrix times params.to_xyz (%.9g), got %.9g", source, r, j, expected[j],
-                       m->to_linear_srgb[r][j]);
-  }
+  int r, j;
+  if (first_mismatch(m->to_xyz, expected_xyz, &r, &j))
+    return sf_fail(err, SF_ERR_INPUT, "%s: params.to_xyz[%d][%d]: must be the colour matching function at "
+                   "params.wavelengths_nm[%d] times params.weights_nm[%d] (%.9g), got %.9g", source, r, j, j, j,
+                   expected_xyz[4 * r + j], m->to_xyz[r][j]);
+  if (first_mismatch(m->to_linear_srgb, expected_srgb, &r, &j))
+    return sf_fail(err, SF_ERR_INPUT, "%s: params.to_linear_srgb[%d][%d]: must be the XYZ-to-linear-sRGB matrix "
+                   "times params.to_xyz (%.9g), got %.9g", source, r, j, expected_srgb[4 * r + j],
+                   m->to_linear_srgb[r][j]);
   return SF_OK;
 }
 
