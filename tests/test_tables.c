@@ -168,6 +168,18 @@ static void test_transmittance(void) {
   }
 }
 
+/* Entry e of a scattering table (axes in d's order, the first fastest):
+ * its indices, and its coordinates under the parameterisation p. */
+static void entry_coord(const sf_table_desc *d, const sf_table_params *p, size_t e, int index[4],
+                        sf_scattering_coord *c) {
+  for (int a = 0; a < 4; ++a) {
+    index[a] = (int)(e % d->axes[a].size);
+    e /= d->axes[a].size;
+  }
+  double pos[4] = {index[0], index[1], index[2], index[3]};
+  sf_params_scattering_coord(p, pos, c);
+}
+
 /* ---- single scattering ---------------------------------------------------- */
 
 static void test_single(void) {
@@ -200,14 +212,8 @@ static void test_single(void) {
     int m = 0;
     for (size_t e = 0; e < n; e += 5, ++m) {
       int index[4];
-      size_t rest = e;
-      for (int a = 0; a < 4; ++a) {
-        index[a] = (int)(rest % d->axes[a].size);
-        rest /= d->axes[a].size;
-      }
-      double pos[4] = {index[0], index[1], index[2], index[3]};
       sf_scattering_coord c;
-      sf_params_scattering_coord(&p, pos, &c);
+      entry_coord(d, &p, e, index, &c);
       double r = atm.bottom_radius_km + c.h;
       sf_view_ray ray = {r, c.mu, 0.0, sf_ray_end_distance(&atm, r, c.mu, c.hits_ground), c.hits_ground};
       double ref[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
@@ -274,6 +280,17 @@ static int make_set(sf_table_set *set, const sf_atmosphere *atm, sf_parameteriza
   int status = sf_table_set_make(set, atm, &o, &err);
   if (status) printf("sf_table_set_make failed: %s\n", err.message);
   return status;
+}
+
+/* The default atmosphere's Bruneton tables at res with exactly orders
+ * orders (2 threads, no cache), and their sky lookup: the set-up of the
+ * tests that read the sky. */
+static int make_default_sky(sf_atmosphere *atm, sf_table_set *set, sf_sky_tables *sky, const char *res,
+                            int orders) {
+  sf_atmosphere_default(atm);
+  if (make_set(set, atm, SF_PARAM_BRUNETON, res, orders, 2, NULL)) return -1;
+  sf_sky_tables_of_set(sky, atm, set);
+  return 0;
 }
 
 static double table_sum(const sf_table *t) {
@@ -505,14 +522,12 @@ static void test_order2_vs_path_tracer(void) {
  * between them and red came out 21 % low, green 9 % (32: 5 % and 2 %). */
 static void test_order2_low_sun_vs_path_tracer(void) {
   sf_atmosphere atm;
-  sf_atmosphere_default(&atm);
   sf_table_set set;
-  if (make_set(&set, &atm, SF_PARAM_BRUNETON, "64x16,16x128x32x8", 2, 2, NULL)) {
+  sf_sky_tables sky;
+  if (make_default_sky(&atm, &set, &sky, "64x16,16x128x32x8", 2)) {
     CHECK(0);
     return;
   }
-  sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &atm, &set);
   double mu = 0.01, mu_s = 0.05, nu = mu * mu_s + sqrt((1.0 - mu * mu) * (1.0 - mu_s * mu_s));
   sf_sky_sample table;
   sf_sky_lookup(&sky, 0.0, mu, mu_s, nu, &table);
@@ -553,14 +568,12 @@ static void test_order2_low_sun_vs_path_tracer(void) {
  * on the threads. */
 static void test_reference_check(void) {
   sf_atmosphere atm;
-  sf_atmosphere_default(&atm);
   sf_table_set set;
-  if (make_set(&set, &atm, SF_PARAM_BRUNETON, "64x16,8x32x8x4", 2, 2, NULL)) {
+  sf_sky_tables sky;
+  if (make_default_sky(&atm, &set, &sky, "64x16,8x32x8x4", 2)) {
     CHECK(0);
     return;
   }
-  sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &atm, &set);
   const sf_table_desc *d = &set.multiple.desc;
   size_t n_entries = sf_table_desc_points(d), n = 0;
   double *nodes = malloc(sizeof(double) * 4 * n_entries), *random = malloc(sizeof(double) * 4 * 2000);
@@ -573,14 +586,8 @@ static void test_reference_check(void) {
   }
   for (size_t e = 0; e < n_entries; e += 3) {
     int index[4];
-    size_t rest = e;
-    for (int a = 0; a < 4; ++a) {
-      index[a] = (int)(rest % d->axes[a].size);
-      rest /= d->axes[a].size;
-    }
-    double pos[4] = {index[0], index[1], index[2], index[3]};
     sf_scattering_coord c;
-    sf_params_scattering_coord(&set.params, pos, &c);
+    entry_coord(d, &set.params, e, index, &c);
     /* not the entries of rays tangent to the ground: there the ray's
      * value jumps, and which side a lookup takes is rounding's choice */
     if (fabs(c.mu - sf_horizon_mu(atm.bottom_radius_km + c.h, atm.bottom_radius_km)) < 1e-6) continue;
@@ -690,14 +697,8 @@ static void test_extreme_atmospheres(void) {
     int m = 0;
     for (size_t e = 0; e < sf_table_desc_points(d); e += EVERY, ++m) {
       int index[4];
-      size_t rest = e;
-      for (int a = 0; a < 4; ++a) {
-        index[a] = (int)(rest % d->axes[a].size);
-        rest /= d->axes[a].size;
-      }
-      double pos[4] = {index[0], index[1], index[2], index[3]};
       sf_scattering_coord c;
-      sf_params_scattering_coord(&set.params, pos, &c);
+      entry_coord(d, &set.params, e, index, &c);
       double r = atm.bottom_radius_km + c.h;
       sf_view_ray ray = {r, c.mu, 0.0, sf_ray_end_distance(&atm, r, c.mu, c.hits_ground), c.hits_ground};
       double ref[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
@@ -892,14 +893,12 @@ static void test_bad_resolutions(void) {
  * ratio) matches the reference. */
 static void test_sky_lookup(void) {
   sf_atmosphere atm;
-  sf_atmosphere_default(&atm);
   sf_table_set set;
-  if (make_set(&set, &atm, SF_PARAM_BRUNETON, "256x64,8x32x8x4", 3, 2, NULL)) {
+  sf_sky_tables sky;
+  if (make_default_sky(&atm, &set, &sky, "256x64,8x32x8x4", 3)) {
     CHECK(0);
     return;
   }
-  sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &atm, &set);
   double R = atm.bottom_radius_km, Rt = atm.top_radius_km;
   double h = 300.0, r = R + h, mu = -0.9, mu_s = 0.5, nu = -0.2;
   double t_near, t_far;
