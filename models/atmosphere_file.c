@@ -60,13 +60,13 @@ static int read_name(const sf_json_ctx *c, const cJSON *v, const char *path, siz
   return 0;
 }
 
-/* A constituent's name heads columns of CSV (skyfit eval: "ozone",
- * "mie_r") and names it in emitted comments: printable ASCII without the
- * comma and the double quote that CSV would split or quote on. */
-/* A constituent's name heads CSV columns and names its single-scattering
- * table's file (data/precompute_single.h): letters, digits, '_', '.' and
- * '-' only ("a,b" had split eval's header; "../x" had been refused only
- * when its table was named, without the file or the key). */
+/* A constituent's name heads CSV columns (skyfit eval: "ozone", "mie_r")
+ * and names its single-scattering table's file (data/precompute_single.h):
+ * letters, digits, '_', '.' and '-' only ("a,b" had split eval's header;
+ * "../x" had been refused only when its table was named, without the file
+ * or the key), and not one of eval's input columns, which its output
+ * repeats before the constituents' ("mu" had written the column twice, a
+ * CSV that eval itself refuses to read). */
 static int check_constituent_name(const sf_json_ctx *c, const char *name, const char *path) {
   for (const char *p = name; *p; ++p)
     if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '_' ||
@@ -74,6 +74,13 @@ static int check_constituent_name(const sf_json_ctx *c, const char *name, const 
       return sf_json_fail(c, path,
                           "constituent name \"%s\": letters, digits, '_', '.' and '-' only (it heads CSV columns "
                           "and names its table's file)",
+                          name);
+  static const char *const input_columns[] = {"h_km", "mu", "mu_s", "nu"};
+  for (int i = 0; i < 4; ++i)
+    if (strcmp(name, input_columns[i]) == 0)
+      return sf_json_fail(c, path,
+                          "constituent name \"%s\" is one of skyfit eval's input columns (h_km, mu, mu_s, nu), "
+                          "which its CSV output repeats beside the constituents' columns",
                           name);
   return 0;
 }
@@ -96,6 +103,25 @@ static int read_values_or_recipe(const sf_json_ctx *c, const cJSON *v, const cha
   return 0;
 }
 
+/* A per-channel value inherited from "base": "default" (written for its
+ * RGB channels) in a file whose "channels" replace them. Values equal in
+ * every channel (the default's Mie, ozone scattering, albedo, sun) mean
+ * the same at any channel, as one number does: they carry over. Values
+ * that differ are per RGB channel: relabelled as wavelengths they had put
+ * red's Rayleigh coefficient at the shortest wavelength, silently. */
+static int read_inherited_rgb_values(const sf_json_ctx *c, const cJSON *v, const char *path,
+                                     const sf_atmosphere *atm, double *out) {
+  double rgb[3];
+  if (read_channel_values(c, v, path, 3, rgb)) return SF_ERR_INPUT;
+  if (!(rgb[0] == rgb[1] && rgb[1] == rgb[2]))
+    return sf_json_fail(c, path,
+                        "the default's values [%g, %g, %g] are per RGB channel and do not apply to this "
+                        "file's \"channels\"; give them for its channels (values or a recipe)",
+                        rgb[0], rgb[1], rgb[2]);
+  for (int ch = 0; ch < atm->n_channels; ++ch) out[ch] = rgb[0];
+  return 0;
+}
+
 /* ---- paths in a merged tree ------------------------------------------------ */
 
 /* Where a value of the merged tree came from: a key the user's file sets is
@@ -104,23 +130,30 @@ static int read_values_or_recipe(const sf_json_ctx *c, const cJSON *v, const cha
 typedef struct top_ref {
   const cJSON *merged;
   const cJSON *user; /* the user's root when merged over a base, else NULL */
+  int channels_replaced; /* the user's "channels" differ from the base's */
 } top_ref;
 
+static int top_key_inherited(const top_ref *t, const char *key) {
+  return t->user && sf_json_get(t->merged, key) && !sf_json_get(t->user, key);
+}
+
 static void top_path(char *buf, size_t n, const top_ref *t, const char *key) {
-  int inherited = t->user && sf_json_get(t->merged, key) && !sf_json_get(t->user, key);
-  snprintf(buf, n, "%s%s", inherited ? "(base default) " : "", key);
+  snprintf(buf, n, "%s%s", top_key_inherited(t, key) ? "(base default) " : "", key);
 }
 
 typedef struct constituent_ref {
   const cJSON *merged;
   const cJSON *user; /* this constituent in the user's file; NULL: inherited whole */
   int merged_index, user_index;
+  int channels_replaced; /* top_ref's */
 } constituent_ref;
 
+static int constituent_key_inherited(const constituent_ref *r, const char *key) {
+  return r->user == NULL || (key && sf_json_get(r->merged, key) && !sf_json_get(r->user, key));
+}
+
 static void constituent_path(char *buf, size_t n, const constituent_ref *r, const char *key) {
-  int inherited = r->user == NULL ||
-                  (key && sf_json_get(r->merged, key) && !sf_json_get(r->user, key));
-  if (inherited)
+  if (constituent_key_inherited(r, key))
     snprintf(buf, n, "(base default) constituents[%d]%s%s", r->merged_index, key ? "." : "",
              key ? key : "");
   else
@@ -276,6 +309,17 @@ static int read_density(const sf_json_ctx *c, const cJSON *v, const char *path, 
 
 /* ---- constituents ----------------------------------------------------- */
 
+/* A constituent's "scattering" or "absorption" into values[channel]. */
+static int read_coefficients(const sf_json_ctx *c, const constituent_ref *r, const char *key,
+                             const sf_atmosphere *atm, const sf_constituent *owner, double *values) {
+  char path[SF_JSON_PATH_LEN];
+  constituent_path(path, sizeof path, r, key);
+  const cJSON *v = sf_json_get(r->merged, key);
+  if (r->channels_replaced && constituent_key_inherited(r, key))
+    return read_inherited_rgb_values(c, v, path, atm, values);
+  return read_values_or_recipe(c, v, path, atm, owner, SF_RECIPE_FOR_COEFFICIENT, values);
+}
+
 static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, const sf_atmosphere *atm,
                             sf_constituent *out) {
   int n_channels = atm->n_channels;
@@ -295,13 +339,8 @@ static int read_constituent(const sf_json_ctx *c, const constituent_ref *r, cons
   /* the density first: a recipe (ozone from a column) integrates it */
   constituent_path(path, sizeof path, r, "density");
   if (read_density(c, sf_json_get(r->merged, "density"), path, out)) return SF_ERR_INPUT;
-  constituent_path(path, sizeof path, r, "scattering");
-  if (read_values_or_recipe(c, sf_json_get(r->merged, "scattering"), path, atm, out,
-                            SF_RECIPE_FOR_COEFFICIENT, out->scattering))
-    return SF_ERR_INPUT;
-  constituent_path(path, sizeof path, r, "absorption");
-  if (read_values_or_recipe(c, sf_json_get(r->merged, "absorption"), path, atm, out,
-                            SF_RECIPE_FOR_COEFFICIENT, out->absorption))
+  if (read_coefficients(c, r, "scattering", atm, out, out->scattering) ||
+      read_coefficients(c, r, "absorption", atm, out, out->absorption))
     return SF_ERR_INPUT;
   constituent_path(path, sizeof path, r, "phase");
   const cJSON *phase = sf_json_get(r->merged, "phase");
@@ -387,14 +426,19 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
 
   top_path(path, sizeof path, t, "ground_albedo");
   if ((v = sf_json_get(t->merged, "ground_albedo")) != NULL &&
-      read_channel_values(c, v, path, atm->n_channels, atm->ground_albedo))
+      (t->channels_replaced && top_key_inherited(t, "ground_albedo")
+           ? read_inherited_rgb_values(c, v, path, atm, atm->ground_albedo)
+           : read_channel_values(c, v, path, atm->n_channels, atm->ground_albedo)))
     return SF_ERR_INPUT;
   for (int ch = 0; ch < atm->n_channels; ++ch)   /* a ground reflects at most what reaches it */
     if (atm->ground_albedo[ch] > 1.0)
       return sf_json_fail(c, path, "an albedo is at most 1, got %.17g (channel %d)", atm->ground_albedo[ch], ch);
   top_path(path, sizeof path, t, "sun_irradiance");
   if ((v = sf_json_get(t->merged, "sun_irradiance")) != NULL) {
-    if (read_values_or_recipe(c, v, path, atm, NULL, SF_RECIPE_FOR_SUN, atm->sun_irradiance)) return SF_ERR_INPUT;
+    if (t->channels_replaced && top_key_inherited(t, "sun_irradiance")
+            ? read_inherited_rgb_values(c, v, path, atm, atm->sun_irradiance)
+            : read_values_or_recipe(c, v, path, atm, NULL, SF_RECIPE_FOR_SUN, atm->sun_irradiance))
+      return SF_ERR_INPUT;
   } else {
     for (int ch = 0; ch < atm->n_channels; ++ch) atm->sun_irradiance[ch] = 1.0; /* SPEC §3 */
   }
@@ -420,7 +464,7 @@ static int read_atmosphere(const sf_json_ctx *c, const top_ref *t, sf_atmosphere
   const cJSON *user_list = t->user ? sf_json_get(t->user, "constituents") : list;
   int i = 0;
   for (const cJSON *e = list->child; e; e = e->next, ++i) {
-    constituent_ref ref = {e, e, i, i};
+    constituent_ref ref = {e, e, i, i, t->channels_replaced};
     if (t->user) {
       const cJSON *name = sf_json_get(e, "name");
       ref.user = cJSON_IsArray(user_list) && cJSON_IsString(name)
@@ -480,7 +524,7 @@ static int load_tree(const sf_json_ctx *c, const cJSON *user, sf_atmosphere *out
     return sf_json_fail(c, "constituents", "empty: over base \"default\" constituents merge by name, so an empty "
                                            "list would change nothing (give the ones to add or override, or omit "
                                            "the key)");
-  top_ref t = {user, NULL};
+  top_ref t = {user, NULL, 0};
   cJSON *merged = NULL;
   const cJSON *base = sf_json_get(user, "base");
   if (base) {
@@ -489,6 +533,8 @@ static int load_tree(const sf_json_ctx *c, const cJSON *user, sf_atmosphere *out
       return sf_json_fail(c, "base", "unknown base \"%s\" (the only base is \"default\")", base->valuestring);
     merged = cJSON_Parse(sf_atmosphere_default_json());
     if (!merged) return sf_fail(c->err, SF_ERR_INTERNAL, "%s: cannot parse the built-in default atmosphere", c->source);
+    const cJSON *user_channels = sf_json_get(user, "channels");
+    t.channels_replaced = user_channels && !cJSON_Compare(user_channels, sf_json_get(merged, "channels"), 1);
     if (merge_over_base(c, merged, user)) {
       cJSON_Delete(merged);
       return SF_ERR_INTERNAL;

@@ -225,19 +225,44 @@ static void test_base_default(void) {
   CHECK(memcmp(atm->constituents[2].layers, def->constituents[2].layers, sizeof def->constituents[2].layers) == 0);
   free(atm);
 
-  /* Replacing the channel set re-checks the inherited arrays against it. */
-  expect_error("base: inherited albedo vs channels",
+  /* Replacing the channel set: the default's arrays that differ per RGB
+   * channel do not apply to wavelengths (three wavelengths had taken the RGB
+   * values silently, red's Rayleigh coefficient at 440 nm); those equal in
+   * every channel carry over, as one number would. */
+  expect_error("base: RGB Rayleigh vs three wavelengths",
+               "{'base': 'default', 'channels': {'wavelengths_nm': [440, 550, 680]}}",
+               "(base default) constituents[0].scattering", "per RGB channel");
+  expect_error("base: RGB Rayleigh vs two wavelengths",
                "{'base': 'default', 'channels': {'wavelengths_nm': [450, 550]}}",
-               "(base default) ground_albedo", "expected 2");
-  expect_error("base: inherited constituent array",
+               "(base default) constituents[0].scattering", "per RGB channel");
+  expect_error("base: overridden, inherited RGB key",
                "{'base': 'default', 'channels': {'wavelengths_nm': [450, 550]}, "
-               "'ground_albedo': 0, 'sun_irradiance': 1}",
-               "(base default) constituents[0].scattering", "expected 2");
-  expect_error("base: overridden, inherited key",
-               "{'base': 'default', 'channels': {'wavelengths_nm': [450, 550]}, 'ground_albedo': 0, "
-               "'sun_irradiance': 1, 'constituents': [{'name': 'rayleigh', 'scattering': [1, 2], "
+               "'constituents': [{'name': 'rayleigh', 'scattering': [1, 2], "
                "'absorption': 0}, {'name': 'mie', 'scattering': [1, 1]}]}",
-               "(base default) constituents[1].absorption", "expected 2");
+               "(base default) constituents[2].absorption", "per RGB channel");
+  atm = load_ok("grey default values at four wavelengths",
+                "{'base': 'default', 'channels': {'wavelengths_nm': [400, 500, 600, 700]}, "
+                "'constituents': [{'name': 'rayleigh', 'scattering': [4, 3, 2, 1]}, "
+                "{'name': 'ozone', 'absorption': [0, 1e-3, 2e-3, 0]}]}");
+  if (atm) {
+    CHECK(atm->n_channels == 4);
+    for (int ch = 0; ch < 4; ++ch) {
+      CHECK(atm->ground_albedo[ch] == def->ground_albedo[0]);
+      CHECK(atm->sun_irradiance[ch] == def->sun_irradiance[0]);
+      CHECK(atm->constituents[1].scattering[ch] == def->constituents[1].scattering[0]);
+      CHECK(atm->constituents[1].absorption[ch] == def->constituents[1].absorption[0]);
+      CHECK(atm->constituents[2].scattering[ch] == 0.0);
+      CHECK(atm->constituents[0].absorption[ch] == 0.0);
+    }
+    CHECK(atm->constituents[0].scattering[3] == 1.0 && atm->constituents[2].absorption[2] == 2e-3);
+    free(atm);
+  }
+  /* "rgb" written out is the default's channel set: its arrays apply. */
+  atm = load_ok("rgb written out", "{'base': 'default', 'channels': 'rgb'}");
+  if (atm) {
+    CHECK(atm->constituents[0].scattering[2] == def->constituents[0].scattering[2]);
+    free(atm);
+  }
   expect_error("base: bad override names user path",
                "{'base': 'default', 'constituents': [{'name': 'mie', 'phase': {'kind': "
                "'henyey_greenstein', 'g': 2}}]}",
@@ -506,6 +531,11 @@ static void test_invalid_files(void) {
    * the file or the key */
   expect_error("path in a constituent name", ATM("", NC("../x")), "constituents[0].name", "letters, digits");
   expect_error("space in a constituent name", ATM("", NC("dust 2")), "constituents[0].name", "letters, digits");
+  expect_error("input column as a constituent name", ATM("", NC("mu")), "constituents[0].name", "input columns");
+  expect_error("input column over base",
+               "{'base': 'default', 'constituents': [{'name': 'h_km', 'scattering': 0, 'absorption': 1e-3, "
+               "'density': [{'constant': 1}]}]}",
+               "constituents[0].name", "input columns");
   expect_error("top radius beyond 1e12 km", "{'base': 'default', 'top_radius_km': 1e308}", "top_radius_km", "at most");
   expect_error("ground albedo above 1", "{'base': 'default', 'ground_albedo': [0.1, 1.5, 0.1]}", "ground_albedo",
                "at most 1");
