@@ -76,6 +76,14 @@ int sf_cmd_eval_tables(int argc, char **argv) {
     if (used) continue;
     if (strcmp(a, "--tables") == 0 && i + 1 < argc) {
       tables_dir = argv[++i];
+    } else if (strcmp(a, "--to") == 0 || strcmp(a, "--to-distance") == 0) {
+      /* the tables hold whole rays (SPEC §6); "unknown option" had said
+       * nothing of why */
+      fprintf(stderr,
+              "%s: %s: the scattering tables hold whole rays (to the ground or out of the atmosphere), not "
+              "segments (the emitted networks give them: skyfit_mlp_sky_radiance_segment)\n",
+              COMMAND, a);
+      return 2;
     } else if (a[0] == '-') {
       fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
       return 2;
@@ -139,6 +147,24 @@ int sf_cmd_eval_tables(int argc, char **argv) {
   sf_sky_tables_of_set(&sky_tables, &atm, &set);
   int c_h = sf_csv_points_column(&pts, "h_km"), c_mu = sf_csv_points_column(&pts, "mu");
   int c_s = sf_csv_points_column(&pts, "mu_s"), c_nu = sf_csv_points_column(&pts, "nu");
+  /* A scene's tables hold its domain only; a lookup outside it returns the
+   * nearest entry, not the sky there (the sun below a scene's lowest sun
+   * had given that lowest sun's sky), so such points are counted. */
+  long n_outside = 0;
+  for (long row = 0; o.scene_path && row < pts.n_rows; ++row) {
+    const double *v = pts.values + row * pts.n_columns;
+    n_outside += sf_scene_domain_outside(&o.scene_domain, atm.top_radius_km - atm.bottom_radius_km, v[c_h],
+                                         v[c_mu], 1, v[c_s]);
+  }
+  if (n_outside > 0 && !o.quiet) {
+    const sf_scene_domain *d = &o.scene_domain;
+    fprintf(stderr,
+            "%s: %ld of %ld points lie outside scene %s's domain (h_km %g..%g, mu %g..%g, mu_s %g..%g), which "
+            "its tables cover; their values are the tables' at its edge, not the sky there (evaluate them "
+            "without --scene)\n",
+            COMMAND, n_outside, pts.n_rows, o.scene_path, d->h_min_km, d->h_max_km, d->mu_min, d->mu_max,
+            d->mu_s_min, d->mu_s_max);
+  }
   for (int c = 0; c < pts.n_columns; ++c) printf("%s%s", c ? "," : "", pts.column_names[c]);
   for (int ch = 0; ch < atm.n_channels; ++ch) printf(",%s%s", sky ? "L_" : "multiple_", atm.channel_names[ch]);
   printf("\n");

@@ -88,16 +88,10 @@ void sf_eval_model_values(const sf_eval_model *m, const double *v, double distan
   }
 }
 
-static int outside(double x, double lo, double hi) { return x < lo || x > hi; }
-
 int sf_eval_model_outside(const sf_eval_model *m, const double *v) {
-  const sf_scene_domain *d = &m->domain;
-  double top = m->atmosphere.top_radius_km - m->atmosphere.bottom_radius_km;
-  double h = v[0] < top ? v[0] : top;
-  if (outside(h, d->h_min_km, d->h_max_km)) return 1;
-  if (v[0] <= top && outside(v[1], d->mu_min, d->mu_max)) return 1;
   int sky = m->kind == SF_EVAL_MODEL_SKY_FORM || m->kind == SF_EVAL_MODEL_MLP_SCATTERING;
-  return sky && outside(v[2], d->mu_s_min, d->mu_s_max);
+  return sf_scene_domain_outside(&m->domain, m->atmosphere.top_radius_km - m->atmosphere.bottom_radius_km, v[0],
+                                 v[1], sky, sky ? v[2] : 0.0);
 }
 
 void sf_eval_model_free(sf_eval_model *m) {

@@ -117,6 +117,7 @@ static int apply_scene(sf_table_cli *o, const char *command, sf_atmosphere *atm)
     return err.status ? err.status : 2;
   }
   *atm = scene->atmosphere;
+  o->scene_domain = d;
   o->set.has_domain = 1;
   o->set.domain.h_min_km = d.h_min_km;
   o->set.domain.h_max_km = d.h_max_km;

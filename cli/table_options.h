@@ -7,10 +7,12 @@
 
 #include "data/table_set.h"
 #include "models/atmosphere.h"
+#include "models/scene_file.h"
 
 typedef struct sf_table_cli {
   const char *atmosphere_path;     /* NULL: the built-in default */
   const char *scene_path;          /* NULL: no scene (the full domain) */
+  sf_scene_domain scene_domain;    /* with scene_path, after sf_table_cli_atmosphere */
   sf_table_set_options set;
   int quiet;
 } sf_table_cli;

@@ -48,3 +48,12 @@ int sf_scene_get_domain(const sf_scene *s, sf_scene_domain *out, sf_error *err) 
   *out = d;
   return 0;
 }
+
+static int outside(double x, double lo, double hi) { return x < lo || x > hi; }
+
+int sf_scene_domain_outside(const sf_scene_domain *d, double thickness_km, double h, double mu, int has_sun,
+                            double mu_s) {
+  if (outside(h < thickness_km ? h : thickness_km, d->h_min_km, d->h_max_km)) return 1;
+  if (h <= thickness_km && outside(mu, d->mu_min, d->mu_max)) return 1;
+  return has_sun && outside(mu_s, d->mu_s_min, d->mu_s_max);
+}

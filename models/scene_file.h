@@ -83,6 +83,14 @@ typedef struct sf_scene_domain {
 } sf_scene_domain;
 int sf_scene_get_domain(const sf_scene *s, sf_scene_domain *out, sf_error *err);
 
+/* Whether a point (h above the bottom radius, mu, and with has_sun mu_s)
+ * lies outside d, for an atmosphere thickness_km deep. A viewer above the
+ * top is checked at the top, as the domain moves it there; its mu, the
+ * direction of a ray from space, is not checked against the box's view
+ * cosines, which are those where rays enter. */
+int sf_scene_domain_outside(const sf_scene_domain *d, double thickness_km, double h, double mu, int has_sun,
+                            double mu_s);
+
 const char *sf_view_range_name(sf_view_range v);
 const char *sf_scene_color_name(sf_scene_color c);
 

@@ -133,6 +133,21 @@ if printf 'h_km,mu,mu_s,nu\n' | "$BIN" eval sky_radiance --tables "$tmp/bruneton
   check "eval multiple_scattering: exit $?, $(head -1 "$tmp/ms.csv")" "head -1 '$tmp/ms.csv' | grep -q 'multiple_r'"
   printf 'h_km,mu,mu_s,nu\n0,2,0.5,0.2\n' | "$BIN" eval sky_radiance --tables "$tmp/bruneton-1" --resolution $small --quiet >"$tmp/out" 2>"$tmp/err"
   check "eval sky_radiance, mu = 2: exit 2, nothing on stdout ($(cat "$tmp/err"))" "[ ! -s '$tmp/out' ]"
+  printf 'h_km,mu,mu_s,nu\n0,1,1,1\n' | "$BIN" eval sky_radiance --to-distance 3 --tables "$tmp/bruneton-1" \
+    --resolution $small --quiet >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+  check "eval sky_radiance --to-distance: exit $rc, says the tables hold whole rays" \
+    "[ $rc -eq 2 ] && [ ! -s '$tmp/out' ] && grep -q 'tables hold whole rays' '$tmp/err'"
+  # A scene's tables cover its domain only (ground.json: viewers 0..2 km):
+  # a viewer at 50 km and a sun below its lowest are counted, not silent.
+  printf 'h_km,mu,mu_s,nu\n1,0.5,0.5,0.2\n50,0.5,0.5,0.2\n1,0.5,-0.9,0.2\n' >"$tmp/scene_points.csv"
+  "$BIN" eval sky_radiance --scene "$tmp/ground.json" --tables "$tmp/scene-tables" --resolution $small \
+    <"$tmp/scene_points.csv" >"$tmp/out" 2>"$tmp/err"
+  check "eval sky_radiance --scene: points outside its domain counted ($(tail -1 "$tmp/err"))" \
+    "[ \$(wc -l <'$tmp/out') -eq 4 ] && grep -q '2 of 3 points lie outside scene' '$tmp/err'"
+  "$BIN" eval sky_radiance --scene "$tmp/ground.json" --tables "$tmp/scene-tables" --resolution $small --quiet \
+    <"$tmp/scene_points.csv" >"$tmp/out" 2>"$tmp/err"
+  check "eval sky_radiance --scene --quiet: no note" "[ ! -s '$tmp/err' ] && [ \$(wc -l <'$tmp/out') -eq 4 ]"
 else
   echo "note: skyfit eval sky_radiance is not routed to cli/cmd_eval_tables.c yet; its checks were not run"
 fi
