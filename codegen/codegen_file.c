@@ -36,6 +36,8 @@ static void list_signatures(sf_code_writer *out, const char *glsl_text) {
       signature[n] = '\0';
       if (strstr(signature, " skyfit_")) {
         sf_cw_raw(out, " *     ");
+        /* the C header's vectors are skyfit_vecN (c_vector_types) */
+        if (out->lang == SF_CODE_C && strncmp(signature, "vec", 3) == 0) sf_cw_raw(out, "skyfit_");
         sf_cw_raw(out, signature);
         sf_cw_raw(out, "\n");
       }

@@ -12,7 +12,7 @@
 #include "util/atomic_file.h"
 #include "util/error.h"
 
-#define SF_CODEGEN_TEXT_LEN 512
+#define SF_CODEGEN_TEXT_LEN 1024
 
 typedef struct sf_codegen_part {
   char name[64];                      /* function prefix: skyfit_<name>_... */

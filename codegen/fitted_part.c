@@ -4,6 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
+#include "util/json_read.h"
+
 const char *sf_fitted_emitters(void) {
   return "sigmoid, hosek, preetham, mlp-transmittance, mlp-scattering, spectral4";
 }
@@ -19,21 +23,41 @@ static void emit_part(sf_code_writer *w, const void *model) {
   }
 }
 
-/* The weights file's metrics as one line for the header comment. */
+/* The weights file's metrics as one line for the header comment: the
+ * errors `skyfit build` measured over the scene's domain
+ * (fit/build_weights_errors.h), as build's own header states them; else
+ * the fit's error metrics; a network's losses are named as what they are,
+ * losses on the targets it trained on (T^(1/4), the brightness-normalised
+ * sky), not errors. */
 static void metrics_line(const sf_weights *w, char *out, size_t n) {
-  /* the fits' error metrics; a network's training and validation loss (of
-   * the targets it trained on: T^(1/4), the brightness-normalised sky) */
+  const cJSON *b = sf_json_get(sf_json_get(w->root, "metrics"), "build_error");
+  const cJSON *rmse = sf_json_get(b, "rmse"), *max_abs = sf_json_get(b, "max_abs");
+  const cJSON *mean_rel = sf_json_get(b, "mean_rel"), *rel_rmse = sf_json_get(b, "rel_rmse");
+  const cJSON *values = sf_json_get(b, "values"), *over = sf_json_get(b, "over");
+  if (cJSON_IsNumber(rmse) && cJSON_IsNumber(max_abs) && cJSON_IsNumber(mean_rel) && cJSON_IsNumber(rel_rmse) &&
+      cJSON_IsNumber(values) && cJSON_IsString(over)) {
+    snprintf(out, n, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %.0f values of %.80s (skyfit build)",
+             rmse->valuedouble, max_abs->valuedouble, mean_rel->valuedouble, rel_rmse->valuedouble,
+             values->valuedouble, over->valuestring);
+    return;
+  }
   static const char *const names[] = {"rmse", "max_abs", "mean_rel", "rel_rmse", "loss", "train_loss",
                                       "validation_loss"};
   size_t k = 0;
+  int errors = 0;
   out[0] = '\0';
   for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
     double v = sf_weights_metric(w, names[i]);
     if (v != v) continue;
+    errors += i < 4;
     int written = snprintf(out + k, n - k, "%s%s %.3g", k ? ", " : "", names[i], v);
     if (written < 0 || (size_t)written >= n - k) break;
     k += (size_t)written;
   }
+  const cJSON *targets = sf_json_get(sf_json_get(w->root, "metrics"), "loss_targets");
+  if (k && !errors && cJSON_IsString(targets) && k < n)
+    snprintf(out + k, n - k, " (losses on its %.40s training targets, not errors against the reference)",
+             targets->valuestring);
   if (!k) snprintf(out, n, "(the weights file records none)");
 }
 
@@ -44,7 +68,7 @@ static void fill_common(const sf_weights *w, sf_codegen_part *part, const char *
   snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", w->atmosphere.name);
   snprintf(part->atmosphere_hash, sizeof part->atmosphere_hash, "%s", w->atmosphere_hash);
   part->domain = w->domain;
-  char metrics[300];
+  char metrics[400];
   metrics_line(w, metrics, sizeof metrics);
   /* The file's name, not its path: the text must not depend on where the
    * build runs. */
@@ -139,13 +163,13 @@ int sf_fitted_part(const sf_weights *w, sf_fitted_model **model, sf_codegen_part
 void sf_fitted_link(sf_fitted_model **models, sf_codegen_part *parts, int n) {
   for (int i = 0; i < n; ++i) {
     if (!models[i] || models[i]->kind != SF_FITTED_MLP_SCATTERING) continue;
-    const sf_mlp_sky *s = &models[i]->mlp;
     for (int j = 0; j < n; ++j) {
       if (!models[j] || models[j]->kind != SF_FITTED_MLP_TRANSMITTANCE) continue;
+      /* eq. 44 takes the transmittance of the scattering network's own air:
+       * the same atmosphere, not just the same radii (a hazy network had
+       * been joined to an Earth one) */
+      if (strcmp(parts[i].atmosphere_hash, parts[j].atmosphere_hash) != 0) continue;
       const sf_mlp_sky *t = &models[j]->mlp;
-      if (t->bottom_radius_km != s->bottom_radius_km || t->top_radius_km != s->top_radius_km ||
-          t->n_channels != s->n_channels)
-        continue;
       models[i]->transmittance = t;
       size_t len = strlen(parts[i].summary);
       snprintf(parts[i].summary + len, sizeof parts[i].summary - len,

@@ -45,7 +45,7 @@ int sf_fitted_part(const sf_weights *w, sf_fitted_model **model, sf_codegen_part
 void sf_fitted_free(sf_fitted_model *model);
 
 /* Gives every mlp-scattering model among models[0..n) the mlp-transmittance
- * model of the same atmosphere (same bottom and top radii and channels),
+ * model of the same atmosphere (the same atmosphere hash),
  * so that its segment function (eq. 44) is emitted; updates its part's
  * summary, and moves a linked transmittance part that comes after its
  * scattering part to just before it (the segment function calls it, and

@@ -155,6 +155,11 @@ static void write_md(FILE *f, const sf_report *rep) {
     fprintf(f, "\nLoss (eq. 5.13): spectral4 %.3g, plain RGB 680/550/440 nm %.3g, 4 uniform wavelengths %.3g.\n",
             sp->loss, sp->rgb_loss, sp->uniform_loss);
   }
+  /* the same definitions as report.html's closing note */
+  fputs("\nRMSE: seed 000 eq. 61 over every sample and channel; rel RMSE: RMSE / RMS of the reference; mean rel: "
+        "mean |model - reference| / max(|reference|, 1e-3 RMS). View RMSE on the exposed linear values, ΔE2000 on "
+        "the displayed colours (sky: exposure, 1 - exp(-x); transmittance: as shown; CIELAB). Timings are "
+        "wall-clock on a shared machine: compare the ratios.\n", f);
   fprintf(f, "\nPictures, the speed-against-error plots and the Pareto fronts: report.html and plots/.%s\n",
           rep->views_rendered ? " Error maps: views/*-error.exr." : "");
 }

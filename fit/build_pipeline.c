@@ -16,6 +16,7 @@
 #include "fit/candidate_metrics.h"
 #include "fit/build_pipeline_spectral4.h"
 #include "fit/build_stale_weights.h"
+#include "fit/build_weights_errors.h"
 #include "fit/build_staging.h"
 #include "fit/output_norm.h"
 #include "codegen/fitted_part.h"
@@ -150,8 +151,8 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     t->model = &pair;
     snprintf(t->quantity, sizeof t->quantity, "transmittance, sky_radiance");
     char summary[SF_CODEGEN_TEXT_LEN], error[SF_CODEGEN_TEXT_LEN];
-    snprintf(summary, sizeof summary, "%.250s | %.250s", t->summary, sky->summary);
-    snprintf(error, sizeof error, "transmittance: %.230s | sky radiance: %.230s", t->error, sky->error);
+    snprintf(summary, sizeof summary, "%.500s | %.500s", t->summary, sky->summary);
+    snprintf(error, sizeof error, "transmittance: %.480s | sky radiance: %.480s", t->error, sky->error);
     snprintf(t->summary, sizeof t->summary, "%s", summary);
     snprintf(t->error, sizeof t->error, "%s", error);
     memmove(&parts[s_part], &parts[s_part + 1], (size_t)(n - s_part - 1) * sizeof parts[0]);
@@ -465,6 +466,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   }
   res->seconds_fit += seconds_restarts;
   res->cpu_seconds_fit += cpu_seconds_restarts;
+  if (status == SF_OK) status = sf_build_record_errors(&rep, err);
   rep.spectral4 = spectral4;
   if (status == SF_OK && (scene->quantities & SF_QUANTITY_SKY_RADIANCE) && sky.multiple)
     status = reference_check(&rep, &sky, o, err);

@@ -52,6 +52,17 @@ if [ -z "${SKYFIT_SOURCE_DIR:-}" ]; then echo "FAIL SKYFIT_SOURCE_DIR is not set
   "$SKYFIT_BIN" codegen --weights "$w/mlp-scattering.json" --lang c --out "$tmp/alone" 2> "$tmp/alone/err.txt"
   check "a sky network alone: no segment function, and a note naming it" \
     "! grep -q skyfit_mlp_sky_radiance_segment $tmp/alone/skyfit.h && grep -q 'skyfit_mlp_sky_radiance_segment (eq. 44) is not emitted' $tmp/alone/err.txt"
+  # A transmittance network of another atmosphere (same radii, hazier air)
+  # is not the one eq. 44 needs: not joined, and the same note.
+  mkdir -p "$tmp/hazy"
+  echo '{"base": "default", "name": "hazy", "constituents": [{"name": "mie", "scattering": [0.02, 0.02, 0.02]}]}' \
+    > "$tmp/hazy/atm.json"
+  "$SKYFIT_BIN" fit mlp-transmittance --atmosphere "$tmp/hazy/atm.json" --resolution 32x16,4x8x4x4 --epochs 2 \
+    --polish 0 --out "$tmp/hazy/t.json" --quiet
+  "$SKYFIT_BIN" codegen --weights "$tmp/hazy/t.json" --weights "$w/mlp-scattering.json" --lang c --out "$tmp/hazy" \
+    2> "$tmp/hazy/err.txt"
+  check "another atmosphere's transmittance network: no segment function, and the note" \
+    "grep -q skyfit_mlp_transmittance $tmp/hazy/skyfit.h && ! grep -q skyfit_mlp_sky_radiance_segment $tmp/hazy/skyfit.h && grep -q 'skyfit_mlp_sky_radiance_segment (eq. 44) is not emitted' $tmp/hazy/err.txt"
   for order in "mlp-transmittance mlp-scattering" "mlp-scattering mlp-transmittance"; do
     set -- $order
     mkdir -p "$tmp/order"

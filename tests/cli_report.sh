@@ -456,6 +456,26 @@ PY
 printf '#include "sky.h"\nint main(void) {\n  skyfit_vec3 v = skyfit_sky_radiance_segment(1.0f, 0.3f, 0.5f, 0.2f, 10.0f);\n  skyfit_vec3 w = skyfit_sky_radiance(1.0f, 0.3f, 0.5f, 0.2f);\n  return !(v.x > 0.0f && v.x < w.x);\n}\n' > "$tmp/seg/main.c"
 cc -std=c99 -Wall -Wextra -Werror -pedantic -I "$tmp/seg" "$tmp/seg/main.c" -o "$tmp/seg/main" -lm && "$tmp/seg/main" ||
   { echo "FAIL skyfit_sky_radiance_segment: does not compile, or the first 10 km are not part of the ray's radiance"; fail=1; }
+# The build writes the errors it measured into each weights file
+# (metrics.build_error), so a header that skyfit codegen makes from the
+# sky network's file states the build header's figures (it had stated the
+# training loss on brightness-normalised targets).
+mkdir -p "$tmp/seg/codegen"
+"$bin" codegen --weights "$tmp/seg/weights/mlp-scattering.json" --lang c --out "$tmp/seg/codegen" --quiet ||
+  { echo "FAIL codegen from the build's sky network"; fail=1; }
+python3 - "$tmp/seg" <<'PY' || fail=1
+import json, re, sys
+d = sys.argv[1]
+for name in ("mlp-scattering", "mlp-transmittance"):
+    e = json.load(open(f"{d}/weights/{name}.json"))["metrics"].get("build_error")
+    assert e and e["values"] > 0 and e["rmse"] > 0, f"FAIL {name}.json: no metrics.build_error"
+figures = r"RMSE ([0-9.e+-]+), max abs ([0-9.e+-]+), mean rel ([0-9.e+-]+), rel RMSE ([0-9.e+-]+) over (\d+)"
+build = re.search(r"sky radiance: " + figures, open(f"{d}/sky.h").read())
+codegen = re.search(r"measured error: " + figures + r" values of the scene's domain", open(f"{d}/codegen/skyfit.h").read())
+assert build and codegen, "FAIL the measured-error lines of sky.h and of codegen's header"
+assert build.groups() == codegen.groups(), f"FAIL codegen states {codegen.groups()}, the build {build.groups()}"
+print(f"codegen from the build's weights states the build's error: RMSE {codegen.group(1)}")
+PY
 cc -std=c99 -Wall -Wextra -Werror -pedantic -fsyntax-only -x c "$tmp/named/ext/sky.hpp" ||
   { echo "FAIL ext/sky.hpp does not compile as C99"; fail=1; }
 listing() { (cd "$tmp/named" && find out ext -type f ! -path "out/cache/*" -exec sha256sum {} + | sort -k2); }
