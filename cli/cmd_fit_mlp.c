@@ -8,6 +8,7 @@
 
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/fit_commands.h"
+#include "cli/output_file_check.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
 #include "fit/candidate_cache.h"
@@ -295,6 +296,16 @@ static int run_sky(int argc, char **argv, int scattering) {
   scene->atmosphere = *atm;
   sf_scene_domain dom;
   if (sf_scene_get_domain(scene, &dom, &err)) goto fail;
+  /* the run's files, which none of its outputs may overwrite (the scene's
+   * own atmosphere file included) */
+  const char *scene_atm = job.scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
+  const char *run_files[5] = {job.scene_path, scene_atm, job.tables.atmosphere_path, job.mlp.init_weights,
+                              job.dump_path};
+  if (job.mlp.write_init &&
+      (status = sf_cli_check_output(command, "--write-init", job.mlp.write_init, run_files, 4)))
+    goto done;
+  if (job.dump_path && (status = sf_cli_check_output(command, "--dump-dataset", job.dump_path, run_files, 4)))
+    goto done;
 
   /* network shape */
   int nch = atm->n_channels;
@@ -326,9 +337,8 @@ static int run_sky(int argc, char **argv, int scattering) {
       (status = sf_mlp_cli_check_resume(command, ckpt, scattering ? checkpoint_g : NULL)))
     goto done;
   if (job.mlp.out) {
-    const char *inputs[4] = {job.scene_path, job.tables.atmosphere_path, job.mlp.init_weights, job.dump_path};
-    if ((status = sf_mlp_cli_check_run(command, &job.mlp, ckpt, inputs, 4)) ||
-        (scattering && (status = sf_mlp_cli_check_run(command, &job.mlp, checkpoint_g, inputs, 4))))
+    if ((status = sf_mlp_cli_check_run(command, &job.mlp, ckpt, run_files, 5)) ||
+        (scattering && (status = sf_mlp_cli_check_run(command, &job.mlp, checkpoint_g, run_files, 5))))
       goto done;
   }
 
@@ -386,7 +396,8 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (scattering && job.normalise) {
     char why[512];
     if (sf_output_norm_prepare(&data, job.normalise_cap, &norm, why, sizeof why, &err)) goto fail;
-    if (why[0]) fprintf(stderr, "%s: training the sky network on raw targets: %s\n", command, why);
+    if (why[0] && !job.mlp.quiet)
+      fprintf(stderr, "%s: training the sky network on raw targets: %s\n", command, why);
   }
 
   int np = sf_mlp_param_count(&t->shape);
@@ -646,13 +657,16 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     fprintf(stderr, "%s: %s\n", command, err.message);
     return 2;
   }
-  if (o.write_init) return sf_mlp_cli_write_init(command, o.write_init, &t->shape, t->seed);
+  const char *inputs[2] = {data_path, o.init_weights};
+  if (o.write_init) {
+    if (sf_cli_check_output(command, "--write-init", o.write_init, inputs, 2)) return 2;
+    return sf_mlp_cli_write_init(command, o.write_init, &t->shape, t->seed);
+  }
   char checkpoint[4200];
   if (o.out) snprintf(checkpoint, sizeof checkpoint, "%s.checkpoint", o.out);
   t->checkpoint_path = o.checkpoint ? o.checkpoint : (o.out ? checkpoint : NULL);
   /* before the CSV is read (seconds for a million rows) */
   if (t->resume && sf_mlp_cli_check_resume(command, t->checkpoint_path, NULL)) return 2;
-  const char *inputs[2] = {data_path, o.init_weights};
   if (sf_mlp_cli_check_run(command, &o, t->checkpoint_path, inputs, 2)) return 2;
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
@@ -685,7 +699,8 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   if (train_status) goto fail;
   if (result.interrupted) {
     fprintf(stderr, "%s: interrupted after %d epochs%s%s\n", command, result.epochs_run,
-            t->checkpoint_path ? "; checkpoint " : "", t->checkpoint_path ? t->checkpoint_path : "");
+            t->checkpoint_path ? "; checkpoint " : "; nothing saved (--out or --checkpoint keeps a checkpoint)",
+            t->checkpoint_path ? t->checkpoint_path : "");
     status = 130;
     goto done;
   }

@@ -4,9 +4,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 
+#include "cli/output_file_check.h"
 #include "fit/candidate_cache.h"
 #include "models/atmosphere_file.h"
 #include "models/weights_file.h"
@@ -149,28 +149,21 @@ int sf_mlp_cli_check_resume(const char *command, const char *checkpoint, const c
   return 2;
 }
 
-/* The same file: the same path, or the same inode of an existing one. */
-static int same_file(const char *a, const char *b) {
-  if (strcmp(a, b) == 0) return 1;
-  struct stat sa, sb;
-  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-}
-
 int sf_mlp_cli_check_run(const char *command, const sf_mlp_cli *o, const char *checkpoint,
                          const char *const *inputs, int n_inputs) {
+  if (o->out && sf_cli_check_output(command, "--out", o->out, inputs, n_inputs)) return 2;
   sf_error err = {0};
-  if ((o->out && sf_atomic_check(o->out, &err) != SF_OK) ||
-      (checkpoint && sf_atomic_check(checkpoint, &err) != SF_OK)) {
+  if (checkpoint && sf_atomic_check(checkpoint, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", command, err.message);
     return 2;
   }
-  if (checkpoint && o->out && same_file(checkpoint, o->out)) {
+  if (checkpoint && o->out && sf_cli_same_file(checkpoint, o->out)) {
     fprintf(stderr, "%s: --checkpoint %s: the same file as --out (the checkpoint goes once the weights are "
                     "written)\n", command, checkpoint);
     return 2;
   }
   for (int i = 0; checkpoint && i < n_inputs; ++i)
-    if (inputs[i] && same_file(checkpoint, inputs[i])) {
+    if (inputs[i] && sf_cli_same_file(checkpoint, inputs[i])) {
       fprintf(stderr, "%s: --checkpoint %s: the same file as another of the run's files (%s)\n", command, checkpoint,
               inputs[i]);
       return 2;
@@ -223,7 +216,7 @@ void sf_mlp_cli_help(FILE *out) {
           "  --polish-samples N      training samples used by the polish (0: all)\n"
           "  --stop-after-epochs K   behave as if interrupted after K epochs (tests)\n"
           "  --stop-after-polish-steps K  the same after K polish steps (tests)\n"
-          "  --quiet                 no progress line\n"
+          "  --quiet                 no progress line, notes or summary (errors are still reported)\n"
           "  --help                  this text\n");
 }
 

@@ -10,6 +10,7 @@
 
 #include "cli/cache_limit_option.h"
 #include "cli/fit_commands.h"
+#include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "fit/spectral4_run.h"
 #include "models/atmosphere_file.h"
@@ -174,6 +175,13 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
     sf_fail(&named, SF_ERR_INPUT, "%s: %s", scene_path ? scene_path : atm_path ? atm_path : "the built-in scene",
             err.message);
     err = named;
+  }
+  /* before the default cache folder beside W.json is made (it had made a
+   * missing --out folder, the run then writing its weights there) */
+  if (status == SF_OK) {
+    const char *scene_atm = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
+    const char *inputs[3] = {scene_path, atm_path, scene_atm};
+    status = sf_cli_output_problem("--out", out, inputs, 3, &err);
   }
   if (status == SF_OK) status = sf_make_folders(cache_dir, "--cache", &err);
   opt.cache_dir = cache_dir;

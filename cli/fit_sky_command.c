@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/csv_points.h"
+#include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/size_pair_option.h"
 #include "cli/table_options.h"
@@ -306,6 +307,11 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
                      "%s: sun_elevation_deg: the sun never rises; Preetham and Hosek hold only "
                      "for a sun above the horizon (SPEC §5)",
                      scene_path ? scene_path : "scene");
+  if (status == SF_OK) {
+    const char *scene_atm = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
+    const char *inputs[3] = {scene_path, o->atmosphere_path, scene_atm};
+    status = sf_cli_output_problem("--out", out_path, inputs, 3, &err);
+  }
   if (status == SF_OK) status = sf_hosek_dataset_load_default(published, &err);
   if (status == SF_OK) {
     *atm = scene->atmosphere;

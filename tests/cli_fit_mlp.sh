@@ -77,7 +77,7 @@ grep -q '"ground_W0"' "$TMP/s1.json" && grep -q '"split":[[:space:]]*"horizon"' 
 # enough to split)
 printf '{"name": "on-ground", "viewer_altitude_km": [0, 0], "view": "all", "sun_elevation_deg": [0, 90], "quantities": ["sky_radiance"], "color": "rgb"}\n' >"$TMP/ground.json"
 "$BIN" fit mlp-scattering --tables "$TMP/tables-g" --resolution 64x16,8x64x16x4 --orders 2 --scene "$TMP/ground.json" \
-  --epochs 1 --batch 256 --polish 1 --dump-dataset "$TMP/sg.csv" --out "$TMP/sg.json" --quiet 2>"$TMP/sg.err"
+  --epochs 1 --batch 256 --polish 1 --dump-dataset "$TMP/sg.csv" --out "$TMP/sg.json" 2>"$TMP/sg.err"
 # that table is too coarse for the brightness's 28 coefficients: raw
 # targets, and the command says so
 grep -q "training the sky network on raw targets: brightness normalisation: .* for 28 coefficients" "$TMP/sg.err" &&

@@ -23,6 +23,32 @@ expect() {  # expect CODE DESCRIPTION PATTERN -- command...
 }
 
 expect 0 "sigmoid fit" "wrote" -- "$bin" fit sigmoid --grid 12x24 --out "$tmp/s.json"
+
+# --out is checked before any work: an input file of the run (the
+# atmosphere, the scene, the scene's atmosphere, the training data) is
+# refused and stays as it was (it had been replaced by the weights), and
+# an unwritable path fails at once (hosek had fitted for 35 s first).
+cp "$src/examples/atmospheres/mars_dusty.json" "$tmp/a.json"
+cp "$tmp/a.json" "$tmp/a0.json"
+printf '{"atmosphere": "a.json", "viewer_altitude_km": [0, 0], "sun_elevation_deg": [0, 90]}\n' >"$tmp/sc.json"
+printf 'x,y,t\n0,0,1\n1,1,0.5\n0.5,0.2,0.7\n' >"$tmp/t.csv"
+cp "$tmp/t.csv" "$tmp/t0.csv"
+small=(--resolution 32x16,4x8x4x4 --quiet)
+expect 2 "sigmoid --out = --atmosphere" "would overwrite" -- "$bin" fit sigmoid --grid 8x16 --atmosphere "$tmp/a.json" --out "$tmp/a.json"
+expect 2 "hosek --out = the scene's atmosphere" "would overwrite" -- "$bin" fit hosek --scene "$tmp/sc.json" --out "$tmp/a.json" "${small[@]}"
+expect 2 "preetham --out = --scene" "would overwrite" -- "$bin" fit preetham --scene "$tmp/sc.json" --out "$tmp/sc.json" "${small[@]}"
+expect 2 "spectral4 --out = --atmosphere" "would overwrite" -- "$bin" fit spectral4 --atmosphere "$tmp/a.json" --out "$tmp/a.json" "${small[@]}"
+expect 2 "mlp-transmittance --dump-dataset = --atmosphere" "would overwrite" -- "$bin" fit mlp-transmittance --atmosphere "$tmp/a.json" --dump-dataset "$tmp/a.json" "${small[@]}"
+expect 2 "mlp-scattering --out = the scene's atmosphere" "would overwrite" -- "$bin" fit mlp-scattering --scene "$tmp/sc.json" --out "$tmp/a.json" "${small[@]}"
+expect 2 "fit mlp --out = --data" "would overwrite" -- "$bin" fit mlp --data "$tmp/t.csv" --inputs 2 --layers 2,4,1 --epochs 2 --out "$tmp/t.csv"
+cmp -s "$tmp/a.json" "$tmp/a0.json" && cmp -s "$tmp/t.csv" "$tmp/t0.csv" && cmp -s "$tmp/sc.json" <(printf '{"atmosphere": "a.json", "viewer_altitude_km": [0, 0], "sun_elevation_deg": [0, 90]}\n') ||
+  { echo "FAIL an input file was changed"; fail=1; }
+start=$(date +%s%N)
+expect 2 "hosek, unwritable --out" "cannot write here" -- "$bin" fit hosek --out "$tmp/missing/w.json" "${small[@]}"
+expect 2 "spectral4, unwritable --out" "cannot write here" -- "$bin" fit spectral4 --out "$tmp/missing/deeper/w.json" "${small[@]}"
+elapsed_ms=$(( ($(date +%s%N) - start) / 1000000 ))
+if [ $elapsed_ms -lt 5000 ] && [ ! -e "$tmp/missing" ]; then echo "ok   unwritable --out refused before any work (${elapsed_ms} ms), no folder made"
+else echo "FAIL unwritable --out: ${elapsed_ms} ms, $(ls -d "$tmp/missing" 2>&1)"; fail=1; fi
 expect 0 "sigmoid --check" "valid sigmoid" -- "$bin" fit sigmoid --check "$tmp/s.json"
 python3 - "$tmp" <<'PY'
 import json, math, sys, copy

@@ -1,0 +1,25 @@
+/* A command's output file, checked before any work (SPEC §11: bad input
+ * exits 2 and writes nothing): it can be written atomically
+ * (util/atomic_file.h), and it is none of the run's input files. `fit
+ * sigmoid --atmosphere a.json --out a.json` had replaced the atmosphere by
+ * the weights, `fit mlp --data t.csv --out t.csv` the training set; an
+ * unwritable --out of `fit hosek` had been found after 35 s of fitting. */
+#ifndef SKYFIT_CLI_OUTPUT_FILE_CHECK_H
+#define SKYFIT_CLI_OUTPUT_FILE_CHECK_H
+
+#include "util/error.h"
+
+/* The same file: the same path, or the same inode of an existing one. */
+int sf_cli_same_file(const char *a, const char *b);
+
+/* SF_OK when path (given as option) can be written and is none of the
+ * run's other files inputs[0..n) (NULL entries skipped); else SF_ERR_INPUT
+ * in err, the message naming the option and the path. */
+int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,
+                          sf_error *err);
+
+/* The same, printed: 0, or "<command>: <message>" on stderr and 2. */
+int sf_cli_check_output(const char *command, const char *option, const char *path, const char *const *inputs,
+                        int n_inputs);
+
+#endif
