@@ -11,6 +11,7 @@
 #include "models/optical_depth_chapman.h"
 #include "models/optical_depth_flat.h"
 #include "models/optical_depth_raymarch.h"
+#include "models/optical_depth_spline.h"
 #include "models/optical_depth_taylor.h"
 #include "models/ray_geometry.h"
 #include "models/view_ray.h"
@@ -98,6 +99,7 @@ typedef struct baseline_ctx {
   sf_transmittance_baseline kind;
   int steps;
   sf_flat_model flat;
+  sf_spline_model spline;   /* SF_TB_SPLINE: its meshes */
   sf_baseline emitted;      /* codegen/baselines.h form */
   /* float32 copy for the timed naive raymarch */
   float bottom_f, top_f;
@@ -117,6 +119,9 @@ static void baseline_depth(const baseline_ctx *b, const sf_view_ray *ray, double
       return;
     case SF_TB_FLAT:
       sf_optical_depth_flat_segment(atm, ray->r, ray->mu, ray->t0, ray->t1, &b->flat, depth);
+      return;
+    case SF_TB_SPLINE:   /* the eq. 59 shells included */
+      sf_optical_depth_spline_segment(&b->spline, ray->r, ray->mu, ray->t0, ray->t1, depth);
       return;
     case SF_TB_CHAPMAN:
       sf_optical_depth_chapman_segment(atm, ray->r, ray->mu, ray->t0, ray->t1, depth);
@@ -212,8 +217,19 @@ static long baseline_constants(const sf_atmosphere *atm, const baseline_ctx *b) 
     n += atm->n_channels;
     if (b->kind == SF_TB_NAIVE) n += 5L * atm->constituents[c].n_layers;
     else n += 2;
+    /* the spline's meshes: value and three derivatives per node */
+    if (b->kind == SF_TB_SPLINE && b->spline.is_exponential[c]) {
+      const sf_spline_grid *miss = &b->spline.miss[c], *hit = &b->spline.hit[c];
+      n += 4L * ((long)miss->n_x * miss->n_d + (long)hit->n_x * hit->n_d);
+    }
   }
   return n;
+}
+
+static void free_baseline(void *ctx) {
+  baseline_ctx *b = ctx;
+  sf_spline_model_free(&b->spline);
+  free(b);
 }
 
 int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittance_baseline kind,
@@ -234,6 +250,11 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   b->kind = kind;
   b->steps = steps;
   sf_flat_model_make(atm, SF_FLAT_DESCENT_VIEWER, &b->flat);
+  if (kind == SF_TB_SPLINE &&
+      sf_spline_model_make(atm, SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS, &b->spline) != 0) {
+    free(b);
+    return sf_fail(err, SF_ERR_INTERNAL, "spline baseline: out of memory");
+  }
   fill_float_copy(b);
   char name[48], label[96];
   const char *what = "";
@@ -256,6 +277,12 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
       what = "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); "
              "other constituents as a constant shell (seed 000 eq. 59).";
       break;
+    case SF_TB_SPLINE:
+      snprintf(name, sizeof name, "spline");
+      snprintf(label, sizeof label, "Galaj's spline transmittance");
+      what = "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region "
+             "(seed 002 IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59).";
+      break;
     case SF_TB_FLAT:
       snprintf(name, sizeof name, "flat");
       snprintf(label, sizeof label, "Leenman's flat model");
@@ -265,17 +292,14 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   }
   sf_candidate_init(out, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_BASELINE, name, label);
   snprintf(out->description, sizeof out->description, "%s", what);
-  snprintf(out->emit_name, sizeof out->emit_name, "%s",
-           kind == SF_TB_NAIVE ? "naive" : kind == SF_TB_CHAPMAN ? "chapman"
-                                         : kind == SF_TB_TAYLOR  ? "taylor"
-                                                                 : "flat");
+  static const sf_baseline_kind emitted_kind[] = {SF_BASELINE_NAIVE, SF_BASELINE_CHAPMAN, SF_BASELINE_TAYLOR,
+                                                  SF_BASELINE_FLAT, SF_BASELINE_SPLINE};
+  snprintf(out->emit_name, sizeof out->emit_name, "%s", sf_baseline_kind_name(emitted_kind[kind]));
   if (atm->n_channels <= 4) {
-    b->emitted.kind = kind == SF_TB_NAIVE     ? SF_BASELINE_NAIVE
-                      : kind == SF_TB_CHAPMAN ? SF_BASELINE_CHAPMAN
-                      : kind == SF_TB_TAYLOR  ? SF_BASELINE_TAYLOR
-                                              : SF_BASELINE_FLAT;
+    b->emitted.kind = emitted_kind[kind];
     b->emitted.steps = steps;
     b->emitted.atmosphere = atm;
+    b->emitted.spline = kind == SF_TB_SPLINE ? &b->spline : NULL;
     out->emit = emit_baseline;
     out->emit_model = &b->emitted;
   }
@@ -285,6 +309,6 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   out->eval = baseline_eval;
   out->eval_f32 = (kind == SF_TB_NAIVE && atm->n_channels <= 4) ? naive_eval_f32 : NULL;
   out->ctx = b;
-  out->free_ctx = free;
+  out->free_ctx = free_baseline;
   return SF_OK;
 }

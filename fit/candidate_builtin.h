@@ -32,7 +32,8 @@ typedef enum sf_transmittance_baseline {
   SF_TB_NAIVE = 0,   /* N-step midpoint raymarch */
   SF_TB_CHAPMAN,
   SF_TB_TAYLOR,
-  SF_TB_FLAT
+  SF_TB_FLAT,
+  SF_TB_SPLINE       /* Gałaj's Hermite meshes (models/optical_depth_spline.h) */
 } sf_transmittance_baseline;
 
 /* Exact reference transmittance (slow: ~3e5 evaluations/s). */
@@ -43,7 +44,7 @@ int sf_candidate_table_transmittance(const sf_sky_tables *sky, sf_candidate *out
 int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
 /* An analytic transmittance baseline; steps is used by SF_TB_NAIVE only
  * (name "naive<steps>"). SF_ERR_INPUT when the model does not apply (no
- * exponential constituent for Chapman/Taylor/flat). */
+ * exponential constituent for Chapman/Taylor/flat/spline). */
 int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittance_baseline kind,
                                         int steps, sf_candidate *out, sf_error *err);
 

@@ -96,7 +96,8 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   /* naive16 always: it is the cost unit of SPEC §12. The other
    * transmittance models only when the scene asks for transmittance. */
   int want_transmittance = (in->scene->quantities & SF_QUANTITY_TRANSMITTANCE) != 0;
-  static const sf_transmittance_baseline kinds[] = {SF_TB_NAIVE, SF_TB_CHAPMAN, SF_TB_TAYLOR, SF_TB_FLAT};
+  static const sf_transmittance_baseline kinds[] = {SF_TB_NAIVE, SF_TB_CHAPMAN, SF_TB_TAYLOR, SF_TB_FLAT,
+                                                    SF_TB_SPLINE};
   size_t n_kinds = want_transmittance ? sizeof kinds / sizeof kinds[0] : 1;
   for (size_t k = 0; k < n_kinds; ++k) {
     sf_error why = {0};

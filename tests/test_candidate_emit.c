@@ -166,7 +166,7 @@ int main(void) {
     sigmoid += strcmp(c->name, "sigmoid") == 0;
   }
   printf("%d transmittance candidates emitted\n", emitted);
-  CHECK(emitted >= 5);   /* naive16, chapman, taylor, flat, sigmoid */
+  CHECK(emitted >= 6);   /* naive16, chapman, taylor, flat, spline, sigmoid */
   CHECK(sigmoid == 1);
   sf_candidate_list_free(&list);
   char cmd[256];
