@@ -13,6 +13,7 @@
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
+#include "models/single_scattering.h"
 
 #define COMMAND "skyfit eval"
 
@@ -149,12 +150,16 @@ int sf_cmd_eval_tables(int argc, char **argv) {
   int c_s = sf_csv_points_column(&pts, "mu_s"), c_nu = sf_csv_points_column(&pts, "nu");
   /* A scene's tables hold its domain only; a lookup outside it returns the
    * nearest entry, not the sky there (the sun below a scene's lowest sun
-   * had given that lowest sun's sky), so such points are counted. */
+   * had given that lowest sun's sky), so such points are counted, where
+   * the lookup reads the tables: a viewer above the top where its ray
+   * enters, with the cosines there (a ray that never enters is 0, exact). */
   long n_outside = 0;
   for (long row = 0; o.scene_path && row < pts.n_rows; ++row) {
     const double *v = pts.values + row * pts.n_columns;
-    n_outside += sf_scene_domain_outside(&o.scene_domain, atm.top_radius_km - atm.bottom_radius_km, v[c_h],
-                                         v[c_mu], 1, v[c_s]);
+    double r, mu = v[c_mu], mu_s = v[c_s];
+    if (!sf_sky_enter_atmosphere(&atm, v[c_h], &r, &mu, &mu_s, sf_clamp_nu(v[c_mu], v[c_s], v[c_nu]))) continue;
+    n_outside += sf_scene_domain_outside(&o.scene_domain, atm.top_radius_km - atm.bottom_radius_km,
+                                         r - atm.bottom_radius_km, mu, 1, mu_s);
   }
   if (n_outside > 0 && !o.quiet) {
     const sf_scene_domain *d = &o.scene_domain;

@@ -564,8 +564,16 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (split) remove(checkpoint_g);
   if (!job.mlp.quiet) {
     /* one line: the whole metrics object (60 lines) is in the file */
-    char timing[48] = "no epoch run: resumed a finished training", summary[96] = "";
-    if (isfinite(result.seconds_per_epoch)) snprintf(timing, sizeof timing, "%.4g s per epoch", result.seconds_per_epoch);
+    char timing[96] = "no epoch run: resumed a finished training", summary[96] = "";
+    /* a split run resumed after its sky network trains the ground one only */
+    if (isfinite(result.seconds_per_epoch) && split && isfinite(result_g.seconds_per_epoch))
+      snprintf(timing, sizeof timing, "%.4g s per epoch (sky network), %.4g (ground)", result.seconds_per_epoch,
+               result_g.seconds_per_epoch);
+    else if (isfinite(result.seconds_per_epoch))
+      snprintf(timing, sizeof timing, "%.4g s per epoch", result.seconds_per_epoch);
+    else if (split && isfinite(result_g.seconds_per_epoch))
+      snprintf(timing, sizeof timing, "%.4g s per epoch (ground network; the sky network's training resumed "
+               "finished)", result_g.seconds_per_epoch);
     if (val_model->n > 0)
       snprintf(summary, sizeof summary, "; validation RMSE %.3g, max error %.3g", val_rmse, val_max_abs);
     fprintf(stderr, "%s: wrote %s (%s)%s; all metrics under \"metrics\" there\n", command, job.mlp.out, timing,

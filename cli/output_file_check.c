@@ -1,15 +1,38 @@
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "cli/output_file_check.h"
 
+#include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "util/atomic_file.h"
 
+/* path with its folder resolved (realpath) and its last name kept: one
+ * spelling for a file that does not exist yet ("d.csv", "./d.csv"); the
+ * path itself where the folder does not resolve. */
+static void resolved_path(const char *path, char *out, size_t n) {
+  char folder[PATH_MAX], resolved[PATH_MAX];
+  const char *slash = strrchr(path, '/');
+  const char *name = slash ? slash + 1 : path;
+  if (slash == path) snprintf(folder, sizeof folder, "/");
+  else if (slash) snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
+  else snprintf(folder, sizeof folder, ".");
+  if (realpath(folder, resolved)) snprintf(out, n, "%s/%s", strcmp(resolved, "/") ? resolved : "", name);
+  else snprintf(out, n, "%s", path);
+}
+
 int sf_cli_same_file(const char *a, const char *b) {
   if (strcmp(a, b) == 0) return 1;
   struct stat sa, sb;
-  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+  if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  if (ea != eb) return 0;   /* one exists, the other not */
+  char ra[PATH_MAX + 256], rb[PATH_MAX + 256];
+  resolved_path(a, ra, sizeof ra);
+  resolved_path(b, rb, sizeof rb);
+  return strcmp(ra, rb) == 0;
 }
 
 int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,

@@ -9,7 +9,9 @@
 
 #include "util/error.h"
 
-/* The same file: the same path, or the same inode of an existing one. */
+/* The same file: the same path, the same inode of two existing ones, or,
+ * for two that do not exist yet, the same name in the same resolved folder
+ * ("d.csv" and "./d.csv"). */
 int sf_cli_same_file(const char *a, const char *b);
 
 /* SF_OK when path (given as option) can be written and is none of the

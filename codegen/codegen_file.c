@@ -22,6 +22,25 @@ static void comment_safe(const char *in, char *out, size_t n) {
   out[k] = '\0';
 }
 
+/* The GLSL vector types of a signature as the C header names them
+ * (skyfit_vecN, c_vector_types), return type and arguments alike. */
+static void c_types(char *signature, size_t n) {
+  char out[512];
+  size_t k = 0;
+  for (const char *p = signature; *p && k + 8 < sizeof out; ++p) {
+    int word_start = p == signature || !(isalnum((unsigned char)p[-1]) || p[-1] == '_');
+    if (word_start && strncmp(p, "vec", 3) == 0 && p[3] >= '2' && p[3] <= '4' &&
+        !(isalnum((unsigned char)p[4]) || p[4] == '_')) {
+      memcpy(out + k, "skyfit_", 7);
+      k += 7;
+    }
+    out[k++] = *p;
+  }
+  if (k > n - 1) k = n - 1;
+  memcpy(signature, out, k);
+  signature[k] = '\0';
+}
+
 /* "name(" at the start of a GLSL definition line -> the signature. */
 static void list_signatures(sf_code_writer *out, const char *glsl_text) {
   for (const char *line = glsl_text; line && *line;) {
@@ -30,14 +49,13 @@ static void list_signatures(sf_code_writer *out, const char *glsl_text) {
     const char *open = memchr(line, '(', len);
     if (len > 3 && line[len - 1] == '{' && line[len - 2] == ' ' && open &&
         (strncmp(line, "float skyfit_", 13) == 0 || strncmp(line, "vec", 3) == 0)) {
-      char signature[256];
+      char signature[384];
       size_t n = len - 2 < sizeof signature - 1 ? len - 2 : sizeof signature - 1;
       memcpy(signature, line, n);
       signature[n] = '\0';
       if (strstr(signature, " skyfit_")) {
         sf_cw_raw(out, " *     ");
-        /* the C header's vectors are skyfit_vecN (c_vector_types) */
-        if (out->lang == SF_CODE_C && strncmp(signature, "vec", 3) == 0) sf_cw_raw(out, "skyfit_");
+        if (out->lang == SF_CODE_C) c_types(signature, sizeof signature);
         sf_cw_raw(out, signature);
         sf_cw_raw(out, "\n");
       }

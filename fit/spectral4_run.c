@@ -168,7 +168,12 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   domain.mu_s_min = fmax(domain.mu_s_min, sin(SF_SPECTRAL4_SUN_MIN_DEG * SF_PI / 180.0));
   domain.mu_s_max = fmin(domain.mu_s_max, sin(SF_SPECTRAL4_SUN_MAX_DEG * SF_PI / 180.0));
   cJSON *doc = sf_weights_new("spectral4", "sky_radiance", &scene->atmosphere, &domain);
-  if (!doc) return NULL;
+  /* SPEC §8's "inputs": the model's functions take radiances, no
+   * normalised input */
+  if (!doc || !cJSON_AddArrayToObject(doc, "inputs")) {
+    cJSON_Delete(doc);
+    return NULL;
+  }
   const sf_spectral4_params *p = &rep->fit.best;
   double to_xyz[12], to_rgb[12], sun[4], albedo[4];
   int n = spectral->n_channels, nc = spectral->n_constituents;

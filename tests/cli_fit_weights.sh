@@ -40,6 +40,7 @@ expect 2 "preetham --out = --scene" "would overwrite" -- "$bin" fit preetham --s
 expect 2 "spectral4 --out = --atmosphere" "would overwrite" -- "$bin" fit spectral4 --atmosphere "$tmp/a.json" --out "$tmp/a.json" "${small[@]}"
 expect 2 "mlp-transmittance --dump-dataset = --atmosphere" "would overwrite" -- "$bin" fit mlp-transmittance --atmosphere "$tmp/a.json" --dump-dataset "$tmp/a.json" "${small[@]}"
 expect 2 "mlp-scattering --out = the scene's atmosphere" "would overwrite" -- "$bin" fit mlp-scattering --scene "$tmp/sc.json" --out "$tmp/a.json" "${small[@]}"
+expect 2 "mlp-transmittance --out ./D = --dump-dataset D, neither there yet" "would overwrite" -- bash -c "cd '$tmp' && '$bin' fit mlp-transmittance --dump-dataset new.csv --out ./new.csv ${small[*]}"
 expect 2 "fit mlp --out = --data" "would overwrite" -- "$bin" fit mlp --data "$tmp/t.csv" --inputs 2 --layers 2,4,1 --epochs 2 --out "$tmp/t.csv"
 cmp -s "$tmp/a.json" "$tmp/a0.json" && cmp -s "$tmp/t.csv" "$tmp/t0.csv" && cmp -s "$tmp/sc.json" <(printf '{"atmosphere": "a.json", "viewer_altitude_km": [0, 0], "sun_elevation_deg": [0, 90]}\n') ||
   { echo "FAIL an input file was changed"; fail=1; }

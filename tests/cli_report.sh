@@ -328,6 +328,13 @@ d = json.load(open(sys.argv[2]))["domain"]
 print(f"spectral4 on sun -10..90 deg: weights domain mu_s {d['mu_s']}")
 assert abs(d["mu_s"][0] - math.sin(math.radians(-2))) < 1e-12, f"FAIL spectral4 domain {d}"
 PY
+# The C header's comment lists its functions with the C types, arguments
+# included (skyfit_vec4 radiance; it had listed GLSL's vec4).
+mkdir -p "$tmp/s4c"
+"$bin" codegen --weights "$tmp/s4low-w.json" --lang c --out "$tmp/s4c" --quiet &&
+  grep -q "skyfit_vec3 skyfit_spectral4_to_linear_srgb(skyfit_vec4 radiance)" "$tmp/s4c/skyfit.h" &&
+  ! grep -Eq '^ \*     .*[( ]vec[234] ' "$tmp/s4c/skyfit.h" ||
+  { echo "FAIL the C header's function list: $(grep -m3 'spectral4_' "$tmp/s4c/skyfit.h")"; fail=1; }
 # Its weights file is checked as an atmosphere is (SPEC §4): impossible
 # physics exits 2 naming the key, nothing emitted (codegen had emitted them);
 # so do matrices that are not the colour matching functions at the

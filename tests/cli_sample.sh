@@ -148,6 +148,15 @@ if printf 'h_km,mu,mu_s,nu\n' | "$BIN" eval sky_radiance --tables "$tmp/bruneton
   "$BIN" eval sky_radiance --scene "$tmp/ground.json" --tables "$tmp/scene-tables" --resolution $small --quiet \
     <"$tmp/scene_points.csv" >"$tmp/out" 2>"$tmp/err"
   check "eval sky_radiance --scene --quiet: no note" "[ ! -s '$tmp/err' ] && [ \$(wc -l <'$tmp/out') -eq 4 ]"
+  # A viewer above the top is looked up where its ray enters, with the sun
+  # there: from 1000 km a sun 1.1 deg up at the viewer is below the horizon
+  # where this ray enters (counted), 5.7 deg up it is not.
+  printf '{"viewer_altitude_km": [0, 1000], "sun_elevation_deg": [0, 90]}\n' >"$tmp/space.json"
+  printf 'h_km,mu,mu_s,nu\n1000,-0.5,0.02,-0.875852\n1000,-0.9,0.1,-0.523705\n' >"$tmp/space_points.csv"
+  "$BIN" eval sky_radiance --scene "$tmp/space.json" --tables "$tmp/space-tables" --resolution $small \
+    <"$tmp/space_points.csv" >"$tmp/out" 2>"$tmp/err"
+  check "eval sky_radiance --scene, viewer in space: the entry's sun counts ($(tail -1 "$tmp/err"))" \
+    "grep -q '1 of 2 points lie outside scene' '$tmp/err'"
 else
   echo "note: skyfit eval sky_radiance is not routed to cli/cmd_eval_tables.c yet; its checks were not run"
 fi
