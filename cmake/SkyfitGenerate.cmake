@@ -45,6 +45,22 @@ endfunction()
 
 function(skyfit_generate)
   cmake_parse_arguments(SG "" "TARGET;SCENE;OUTPUT_DIR;NAME;PREFIX" "LANG;BASELINES;BUILD_OPTIONS" ${ARGN})
+  # A misspelt keyword (PREFX) had been dropped without a word, the build
+  # failing later in the compiler on names without their prefix.
+  if(SG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "skyfit_generate: unknown arguments: ${SG_UNPARSED_ARGUMENTS} (keywords: TARGET SCENE "
+                        "OUTPUT_DIR LANG NAME PREFIX BASELINES BUILD_OPTIONS)")
+  endif()
+  # (an empty list keyword is fine: BUILD_OPTIONS ${empty_variable})
+  foreach(single TARGET SCENE OUTPUT_DIR NAME PREFIX)
+    if(single IN_LIST SG_KEYWORDS_MISSING_VALUES)
+      message(FATAL_ERROR "skyfit_generate: ${single} needs a value")
+    endif()
+  endforeach()
+  if(SG_BASELINES AND SG_BUILD_OPTIONS)
+    message(FATAL_ERROR "skyfit_generate: BUILD_OPTIONS are options of skyfit build; with BASELINES the headers "
+                        "come from skyfit codegen, which does not take them")
+  endif()
   foreach(required TARGET SCENE OUTPUT_DIR LANG)
     if(NOT SG_${required})
       message(FATAL_ERROR "skyfit_generate: ${required} is required")
@@ -60,6 +76,11 @@ function(skyfit_generate)
   endif()
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS "${scene}")
   _skyfit_scene_atmosphere("${scene}" atmosphere)
+  # A missing file among the DEPENDS had stopped the build with the
+  # generator's "no rule to make target", not skyfit's message.
+  if(atmosphere AND NOT EXISTS "${atmosphere}")
+    message(FATAL_ERROR "skyfit_generate: scene ${scene} names the atmosphere ${atmosphere}, which does not exist")
+  endif()
 
   set(outputs)
   set(langs)

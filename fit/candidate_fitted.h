@@ -5,6 +5,7 @@
 #define SKYFIT_FIT_CANDIDATE_FITTED_H
 
 #include "fit/candidate_registry.h"
+#include "models/hosek_sky_model.h"
 
 /* Training inside `skyfit build` (fit/candidate_mlp.c); `skyfit fit mlp-*`
  * trains longer by default. Overridden by sf_candidate_inputs. */
@@ -38,6 +39,21 @@ int sf_candidate_applies_hosek(const sf_candidate_inputs *in, char *why, size_t 
 int sf_candidate_make_hosek(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
 int sf_candidate_applies_preetham(const sf_candidate_inputs *in, char *why, size_t why_len);
 int sf_candidate_make_preetham(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+/* An elevation sky model (fitted, or the published Hosek's baked at one
+ * turbidity) as a sky-radiance candidate valid on valid: the evaluation
+ * of its emitted function in double and, for the cost, in float32, and
+ * its emitter (codegen/emit_sky.h, functions skyfit_<form>_sky_radiance).
+ * The candidate holds a copy of m. */
+int sf_candidate_of_sky_model(const sf_elevation_sky_model *m, const sf_scene_domain *valid, sf_candidate_role role,
+                              const char *name, const char *label, const char *description, sf_candidate *out,
+                              sf_error *err);
+
+/* The published Hosek 2012 and Preetham 1999 skies as baselines, at their
+ * best-fitting turbidity and factors (fit/candidate_published_sky.c). */
+int sf_candidate_applies_hosek_published(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_hosek_published(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+int sf_candidate_applies_preetham_published(const sf_candidate_inputs *in, char *why, size_t why_len);
+int sf_candidate_make_preetham_published(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
 
 /* The neural sky (SPEC §7.4-7.5): fit/train.h on fit/dataset_sky.h
  * (fit/candidate_mlp.c). */

@@ -6,13 +6,18 @@
 #include "fit/candidate_builtin.h"
 #include "fit/candidate_fitted.h"
 
-/* One line per fitted model (fit/candidate_fitted.h). */
+/* One line per fitted model, and per baseline fitted to the tables (the
+ * published skies' turbidity and factors) (fit/candidate_fitted.h). */
 static const sf_candidate_factory factories[] = {
     {"sigmoid", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_sigmoid, sf_candidate_make_sigmoid, 0},
     {"mlp-transmittance", SF_CANDIDATE_TRANSMITTANCE, sf_candidate_applies_mlp_transmittance,
      sf_candidate_make_mlp_transmittance, 1},
     {"preetham", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_preetham, sf_candidate_make_preetham, 0},
     {"hosek", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_hosek, sf_candidate_make_hosek, 0},
+    {"preetham-published", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_preetham_published,
+     sf_candidate_make_preetham_published, 0},
+    {"hosek-published", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_hosek_published,
+     sf_candidate_make_hosek_published, 0},
     {"mlp-scattering", SF_CANDIDATE_SKY_RADIANCE, sf_candidate_applies_mlp_scattering,
      sf_candidate_make_mlp_scattering, 1},
 };

@@ -8,6 +8,7 @@
 
 #include "fit/fit_sky_config.h"
 #include "fit/linear_lsq.h"
+#include "fit/published_sky.h"
 #include "fit/sky_bezier_gram.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/preetham.h"
@@ -134,55 +135,15 @@ static int bezier_lsq(int n_e, const double (*bernstein)[SF_BEZIER_POINTS], cons
   return 0;
 }
 
+/* The published skies on the metric grid (fit/published_sky.h): their
+ * RMSE and turbidity, NAN where they do not apply. */
 static void baseline_scan(const sf_sky_samples *samples, int n_e, const sf_atmosphere *atm,
                           const sf_hosek_dataset *published, int preetham,
                           double *best_rmse, double *best_T) {
-  int nk = atm->n_channels;
-  *best_rmse = NAN;
-  *best_T = NAN;
-  if (preetham && nk != 3) return;
-  if (!preetham && !published) return;
-  double best_sse = INFINITY;
-  long n_total = 0;
-  for (int e = 0; e < n_e; ++e) n_total += samples[e].n;
-  for (double T = preetham ? 2.0 : 1.0; T <= 10.0 + 1e-9; T += 0.25) {
-    double md[SF_MAX_CHANNELS] = {0}, mm[SF_MAX_CHANNELS] = {0}, dd[SF_MAX_CHANNELS] = {0};
-    for (int e = 0; e < n_e; ++e) {
-      const sf_sky_samples *s = &samples[e];
-      sf_preetham_sky sky;
-      double hc[3][SF_HOSEK_N_COEFFS], hr[3];
-      if (preetham) {
-        sf_preetham_sky_init(&sky, T, 0.5 * SF_PI - s->elevation_rad);
-      } else {
-        for (int k = 0; k < 3; ++k) {
-          sf_error err = {0};
-          double albedo = fmin(fmax(atm->ground_albedo[nk == 3 ? k : 0], 0.0), 1.0);
-          sf_hosek_dataset_state(published, k, T, albedo,
-                                 fmin(fmax(s->elevation_rad, 0.0), 0.5 * SF_PI), hc[k], &hr[k], &err);
-        }
-      }
-      for (int i = 0; i < s->n; ++i) {
-        double m[3];
-        if (preetham) sf_preetham_sky_rgb(&sky, s->theta[i], s->gamma[i], m);
-        else
-          for (int k = 0; k < 3; ++k) m[k] = hr[k] * sf_hosek_f(hc[k], s->cos_theta[i], s->gamma[i]);
-        for (int k = 0; k < nk; ++k) {
-          double model = m[nk == 3 ? k : 1], data = s->radiance[(size_t)i * nk + k];
-          md[k] += model * data;
-          mm[k] += model * model;
-          dd[k] += data * data;
-        }
-      }
-    }
-    /* SSE after the best per-channel factor: dd - md^2 / mm */
-    double sse = 0;
-    for (int k = 0; k < nk; ++k) sse += dd[k] - (mm[k] > 0 ? md[k] * md[k] / mm[k] : 0.0);
-    if (sse < best_sse) {
-      best_sse = sse;
-      *best_T = T;
-    }
-  }
-  *best_rmse = sqrt(fmax(best_sse, 0.0) / (double)(n_total * nk));
+  sf_published_sky p;
+  sf_error ignored = {0};
+  sf_published_sky_fit(samples, n_e, atm, published, preetham, &p, best_rmse, &ignored);
+  *best_T = p.turbidity;
 }
 
 /* Sum of the squared reference radiances of channel k over samples s (the

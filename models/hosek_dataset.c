@@ -128,6 +128,38 @@ int sf_hosek_dataset_state(const sf_hosek_dataset *d, int channel, double turbid
   return SF_OK;
 }
 
+int sf_hosek_dataset_control_points(const sf_hosek_dataset *d, int channel, double turbidity, double albedo,
+                                    double coeffs[6][SF_HOSEK_N_COEFFS], double radiance[6], sf_error *err) {
+  double c[SF_HOSEK_N_COEFFS], r;
+  /* the same checks (any elevation in range) */
+  int status = sf_hosek_dataset_state(d, channel, turbidity, albedo, 0.0, c, &r, err);
+  if (status != SF_OK) return status;
+  int n = (int)turbidity;
+  double rem = turbidity - (double)n;
+  /* published_blend's weights, applied to each control point: the Bezier
+   * is linear in its points */
+  double w[4] = {(1.0 - albedo) * (1.0 - rem), albedo * (1.0 - rem), (1.0 - albedo) * rem, albedo * rem};
+  int last = n == SF_HOSEK_DATASET_TURBIDITIES;
+  for (int j = 0; j < 6; ++j) {
+    double stored[SF_HOSEK_N_COEFFS + 1];
+    for (int k = 0; k <= SF_HOSEK_N_COEFFS; ++k) {   /* k = 9: the radiance */
+      int coefficient = k < SF_HOSEK_N_COEFFS;
+      const double *a0 = coefficient ? &d->coefficients[channel][0][n - 1][j][k] : &d->radiances[channel][0][n - 1][j];
+      const double *a1 = coefficient ? &d->coefficients[channel][1][n - 1][j][k] : &d->radiances[channel][1][n - 1][j];
+      long t_stride = coefficient ? 6 * SF_HOSEK_N_COEFFS : 6;
+      double v = w[0] * a0[0] + w[1] * a1[0];
+      if (!last) v += w[2] * a0[t_stride] + w[3] * a1[t_stride];
+      stored[k] = v;
+    }
+    /* storage k = 7 is I, k = 8 is H */
+    for (int k = 0; k < 7; ++k) coeffs[j][k] = stored[k];
+    coeffs[j][SF_HOSEK_H] = stored[8];
+    coeffs[j][SF_HOSEK_I] = stored[7];
+    radiance[j] = stored[SF_HOSEK_N_COEFFS];
+  }
+  return SF_OK;
+}
+
 double sf_hosek_dataset_radiance(const double coeffs[SF_HOSEK_N_COEFFS], double radiance_scale,
                                  double theta, double gamma) {
   return sf_hosek_f(coeffs, cos(theta), gamma) * radiance_scale;

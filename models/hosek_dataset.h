@@ -39,6 +39,13 @@ int sf_hosek_dataset_state(const sf_hosek_dataset *d, int channel, double turbid
                            double albedo, double elevation_rad,
                            double coeffs[SF_HOSEK_N_COEFFS], double *radiance, sf_error *err);
 
+/* The state's Bezier control points at one turbidity and albedo (the
+ * blend of sf_hosek_dataset_state applied to the points, in paper order):
+ * the quintic Bezier in x = (elevation / (pi/2))^(1/3) through them
+ * (models/hosek_bezier.h) is the state at any elevation. Same checks. */
+int sf_hosek_dataset_control_points(const sf_hosek_dataset *d, int channel, double turbidity, double albedo,
+                                    double coeffs[6][SF_HOSEK_N_COEFFS], double radiance[6], sf_error *err);
+
 /* Radiance of the published model: F(theta, gamma) R for one channel. */
 double sf_hosek_dataset_radiance(const double coeffs[SF_HOSEK_N_COEFFS], double radiance_scale,
                                  double theta, double gamma);

@@ -36,7 +36,7 @@ echo "ok   a moved installation reads its own share/skyfit/physical"
 cp -r "$SKYFIT_SOURCE_DIR/examples/consumer" "$tmp/consumer"
 # small tables and short fits: each regeneration is a whole `skyfit build`
 cmake -S "$tmp/consumer" -B "$tmp/consumer/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" \
-  "-DSKY_BUILD_OPTIONS=--quick;--resolution;32x16,8x16x8x4;--samples;2000;--timing-points;20000;--repetitions;1;--mlp-epochs;10,1" \
+  "-DSKY_BUILD_OPTIONS=--quick --resolution 32x16,8x16x8x4 --samples 2000 --timing-points 20000 --repetitions 1 --mlp-epochs 10,1" \
   >/dev/null
 header="$tmp/consumer/build/generated/skyfit.h"
 glsl="$tmp/consumer/build/generated/skyfit.glsl"
@@ -96,4 +96,28 @@ out=$(build)
 [ "$(generated "$out")" -ge 1 ] || { echo "FAIL editing the atmosphere did not regenerate"; exit 1; }
 grep -q "earth-consumer-hazier" "$header"
 echo "ok   edited earth.json: headers regenerated with the new atmosphere"
+
+# Mistakes in a consumer's call stop its configure with skyfit_generate's
+# message: a misspelt keyword (PREFX had been dropped silently, the build
+# failing in the compiler on unprefixed names), and a scene whose
+# atmosphere is missing (the generator's "no rule to make target").
+bad_configure() {   # bad_configure NAME EXPECTED -- the skyfit_generate arguments
+  local name=$1 want=$2
+  shift 3
+  mkdir -p "$tmp/$name"
+  cp "$tmp/consumer/main.c" "$tmp/consumer/sky.json" "$tmp/$name/"
+  printf 'cmake_minimum_required(VERSION 3.19)\nproject(bad C)\nfind_package(skyfit 0.1 REQUIRED)\nadd_executable(app main.c)\nskyfit_generate(%s)\n' "$*" \
+    >"$tmp/$name/CMakeLists.txt"
+  # (CMake wraps its messages: the log's lines joined before the search)
+  if cmake -S "$tmp/$name" -B "$tmp/$name/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" >"$tmp/$name.log" 2>&1 ||
+     ! tr -s ' \n' '  ' <"$tmp/$name.log" | grep -q "$want"; then
+    echo "FAIL $name: configure did not stop with '$want'"; cat "$tmp/$name.log"; exit 1
+  fi
+  echo "ok   $name: configure stops with '$want'"
+}
+bad_configure misspelt "unknown arguments: PREFX;p" -- TARGET app PREFX p SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+sed -i 's/"atmosphere": *"[^"]*"/"atmosphere": "nope.json"/' "$tmp/consumer/sky.json"
+grep -q '"nope.json"' "$tmp/consumer/sky.json" || { echo "FAIL the test could not point sky.json at nope.json"; exit 1; }
+bad_configure missing_atmosphere "nope.json, which does not exist" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
 echo "cli_consumer: all checks passed"

@@ -3,6 +3,12 @@
  *   with an independent implementation of the data notes' formulas
  *   (../shared/data/hosek2012.md, preetham1999.md), written here from the
  *   notes (binomial loop, JSON read directly) to 1e-12;
+ * - the state's control points at one turbidity and albedo
+ *   (sf_hosek_dataset_control_points, baked for the report's published
+ *   Hosek) through the Bezier in elevation give the note's state to 1e-12;
+ * - the published baselines' fit (fit/published_sky.h) recovers the
+ *   turbidity and per-channel factors of samples made by the published
+ *   models themselves (Hosek and Preetham, a turbidity on its 0.25 grid);
  * - samples of the published Hosek model (several turbidities, albedos,
  *   elevations, channels) refitted through Ceres from a perturbed start
  *   recover the radiance to 1e-6 relative and, with the scale fixed at the
@@ -16,7 +22,10 @@
 
 #include "check.h"
 #include "fit/fit_sky_config.h"
+#include "fit/published_sky.h"
 #include "fit/sky_radiance_samples.h"
+#include "models/atmosphere_file.h"
+#include "models/hosek_bezier.h"
 #include "models/hosek_dataset.h"
 #include "models/preetham.h"
 #include "util/constants.h"
@@ -132,6 +141,50 @@ static void recovery(sf_sky_form form, const char *label, const double *truth, d
   sf_sky_samples_free(&s);
 }
 
+/* Samples of the published model p (3 channels, unscaled: p's factors 1)
+ * times factor[k] at three sun elevations; then the fit must return p's
+ * turbidity and the factors. */
+static void published_recovery(const char *label, sf_published_sky p, const double factor[3]) {
+  sf_atmosphere *atm = malloc(sizeof *atm);
+  sf_atmosphere_default(atm);
+  for (int k = 0; k < 3; ++k) p.albedo[k] = atm->ground_albedo[k];
+  const double truth_T = p.turbidity;
+  for (int k = 0; k < 3; ++k) p.scale[k] = factor[k];
+  const double elev[3] = {0.1, 0.5, 1.2};
+  sf_sky_samples s[3];
+  sf_error err = {0};
+  for (int e = 0; e < 3; ++e) {
+    int nt = 8, np = 10;
+    sf_sky_samples_alloc(&s[e], nt * np, 3, &err);
+    s[e].elevation_rad = elev[e];
+    for (int i = 0; i < nt; ++i)
+      for (int j = 0; j < np; ++j) {
+        double theta = (i + 0.5) / nt * 0.5 * SF_PI, phi = (double)j / (np - 1) * SF_PI;
+        int q = i * np + j;
+        sf_sky_sample_set_angles(&s[e], q, theta, cos(theta) * sin(elev[e]) + sin(theta) * cos(elev[e]) * cos(phi));
+        sf_published_sky_radiance(&p, s[e].theta[q], s[e].gamma[q], elev[e], &s[e].radiance[(size_t)q * 3]);
+      }
+  }
+  double sum_squares = 0.0;
+  long n_values = 0;
+  for (int e = 0; e < 3; ++e)
+    for (int i = 0; i < 3 * s[e].n; ++i, ++n_values) sum_squares += s[e].radiance[i] * s[e].radiance[i];
+  sf_published_sky fit;
+  double rmse = NAN;
+  CHECK(sf_published_sky_fit(s, 3, atm, p.dataset, p.preetham, &fit, &rmse, &err) == SF_OK);
+  double worst = 0;
+  for (int k = 0; k < 3; ++k) worst = worst_of(worst, fabs(fit.scale[k] - factor[k]) / factor[k]);
+  printf("%s: turbidity %g (made at %g), factors within %.3g, rmse %.3g\n", label, fit.turbidity, truth_T, worst,
+         rmse);
+  CHECK(fit.turbidity == truth_T);
+  CHECK_ABS(worst, 0.0, 1e-12);
+  /* the SSE is dd - md^2 / mm, which cancels to ~eps dd: an RMSE floor of
+   * ~sqrt(eps) = 1.5e-8 of the samples' RMS */
+  CHECK_ABS(rmse, 0.0, 1e-7 * sqrt(sum_squares / (double)n_values));
+  for (int e = 0; e < 3; ++e) sf_sky_samples_free(&s[e]);
+  free(atm);
+}
+
 int main(void) {
   sf_error err = {0};
   sf_hosek_dataset *ds = malloc(sizeof *ds);
@@ -169,6 +222,33 @@ int main(void) {
     }
   CHECK_ABS(worst_state, 0.0, 1e-12);
   CHECK_ABS(worst_radiance, 0.0, 1e-12);
+
+  printf("-- Hosek control points at one turbidity and albedo vs the note's state\n");
+  double worst_points = 0;
+  for (unsigned q = 0; q < sizeof cfg / sizeof cfg[0]; ++q)
+    for (int ch = 0; ch < 3; ++ch) {
+      double cp[6][SF_HOSEK_N_COEFFS], rp[6], w[6];
+      CHECK(sf_hosek_dataset_control_points(ds, ch, cfg[q][0], cfg[q][1], cp, rp, &err) == SF_OK);
+      sf_bezier_weights(sf_bezier_x_of_elevation(cfg[q][2]), w);
+      double v[10] = {0};
+      for (int j = 0; j < 6; ++j) {
+        for (int k = 0; k < 9; ++k) v[k] += w[j] * cp[j][k];
+        v[9] += w[j] * rp[j];
+      }
+      /* paper order -> storage order: H (8) and I (7) swapped */
+      double stored[10] = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[8], v[7], v[9]};
+      for (int k = 0; k < 10; ++k) {
+        double note = note_state(root, ch, cfg[q][0], cfg[q][1], cfg[q][2], k);
+        worst_points = worst_of(worst_points, fabs(stored[k] - note) / fmax(fabs(note), 1e-300));
+      }
+    }
+  CHECK_ABS(worst_points, 0.0, 1e-12);
+
+  printf("-- the published baselines' turbidity and factors recovered from their own skies\n");
+  sf_published_sky ph = {.preetham = 0, .dataset = ds, .n_channels = 3, .turbidity = 3.5};
+  published_recovery("hosek T=3.5", ph, (const double[3]){0.02, 0.03, 0.05});
+  sf_published_sky pp = {.preetham = 1, .n_channels = 3, .turbidity = 4.25};
+  published_recovery("preetham T=4.25", pp, (const double[3]){1e-3, 2e-3, 4e-3});
 
   printf("-- Preetham 1999 Y, x, y vs the data note (independent)\n");
   double worst_p = 0;
