@@ -256,40 +256,33 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
     return sf_fail(err, SF_ERR_INTERNAL, "spline baseline: out of memory");
   }
   fill_float_copy(b);
+  /* name, label and description, in sf_transmittance_baseline's order */
+  static const char *const texts[][3] = {
+      {"naive", "Naive raymarch",
+       "Midpoint rule with equal steps along the ray for every constituent (seed 000 §11.2.6); the cost unit of "
+       "the report."},
+      {"chapman", "Schuler's Chapman approximation",
+       "Schuler 2012 Chapman-function approximation per exponential constituent (seed 000 eq. 22-25); other "
+       "constituents as a constant shell (seed 000 eq. 59)."},
+      {"taylor", "Galaj's Taylor transmittance",
+       "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); other constituents as "
+       "a constant shell (seed 000 eq. 59)."},
+      {"flat", "Leenman's flat model",
+       "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53); ozone as a constant-density "
+       "shell (eq. 59)."},
+      {"spline", "Galaj's spline transmittance",
+       "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region (seed 002 "
+       "IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59)."},
+  };
   char name[48], label[96];
-  const char *what = "";
-  switch (kind) {
-    case SF_TB_NAIVE:
-      snprintf(name, sizeof name, "naive%d", steps);
-      snprintf(label, sizeof label, "Naive raymarch, %d steps", steps);
-      what = "Midpoint rule with equal steps along the ray for every constituent (seed 000 §11.2.6); "
-             "the cost unit of the report.";
-      break;
-    case SF_TB_CHAPMAN:
-      snprintf(name, sizeof name, "chapman");
-      snprintf(label, sizeof label, "Schuler's Chapman approximation");
-      what = "Schuler 2012 Chapman-function approximation per exponential constituent (seed 000 eq. 22-25); "
-             "other constituents as a constant shell (seed 000 eq. 59).";
-      break;
-    case SF_TB_TAYLOR:
-      snprintf(name, sizeof name, "taylor");
-      snprintf(label, sizeof label, "Galaj's Taylor transmittance");
-      what = "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); "
-             "other constituents as a constant shell (seed 000 eq. 59).";
-      break;
-    case SF_TB_SPLINE:
-      snprintf(name, sizeof name, "spline");
-      snprintf(label, sizeof label, "Galaj's spline transmittance");
-      what = "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region "
-             "(seed 002 IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59).";
-      break;
-    case SF_TB_FLAT:
-      snprintf(name, sizeof name, "flat");
-      snprintf(label, sizeof label, "Leenman's flat model");
-      what = "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53); ozone as a "
-             "constant-density shell (eq. 59).";
-      break;
+  if (kind == SF_TB_NAIVE) {
+    snprintf(name, sizeof name, "naive%d", steps);
+    snprintf(label, sizeof label, "Naive raymarch, %d steps", steps);
+  } else {
+    snprintf(name, sizeof name, "%s", texts[kind][0]);
+    snprintf(label, sizeof label, "%s", texts[kind][1]);
   }
+  const char *what = texts[kind][2];
   sf_candidate_init(out, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_BASELINE, name, label);
   snprintf(out->description, sizeof out->description, "%s", what);
   static const sf_baseline_kind emitted_kind[] = {SF_BASELINE_NAIVE, SF_BASELINE_CHAPMAN, SF_BASELINE_TAYLOR,
