@@ -27,7 +27,14 @@
 # One target may call it several times with different NAMEs; with
 # different PREFIXes as well (every emitted name starts <prefix>_ instead
 # of skyfit_), two scenes' headers go into one translation unit or shader.
+# Configure stops with a message on an unknown argument, a keyword
+# without its value (BUILD_OPTIONS alone may be empty), BUILD_OPTIONS with
+# BASELINES (codegen does not take them) and a scene whose atmosphere
+# file does not exist.
 include_guard(GLOBAL)
+# if(... IN_LIST ...) below, also for consumers whose cmake_minimum_required
+# predates it (this file is included in their policy scope)
+cmake_policy(SET CMP0057 NEW)
 
 # Reads the scene's "atmosphere" path (relative to the scene's folder);
 # empty when the scene uses the built-in atmosphere.
@@ -51,10 +58,11 @@ function(skyfit_generate)
     message(FATAL_ERROR "skyfit_generate: unknown arguments: ${SG_UNPARSED_ARGUMENTS} (keywords: TARGET SCENE "
                         "OUTPUT_DIR LANG NAME PREFIX BASELINES BUILD_OPTIONS)")
   endif()
-  # (an empty list keyword is fine: BUILD_OPTIONS ${empty_variable})
-  foreach(single TARGET SCENE OUTPUT_DIR NAME PREFIX)
-    if(single IN_LIST SG_KEYWORDS_MISSING_VALUES)
-      message(FATAL_ERROR "skyfit_generate: ${single} needs a value")
+  # (BUILD_OPTIONS ${empty_variable} is fine; an empty BASELINES had run
+  # the whole skyfit build instead)
+  foreach(keyword TARGET SCENE OUTPUT_DIR NAME PREFIX LANG BASELINES)
+    if(keyword IN_LIST SG_KEYWORDS_MISSING_VALUES)
+      message(FATAL_ERROR "skyfit_generate: ${keyword} needs a value")
     endif()
   endforeach()
   if(SG_BASELINES AND SG_BUILD_OPTIONS)

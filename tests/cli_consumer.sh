@@ -116,6 +116,7 @@ bad_configure() {   # bad_configure NAME EXPECTED -- the skyfit_generate argumen
   echo "ok   $name: configure stops with '$want'"
 }
 bad_configure misspelt "unknown arguments: PREFX;p" -- TARGET app PREFX p SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+bad_configure empty_baselines "BASELINES needs a value" -- TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES
 sed -i 's/"atmosphere": *"[^"]*"/"atmosphere": "nope.json"/' "$tmp/consumer/sky.json"
 grep -q '"nope.json"' "$tmp/consumer/sky.json" || { echo "FAIL the test could not point sky.json at nope.json"; exit 1; }
 bad_configure missing_atmosphere "nope.json, which does not exist" -- \
