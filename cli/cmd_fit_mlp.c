@@ -298,9 +298,10 @@ static int run_sky(int argc, char **argv, int scattering) {
   if (sf_scene_get_domain(scene, &dom, &err)) goto fail;
   /* the run's files, which none of its outputs may overwrite (the scene's
    * own atmosphere file included) */
-  const char *scene_atm = job.scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
-  const char *run_files[5] = {job.scene_path, scene_atm, job.tables.atmosphere_path, job.mlp.init_weights,
-                              job.dump_path};
+  const char *run_files[5];
+  sf_cli_scene_files(job.scene_path, job.tables.atmosphere_path, scene, run_files);
+  run_files[3] = job.mlp.init_weights;
+  run_files[4] = job.dump_path;
   if (job.mlp.write_init &&
       (status = sf_cli_check_output(command, "--write-init", job.mlp.write_init, run_files, 4)))
     goto done;

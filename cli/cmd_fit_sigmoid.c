@@ -123,14 +123,9 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
   sf_scene_domain domain;
   if (status == SF_OK) status = sf_scene_get_domain(scene, &domain, &err);
   if (status == SF_OK) {
-    const char *scene_atm = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
-    const char *inputs[3] = {scene_path, atm_path, scene_atm};
-    if (sf_cli_check_output(COMMAND, "--out", out, inputs, 3)) {
-      free(scene);
-      free(model);
-      free(rep);
-      return 2;
-    }
+    const char *inputs[3];
+    sf_cli_scene_files(scene_path, atm_path, scene, inputs);
+    status = sf_cli_output_problem("--out", out, inputs, 3, &err);
   }
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !quiet);

@@ -179,8 +179,8 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
   /* before the default cache folder beside W.json is made (it had made a
    * missing --out folder, the run then writing its weights there) */
   if (status == SF_OK) {
-    const char *scene_atm = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
-    const char *inputs[3] = {scene_path, atm_path, scene_atm};
+    const char *inputs[3];
+    sf_cli_scene_files(scene_path, atm_path, scene, inputs);
     status = sf_cli_output_problem("--out", out, inputs, 3, &err);
   }
   if (status == SF_OK) status = sf_make_folders(cache_dir, "--cache", &err);

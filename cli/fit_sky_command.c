@@ -308,8 +308,8 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
                      "for a sun above the horizon (SPEC §5)",
                      scene_path ? scene_path : "scene");
   if (status == SF_OK) {
-    const char *scene_atm = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
-    const char *inputs[3] = {scene_path, o->atmosphere_path, scene_atm};
+    const char *inputs[3];
+    sf_cli_scene_files(scene_path, o->atmosphere_path, scene, inputs);
     status = sf_cli_output_problem("--out", out_path, inputs, 3, &err);
   }
   if (status == SF_OK) status = sf_hosek_dataset_load_default(published, &err);

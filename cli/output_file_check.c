@@ -35,6 +35,13 @@ int sf_cli_same_file(const char *a, const char *b) {
   return strcmp(ra, rb) == 0;
 }
 
+void sf_cli_scene_files(const char *scene_path, const char *atmosphere_path, const sf_scene *scene,
+                        const char *files[3]) {
+  files[0] = scene_path;
+  files[1] = scene_path && scene->atmosphere_path[0] ? scene->atmosphere_path : NULL;
+  files[2] = atmosphere_path;
+}
+
 int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,
                           sf_error *err) {
   for (int i = 0; i < n_inputs; ++i)

@@ -7,6 +7,7 @@
 #ifndef SKYFIT_CLI_OUTPUT_FILE_CHECK_H
 #define SKYFIT_CLI_OUTPUT_FILE_CHECK_H
 
+#include "models/scene_file.h"
 #include "util/error.h"
 
 /* The same file: the same path, the same inode of two existing ones, or,
@@ -19,6 +20,12 @@ int sf_cli_same_file(const char *a, const char *b);
  * in err, the message naming the option and the path. */
 int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,
                           sf_error *err);
+
+/* A fit's input files, which its outputs must not be: the scene file, the
+ * atmosphere file the scene names (none for the built-in one) and an
+ * --atmosphere file; NULL where there is none. */
+void sf_cli_scene_files(const char *scene_path, const char *atmosphere_path, const sf_scene *scene,
+                        const char *files[3]);
 
 /* The same, printed: 0, or "<command>: <message>" on stderr and 2. */
 int sf_cli_check_output(const char *command, const char *option, const char *path, const char *const *inputs,

@@ -8,12 +8,21 @@
 
 static double clampd(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 
-void sf_sky_radiance_clamped(const sf_elevation_sky_model *m, double mu, double mu_s, double nu,
-                             double *radiance) {
-  double ct = clampd(mu, m->form == SF_SKY_FORM_HOSEK ? 0.0 : SF_SKY_PEREZ_MIN_MU, 1.0);
+void sf_sky_clamped_angles(sf_sky_form form, double mu, double mu_s, double nu, double *theta, double *gamma,
+                           double *elevation) {
+  double ct = clampd(mu, form == SF_SKY_FORM_HOSEK ? 0.0 : SF_SKY_PEREZ_MIN_MU, 1.0);
   double ms = clampd(mu_s, -1.0, 1.0);
   double cg = sf_clamp_nu(ct, ms, clampd(nu, -1.0, 1.0));
-  sf_elevation_sky_radiance(m, asin(ms), acos(ct), acos(cg), radiance);
+  *theta = acos(ct);
+  *gamma = acos(cg);
+  *elevation = asin(ms);
+}
+
+void sf_sky_radiance_clamped(const sf_elevation_sky_model *m, double mu, double mu_s, double nu,
+                             double *radiance) {
+  double theta, gamma, elevation;
+  sf_sky_clamped_angles(m->form, mu, mu_s, nu, &theta, &gamma, &elevation);
+  sf_elevation_sky_radiance(m, elevation, theta, gamma, radiance);
   /* A radiance is never negative; the fitted forms dip below 0 near the
    * horizon at a low sun (Hosek's default fit: -0.0038 in G at 3 degrees). */
   for (int k = 0; k < m->n_channels; ++k) radiance[k] = radiance[k] > 0.0 ? radiance[k] : 0.0;

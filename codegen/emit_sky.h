@@ -24,6 +24,12 @@
 
 void sf_emit_sky(sf_code_writer *w, const sf_elevation_sky_model *m);
 
+/* The clamps above in double for form's inputs (mu, mu_s, nu): the view
+ * zenith angle theta, the view-sun angle gamma and the sun's elevation
+ * asin(mu_s) (in [-pi/2, pi/2]; the forms take it into [0, pi/2]). */
+void sf_sky_clamped_angles(sf_sky_form form, double mu, double mu_s, double nu, double *theta, double *gamma,
+                           double *elevation);
+
 /* The same clamps in double, then sf_elevation_sky_radiance, negative
  * radiance (the fitted forms dip below 0 near the horizon at a low sun)
  * raised to 0: what the emitted function approximates in float32. */

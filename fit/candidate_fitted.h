@@ -5,6 +5,7 @@
 #define SKYFIT_FIT_CANDIDATE_FITTED_H
 
 #include "fit/candidate_registry.h"
+#include "fit/fit_sky_elevation.h"
 #include "models/hosek_sky_model.h"
 
 /* Training inside `skyfit build` (fit/candidate_mlp.c); `skyfit fit mlp-*`
@@ -39,6 +40,12 @@ int sf_candidate_applies_hosek(const sf_candidate_inputs *in, char *why, size_t 
 int sf_candidate_make_hosek(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
 int sf_candidate_applies_preetham(const sf_candidate_inputs *in, char *why, size_t why_len);
 int sf_candidate_make_preetham(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);
+/* The options of our ground-level sky fits for the scene of in (the
+ * scene's sun range above the horizon, the view grid, --quick's coarser
+ * one) and the box they are valid on (ground viewer, sun in that range). */
+void sf_candidate_sky_options(const sf_candidate_inputs *in, sf_sky_form form, sf_sky_elevation_options *o,
+                              sf_scene_domain *valid);
+
 /* An elevation sky model (fitted, or the published Hosek's baked at one
  * turbidity) as a sky-radiance candidate valid on valid: the evaluation
  * of its emitted function in double and, for the cost, in float32, and

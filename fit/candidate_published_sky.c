@@ -23,20 +23,14 @@
 #include "fit/published_sky.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/hosek_bezier.h"
-#include "models/single_scattering.h"
-#include "util/constants.h"
 
-static double clamp(double x, double lo, double hi) { return fmin(fmax(x, lo), hi); }
-
-/* Preetham, with the clamps of our fits' emitted functions
- * (codegen/emit_sky.h): mu into [SF_SKY_PEREZ_MIN_MU, 1] (Perez divides
- * by cos theta), nu into what mu and mu_s allow, the sun's elevation into
- * [0, pi/2]; never negative. */
+/* Preetham, with the clamps of our Perez form's emitted function
+ * (codegen/emit_sky.h); never negative. */
 static void preetham_eval(const void *ctx, const double *in, double *out) {
   const sf_published_sky *p = ctx;
-  double mu = clamp(in[1], SF_SKY_PEREZ_MIN_MU, 1.0), mu_s = clamp(in[2], -1.0, 1.0);
-  double nu = sf_clamp_nu(mu, mu_s, clamp(in[3], -1.0, 1.0));
-  sf_published_sky_radiance(p, acos(mu), acos(nu), clamp(asin(mu_s), 0.0, 0.5 * SF_PI), out);
+  double theta, gamma, elevation;
+  sf_sky_clamped_angles(SF_SKY_FORM_PEREZ, in[1], in[2], in[3], &theta, &gamma, &elevation);
+  sf_published_sky_radiance(p, theta, gamma, elevation, out);
   for (int k = 0; k < p->n_channels; ++k) out[k] = fmax(out[k], 0.0);
 }
 
@@ -80,36 +74,26 @@ int sf_candidate_applies_preetham_published(const sf_candidate_inputs *in, char 
 
 static int make(const sf_candidate_inputs *in, int hosek, sf_candidate *out, sf_error *err) {
   const char *name = hosek ? "hosek-published" : "preetham-published";
+  /* the suns, view grid and valid box of our fits of the same form */
   sf_sky_elevation_options o;
-  sf_sky_elevation_options_default(&o, hosek ? SF_SKY_FORM_HOSEK : SF_SKY_FORM_PEREZ);
-  if (in->quick) {   /* the grid of our fits (fit/candidate_sky_form.c) */
-    o.n_theta = 8;
-    o.n_phi = 12;
-  }
-  double e_min = asin(fmax(0.0, in->domain.mu_s_min)), e_max = asin(fmin(1.0, in->domain.mu_s_max));
+  sf_scene_domain valid;
+  sf_candidate_sky_options(in, hosek ? SF_SKY_FORM_HOSEK : SF_SKY_FORM_PEREZ, &o, &valid);
   sf_published_sky *p = calloc(1, sizeof *p);
   sf_hosek_dataset *dataset = hosek ? malloc(sizeof *dataset) : NULL;
   sf_sky_samples *samples = calloc((size_t)o.n_elevations, sizeof *samples);
   sf_elevation_sky_model *m = hosek ? malloc(sizeof *m) : NULL;
   int status = p && samples && (!hosek || (dataset && m)) ? SF_OK : sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   if (status == SF_OK && hosek) status = sf_hosek_dataset_load_default(dataset, err);
-  /* the fits' sun elevations: equal steps in x = (e / (pi/2))^(1/3) */
-  double x0 = sf_bezier_x_of_elevation(e_min), x1 = sf_bezier_x_of_elevation(e_max);
   int n_made = 0;
   for (int e = 0; e < o.n_elevations && status == SF_OK; ++e, ++n_made) {
-    double x = x0 + (x1 - x0) * e / (o.n_elevations - 1);
-    status = sf_sky_samples_from_tables(in->sky, 0.5 * SF_PI * x * x * x, o.n_theta, o.n_phi, &samples[e], err);
+    double x;
+    status = sf_sky_samples_from_tables(in->sky, sf_sky_fit_elevation(&o, e, &x), o.n_theta, o.n_phi, &samples[e],
+                                        err);
   }
   double rmse = NAN;
   if (status == SF_OK) status = sf_published_sky_fit(samples, o.n_elevations, in->atm, dataset, !hosek, p, &rmse, err);
   for (int e = 0; e < n_made; ++e) sf_sky_samples_free(&samples[e]);
   free(samples);
-  sf_scene_domain valid = in->domain;
-  valid.h_min_km = valid.h_max_km = 0.0;
-  valid.mu_min = 0.0;
-  valid.mu_max = 1.0;
-  valid.mu_s_min = sin(e_min);
-  valid.mu_s_max = sin(e_max);
   char description[400] = "";
   if (status == SF_OK)
     snprintf(description, sizeof description,
@@ -121,7 +105,7 @@ static int make(const sf_candidate_inputs *in, int hosek, sf_candidate *out, sf_
              hosek ? " Its state baked into our Hosek form (a Bezier in the sun elevation)." : " Not emitted.");
   const char *label = hosek ? "Hosek-Wilkie 2012, published" : "Preetham 1999, published";
   if (status == SF_OK && hosek) {
-    status = bake_hosek(p, e_min, e_max, m, err);
+    status = bake_hosek(p, o.elevation_min_rad, o.elevation_max_rad, m, err);
     if (status == SF_OK) status = sf_candidate_of_sky_model(m, &valid, SF_ROLE_BASELINE, name, label, description,
                                                             out, err);
   } else if (status == SF_OK) {

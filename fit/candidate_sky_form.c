@@ -129,28 +129,34 @@ static int fit_and_store(const sf_candidate_inputs *in, const sf_sky_elevation_o
   return status;
 }
 
-static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *out, sf_error *err) {
-  const char *name = sf_sky_form_model_name(form);
-  sf_sky_elevation_options o;
-  sf_sky_elevation_options_default(&o, form);
-  o.elevation_min_rad = asin(fmax(0.0, in->domain.mu_s_min));
-  o.elevation_max_rad = asin(fmin(1.0, in->domain.mu_s_max));
+void sf_candidate_sky_options(const sf_candidate_inputs *in, sf_sky_form form, sf_sky_elevation_options *o,
+                              sf_scene_domain *valid) {
+  sf_sky_elevation_options_default(o, form);
+  o->elevation_min_rad = asin(fmax(0.0, in->domain.mu_s_min));
+  o->elevation_max_rad = asin(fmin(1.0, in->domain.mu_s_max));
   /* --quick: a coarser view grid, the same 19 suns. With 11 the Bezier
    * swung between them: the default tables' Hosek came out at RMSE 0.0081
    * (0.0115 held out) against 0.0015 with 19, worse than the published
    * Hosek's 0.0051, for 0.6 s saved (skyfit fit hosek --grid 8x12) */
   if (in->quick) {
-    o.n_theta = 8;
-    o.n_phi = 12;
+    o->n_theta = 8;
+    o->n_phi = 12;
   }
+  *valid = in->domain;
+  valid->h_min_km = valid->h_max_km = 0.0;
+  valid->mu_min = 0.0;
+  valid->mu_max = 1.0;
+  valid->mu_s_min = sin(o->elevation_min_rad);
+  valid->mu_s_max = sin(o->elevation_max_rad);
+}
+
+static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *out, sf_error *err) {
+  const char *name = sf_sky_form_model_name(form);
+  sf_sky_elevation_options o;
+  sf_scene_domain valid;
+  sf_candidate_sky_options(in, form, &o, &valid);
   o.progress = in->run.progress;
   o.progress_ctx = in->run.progress_ctx;
-  sf_scene_domain valid = in->domain;
-  valid.h_min_km = valid.h_max_km = 0.0;
-  valid.mu_min = 0.0;
-  valid.mu_max = 1.0;
-  valid.mu_s_min = sin(o.elevation_min_rad);
-  valid.mu_s_max = sin(o.elevation_max_rad);
 
   sf_cache_key key;
   sf_cache_key_begin(&key, name, in);

@@ -135,6 +135,13 @@ static int bezier_lsq(int n_e, const double (*bernstein)[SF_BEZIER_POINTS], cons
   return 0;
 }
 
+double sf_sky_fit_elevation(const sf_sky_elevation_options *o, int e, double *x) {
+  double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
+  double x1 = sf_bezier_x_of_elevation(o->elevation_max_rad);
+  *x = x0 + (x1 - x0) * e / (o->n_elevations - 1);
+  return 0.5 * SF_PI * *x * *x * *x;
+}
+
 /* The published skies on the metric grid (fit/published_sky.h): their
  * RMSE and turbidity, NAN where they do not apply. */
 static void baseline_scan(const sf_sky_samples *samples, int n_e, const sf_atmosphere *atm,
@@ -287,11 +294,9 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];   /* per elevation */
   int status = (samples && weights && solved) ? SF_OK
                                               : sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-  double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
-  double x1 = sf_bezier_x_of_elevation(o->elevation_max_rad);
   for (int e = 0; e < n_e && status == SF_OK; ++e) {
-    double x = x0 + (x1 - x0) * e / (n_e - 1);
-    double elev = 0.5 * SF_PI * x * x * x;
+    double x;
+    double elev = sf_sky_fit_elevation(o, e, &x);
     rep->elevation_rad[e] = elev;
     sf_bezier_weights(x, bernstein[e]);
     status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[e], err);

@@ -67,6 +67,9 @@ typedef struct sf_sky_elevation_options {
 } sf_sky_elevation_options;
 
 void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form form);
+/* The e-th of o's n_elevations suns (step 1): equal steps in x = (e /
+ * (pi/2))^(1/3) from elevation_min_rad to elevation_max_rad; *x its x. */
+double sf_sky_fit_elevation(const sf_sky_elevation_options *o, int e, double *x);
 
 typedef struct sf_sky_elevation_report {
   int n_elevations, n_channels, n_samples;   /* n_samples: the fit's */

@@ -33,7 +33,7 @@ int sf_published_sky_fit(const sf_sky_samples *samples, int n_e, const sf_atmosp
                          sf_error *err);
 
 /* The fitted model's radiance per channel for a ground viewer: view zenith
- * angle theta, view-sun angle gamma, sun elevation in [0, pi/2]. */
+ * angle theta, view-sun angle gamma, sun elevation (taken into [0, pi/2]). */
 void sf_published_sky_radiance(const sf_published_sky *p, double theta, double gamma, double elevation_rad,
                                double *out);
 
