@@ -7,13 +7,17 @@
 
 #include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
+#include "cli/interrupt_cleanup.h"
+#include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/size_pair_option.h"
 #include "fit/build_pipeline.h"
+#include "fit/build_staging.h"
 #include "fit/candidate_fitted.h"
 #include "fit/output_norm.h"
 #include "codegen/codegen_file.h"
 #include "models/scene_file.h"
+#include "util/atomic_file.h"
 
 #define MIB (1024LL * 1024)
 
@@ -94,6 +98,94 @@ static int parse_count(const char *command, const char *opt, const char *text, l
   }
   *out = v;
   return 0;
+}
+
+/* The file or folder among OUT's names (files, n of them) that path is,
+ * into own (n_own bytes); NULL if none. */
+static const char *same_as_one_in(const char *path, const char *out_dir, const char *const *names, size_t n,
+                                  char *own, size_t n_own) {
+  for (size_t i = 0; i < n; ++i) {
+    snprintf(own, n_own, "%s/%s", out_dir, names[i]);
+    if (sf_cli_same_file(path, own)) return own;
+  }
+  return NULL;
+}
+
+/* What header k (0: C, 1: GLSL) would overwrite: an input of the run, a
+ * file the build writes itself (report.html, report.md, metrics.json:
+ * fit/build_staging.h), the other header; or the folder of the build's it
+ * would lie in (OUT's weights/, cache/, views/, plots/: *in_folder set).
+ * NULL if none. */
+static const char *header_clash_of(const char *const paths[2], int k, const char *const inputs[3],
+                                   const char *out_dir, char *own, size_t n_own, int *in_folder) {
+  static const char *const own_files[] = {"report.html", "report.md", "metrics.json"};
+  static const char *const own_folders[] = {"weights", "cache", "views", "plots"};
+  *in_folder = 0;
+  for (int i = 0; i < 3; ++i)
+    if (inputs[i] && sf_cli_same_file(paths[k], inputs[i])) return inputs[i];
+  const char *clash = same_as_one_in(paths[k], out_dir, own_files, 3, own, n_own);
+  if (clash) return clash;
+  if (k == 1 && sf_cli_same_file(paths[0], paths[1])) return "the C header";
+  char folder[SF_REPORT_PATH_LEN];
+  const char *slash = strrchr(paths[k], '/');
+  snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - paths[k]) : 1, slash ? paths[k] : ".");
+  clash = same_as_one_in(folder, out_dir, own_folders, 4, own, n_own);
+  *in_folder = clash != NULL;
+  return clash;
+}
+
+/* The headers replace none of the run's inputs and none of the files the
+ * build writes itself (SPEC §11: bad input exits 2 and writes nothing):
+ * `--header-c scene.json` had overwritten the scene, a scene's outputs.c
+ * naming its atmosphere file the atmosphere, and `--header-c
+ * OUT/report.md` had lost the header under the report, each with exit 0.
+ * Returns 0, or 2 with a message. */
+static int header_clash(const char *command, const char *scene_path, const sf_scene *scene,
+                        const sf_build_options *o) {
+  char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
+  sf_error err = {0};
+  if (sf_build_header_paths(scene, o, c_path, glsl_path, sizeof c_path, &err) != SF_OK) {
+    fprintf(stderr, "%s: %s\n", command, err.message);
+    return 2;
+  }
+  const char *paths[2] = {c_path, glsl_path};
+  const char *inputs[3];
+  sf_cli_scene_files(scene_path, NULL, scene, inputs);
+  const char *option[2] = {"the C header", "the GLSL file"};
+  if (scene->output_c[0]) option[0] = "the scene's outputs.c";
+  if (o->header_c) option[0] = "--header-c";
+  if (scene->output_glsl[0]) option[1] = "the scene's outputs.glsl";
+  if (o->header_glsl) option[1] = "--header-glsl";
+  for (int k = 0; k < 2; ++k) {
+    char own[SF_REPORT_PATH_LEN + 64];
+    int in_folder;
+    const char *clash = header_clash_of(paths, k, inputs, o->out_dir, own, sizeof own, &in_folder);
+    if (!clash) continue;
+    fprintf(stderr, "%s: %s %s: %s %s, which the build %s; give another path\n", command, option[k], paths[k],
+            in_folder ? "lies in" : "is the same file as", clash, in_folder ? "writes itself" : "would overwrite");
+    return 2;
+  }
+  return 0;
+}
+
+/* What an interrupted build leaves in OUT and beside its headers
+ * (cli/interrupt_cleanup.h): its staging folder and its temporaries. */
+typedef struct build_leftovers {
+  const char *out_dir;
+  char headers[2][SF_REPORT_PATH_LEN];   /* "" where none is written */
+} build_leftovers;
+
+static void remove_build_leftovers(void *ctx) {
+  const build_leftovers *l = ctx;
+  static const char *const folders[] = {"", "/cache", "/cache/costs", "/cache/fits"};
+  char path[SF_REPORT_PATH_LEN + 32];
+  sf_build_staging_remove_stale(l->out_dir);
+  for (size_t i = 0; i < sizeof folders / sizeof *folders; ++i) {
+    snprintf(path, sizeof path, "%s%s", l->out_dir, folders[i]);
+    sf_atomic_remove_stale_in(path);
+  }
+  for (int k = 0; k < 2; ++k)
+    if (l->headers[k][0]) sf_atomic_remove_stale(l->headers[k]);
 }
 
 int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command) {
@@ -223,6 +315,13 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
     free(scene);
     return 2;
   }
+  if (emit && header_clash(command, scene_path, scene, &o)) {
+    free(scene);
+    return 2;
+  }
+  build_leftovers leftovers = {o.out_dir, {"", ""}};
+  if (emit) sf_build_header_paths(scene, &o, leftovers.headers[0], leftovers.headers[1], sizeof leftovers.headers[0], &err);
+  sf_cli_supervise(remove_build_leftovers, &leftovers);
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !quiet);
   o.tables.run.progress = sf_progress_bar_update;
@@ -251,7 +350,10 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       printf("%s: %s: chose %s%s\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q), res.chosen[q],
              res.meets_budget[q] ? " (meets the budget)" : " (NO model meets the budget: best available)");
     else
-      printf("%s: %s: no model available\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q));
+      printf("%s: %s: no model available%s\n", command, sf_candidate_quantity_name((sf_candidate_quantity)q),
+             q == SF_CANDIDATE_SKY_RADIANCE && sf_atmosphere_scattering_count(&scene->atmosphere) == 0
+                 ? " (no constituent of the atmosphere scatters light: its sky is black)"
+                 : " (the report says why)");
   }
   sf_cli_print_cache_pruned(command, &res.cache, o.cache_limit_bytes);
   if (res.cache_problem[0]) fprintf(stderr, "%s: warning: %s\n", command, res.cache_problem);

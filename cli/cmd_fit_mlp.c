@@ -310,8 +310,7 @@ static int run_sky(int argc, char **argv, int scattering) {
 
   /* network shape */
   int nch = atm->n_channels;
-  int n_single_guess = 0;
-  for (int k = 0; k < atm->n_constituents; ++k) n_single_guess += sf_constituent_scatters(&atm->constituents[k], nch);
+  int n_single_guess = sf_atmosphere_scattering_count(atm);
   if (job.mlp.layers) {
     if (sf_mlp_shape_parse_layers(job.mlp.layers, &t->shape, &err)) goto fail;
   } else {

@@ -6,21 +6,52 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "util/atomic_file.h"
 
-/* path with its folder resolved (realpath) and its last name kept: one
- * spelling for a file that does not exist yet ("d.csv", "./d.csv"); the
- * path itself where the folder does not resolve. */
+/* path made absolute (from the working folder) without its "." and ".."
+ * components and repeated slashes: "./o//sky.h" and "/cwd/o/../o/sky.h"
+ * are "/cwd/o/sky.h". */
+static void absolute_lexical_path(const char *path, char *out, size_t n) {
+  char joined[2 * PATH_MAX];
+  char cwd[PATH_MAX];
+  if (path[0] != '/' && getcwd(cwd, sizeof cwd)) snprintf(joined, sizeof joined, "%s/%s", cwd, path);
+  else snprintf(joined, sizeof joined, "%s", path);
+  size_t len = 0;
+  out[len++] = '/';
+  for (const char *p = joined; *p;) {
+    while (*p == '/') ++p;
+    size_t part = strcspn(p, "/");
+    if (part == 2 && p[0] == '.' && p[1] == '.') {
+      while (len > 1 && out[len - 1] != '/') --len;   /* back over the last name */
+      if (len > 1) --len;                               /* and its slash */
+    } else if (part > 0 && !(part == 1 && p[0] == '.') && len + part + 2 < n) {
+      if (out[len - 1] != '/') out[len++] = '/';
+      memcpy(out + len, p, part);
+      len += part;
+    }
+    p += part;
+  }
+  out[len] = '\0';
+}
+
+/* path with its folder resolved: the deepest existing folder on it through
+ * realpath (links), the rest as written (absolute_lexical_path): one
+ * spelling for a file that does not exist yet ("d.csv", "./d.csv",
+ * "/cwd/out/d.csv" before out/ exists). */
 static void resolved_path(const char *path, char *out, size_t n) {
-  char folder[PATH_MAX], resolved[PATH_MAX];
-  const char *slash = strrchr(path, '/');
-  const char *name = slash ? slash + 1 : path;
-  if (slash == path) snprintf(folder, sizeof folder, "/");
-  else if (slash) snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
-  else snprintf(folder, sizeof folder, ".");
-  if (realpath(folder, resolved)) snprintf(out, n, "%s/%s", strcmp(resolved, "/") ? resolved : "", name);
-  else snprintf(out, n, "%s", path);
+  char lexical[2 * PATH_MAX], folder[2 * PATH_MAX], resolved[PATH_MAX];
+  absolute_lexical_path(path, lexical, sizeof lexical);
+  for (size_t cut = strlen(lexical); cut-- > 0;) {   /* each folder on it, deepest first */
+    if (lexical[cut] != '/') continue;
+    snprintf(folder, sizeof folder, "%.*s", cut ? (int)cut : 1, lexical);
+    if (realpath(folder, resolved)) {
+      snprintf(out, n, "%s%s", strcmp(resolved, "/") ? resolved : "", lexical + cut);
+      return;
+    }
+  }
+  snprintf(out, n, "%s", lexical);
 }
 
 int sf_cli_same_file(const char *a, const char *b) {

@@ -11,6 +11,7 @@
 #include "models/optical_depth_raymarch.h"
 #include "models/optical_depth_spline.h"
 #include "models/optical_depth_taylor.h"
+#include "models/ray_geometry.h"
 #include "models/tangent_sweep.h"
 #include "codegen/baseline_spline.h"
 
@@ -113,9 +114,21 @@ void sf_baseline_depth(const sf_baseline *b, double r, double mu, double t0, dou
 
 void sf_baseline_transmittance(const sf_baseline *b, double h_km, double mu, double t0,
                                double t1, double *transmittance) {
-  double depth[SF_MAX_CONSTITUENTS];
-  sf_baseline_depth(b, b->atmosphere->bottom_radius_km + h_km, mu, t0, t1, depth);
-  sf_transmittance_from_depth(b->atmosphere, depth, transmittance);
+  const sf_atmosphere *atm = b->atmosphere;
+  double depth[SF_MAX_CONSTITUENTS] = {0}, r = atm->bottom_radius_km + h_km;
+  /* A viewer above the top starts where its ray enters, as the emitted
+   * code's skyfit_ray_enter moves it (the sun's cosine is not used). */
+  double t_enter = 0.0, mu_e = mu;
+  if (r > atm->top_radius_km &&
+      (!sf_ray_enter_from_above(r, mu, 1.0, mu, atm->top_radius_km, &t_enter, &mu_e, NULL) || !(t1 > t_enter))) {
+    sf_transmittance_from_depth(atm, depth, transmittance);   /* never enters: T = 1 */
+    return;
+  }
+  if (t_enter > 0.0)
+    sf_baseline_depth(b, atm->top_radius_km, mu_e, fmax(t0 - t_enter, 0.0), t1 - t_enter, depth);
+  else
+    sf_baseline_depth(b, r, mu, t0, t1, depth);
+  sf_transmittance_from_depth(atm, depth, transmittance);
 }
 
 /* ---- emission ------------------------------------------------------------- */
@@ -399,23 +412,23 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   /* A viewer above the top starts where its ray enters (the same ray):
    * from far out, every distance and altitude along the ray would be a
    * small difference of two values of order r^2 (a float32 viewer 1e6 km
-   * away lost the ground by kilometres). Not the flat model, whose
-   * descent (eq. 53) is taken at the viewer itself. */
-  if (b->kind != SF_BASELINE_FLAT) {
-    char ones[64] = "";
-    for (int ch = 0; ch < n; ++ch) strcat(ones, ch ? ", 1.0f" : "1.0f");
-    sf_cw_emit(w,
-               "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
-               "  if (e.w < 0.0f || !(t1 > e.w)) return %C%s);\n"
-               "  if (e.w > 0.0f) {\n"
-               "    h_km = e.x;\n"
-               "    mu = e.y;\n"
-               "    t0 = @max(t0 - e.w, 0.0f);\n"
-               "    t1 = t1 - e.w;\n"
-               "  }\n",
-               atm->bottom_radius_km, atm->top_radius_km - atm->bottom_radius_km, n, ones);
-    sf_cw_need(w, SF_HELPER_RAY_ENTER);
-  }
+   * away lost the ground by kilometres). The flat model too, as seed 000
+   * moves its networks' viewers (§9.6): its descent (eq. 53) is taken at
+   * the viewer, and from a viewer far above the top, where exp(-h/H) is 0,
+   * it had given T = 1 for a column of 8 (seed 000 §12.1.3's failure). */
+  char ones[64] = "";
+  for (int ch = 0; ch < n; ++ch) strcat(ones, ch ? ", 1.0f" : "1.0f");
+  sf_cw_emit(w,
+             "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
+             "  if (e.w < 0.0f || !(t1 > e.w)) return %C%s);\n"
+             "  if (e.w > 0.0f) {\n"
+             "    h_km = e.x;\n"
+             "    mu = e.y;\n"
+             "    t0 = @max(t0 - e.w, 0.0f);\n"
+             "    t1 = t1 - e.w;\n"
+             "  }\n",
+             atm->bottom_radius_km, atm->top_radius_km - atm->bottom_radius_km, n, ones);
+  sf_cw_need(w, SF_HELPER_RAY_ENTER);
   sf_cw_emit(w, "  @vec4 seg = skyfit_air_clip(%F, %F, h_km, mu, t0, t1);\n", atm->bottom_radius_km,
              atm->top_radius_km - atm->bottom_radius_km);
   sf_cw_need(w, SF_HELPER_AIR_CLIP);

@@ -92,10 +92,16 @@ static void header_comment(sf_code_writer *w, const sf_codegen_part *parts, int 
     snprintf(line, sizeof line, "\n *   atmosphere: %s, hash %s\n", buffer, part->atmosphere_hash);
     sf_cw_raw(w, line);
     const sf_scene_domain *d = &part->domain;
-    snprintf(line, sizeof line,
-             " *   domain: h_km [%.9g, %.9g], mu [%.9g, %.9g], mu_s [%.9g, %.9g]\n",
+    snprintf(line, sizeof line, " *   domain: h_km [%.9g, %.9g], mu [%.9g, %.9g], mu_s [%.9g, %.9g]\n",
              d->h_min_km, d->h_max_km, d->mu_min, d->mu_max, d->mu_s_min, d->mu_s_max);
     sf_cw_raw(w, line);
+    if (part->viewer_max_km > d->h_max_km) {
+      snprintf(line, sizeof line,
+               " *     (and viewers above the top, up to the scene's %.9g km: their rays start where they\n"
+               " *     enter, so the error there is the one at the top)\n",
+               part->viewer_max_km);
+      sf_cw_raw(w, line);
+    }
     comment_safe(part->error, buffer, sizeof buffer);
     snprintf(line, sizeof line, " *   measured error: %s\n *   functions:\n", buffer);
     sf_cw_raw(w, line);

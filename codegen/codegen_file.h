@@ -21,6 +21,10 @@ typedef struct sf_codegen_part {
   char atmosphere_name[96];
   char atmosphere_hash[17];
   sf_scene_domain domain;
+  /* The scene's highest viewer where it lies above domain.h_max_km (the
+   * top of the atmosphere: the models start such a viewer's ray where it
+   * enters, so their errors are those at the top); 0: none. */
+  double viewer_max_km;
   char error[SF_CODEGEN_TEXT_LEN];    /* the measured error, one line */
   /* Writes the model's functions into w. */
   void (*emit)(sf_code_writer *w, const void *model);

@@ -1,5 +1,6 @@
 #include "data/table_set.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -225,6 +226,25 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   }
   sf_scattering_setup_free(&setup);
 
+  /* Finite numbers of float32 only, before anything is stored: a
+   * scattering coefficient of 1e12 per km or a sun of 1e39 passes the
+   * atmosphere file's checks, and its tables had held NaN or inf: `eval
+   * sky_radiance` printed -nan with exit 0, `sample` wrote the
+   * transmittance table and then failed (exit 1). */
+  for (int t = 0; t < n && status == SF_OK; ++t) {
+    if (set->from_cache[t]) continue;
+    const sf_table *table = set->tables[t];
+    size_t count = (size_t)sf_table_desc_points(&table->desc) * (size_t)table->desc.n_channels;
+    for (size_t i = 0; i < count; ++i)
+      if (!isfinite(table->data[i])) {
+        status = sf_fail(err, SF_ERR_INPUT,
+                         "atmosphere %s: its %s table holds %g (channel %s): its coefficients or sun irradiance "
+                         "are too large for tables of float32 numbers",
+                         atm->name, table->desc.quantity, (double)table->data[i],
+                         table->desc.channel_names[i % (size_t)table->desc.n_channels]);
+        break;
+      }
+  }
   for (int t = 0; t < n && status == SF_OK && o->cache_dir; ++t) {
     if (set->from_cache[t]) continue;
     status = sf_table_cache_store(o->cache_dir, set->tables[t], err);

@@ -25,6 +25,7 @@
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
 #include "util/clock.h"
+#include "util/signal_defer.h"
 
 void sf_build_options_default(sf_build_options *o) {
   memset(o, 0, sizeof *o);
@@ -40,8 +41,8 @@ void sf_build_options_default(sf_build_options *o) {
 
 /* The scene's outputs (SPEC §5), exactly as named, or OUT/sky.h and
  * OUT/sky.glsl. */
-static int output_paths(const sf_scene *scene, const sf_build_options *o, char *c_path, char *glsl_path, size_t n,
-                        sf_error *err) {
+int sf_build_header_paths(const sf_scene *scene, const sf_build_options *o, char *c_path, char *glsl_path, size_t n,
+                          sf_error *err) {
   int c = o->header_c           ? snprintf(c_path, n, "%s", o->header_c)
           : scene->output_c[0] ? snprintf(c_path, n, "%s", scene->output_c)
                                : snprintf(c_path, n, "%s/sky.h", o->out_dir);
@@ -64,6 +65,7 @@ static void model_part(const sf_report *rep, const sf_scene *scene, const sf_rep
   snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
   snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
   p->domain = rep->domain;
+  p->viewer_max_km = scene->viewer_altitude_km[1];
   snprintf(p->error, sizeof p->error, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
            m->errors.rmse, m->errors.max_abs, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
            m->meets_budget ? "" : " (does NOT meet the scene's budget)");
@@ -113,7 +115,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
       snprintf(alias.transmittance, sizeof alias.transmittance, "%s", c->emit_name);
     } else {
       snprintf(alias.sky_radiance, sizeof alias.sky_radiance, "%s", c->emit_name);
-      alias.sky_takes_altitude = !(c->valid.h_min_km == 0.0 && c->valid.h_max_km == 0.0);
+      alias.sky_takes_altitude = !c->emit_ground_viewer;
     }
   }
   /* The sky network's segment function (eq. 44) takes the transmittance
@@ -170,6 +172,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     snprintf(p->atmosphere_name, sizeof p->atmosphere_name, "%s", scene->atmosphere.name);
     snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
     p->domain = rep->domain;
+    p->viewer_max_km = scene->viewer_altitude_km[1];
     snprintf(p->error, sizeof p->error, "that of the models above");
     p->emit = sf_emit_selection_alias;
     p->model = &alias;
@@ -189,7 +192,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     ++n;
   }
   if (n == 0) return SF_OK;
-  int status = output_paths(scene, o, res->header_c, res->header_glsl, sizeof res->header_c, err);
+  int status = sf_build_header_paths(scene, o, res->header_c, res->header_glsl, sizeof res->header_c, err);
   if (status == SF_OK) status = sf_codegen_prepare_files(parts, n, res->header_c, res->header_glsl, o->prefix, headers, err);
   sf_fitted_free(spectral4_model);
   sf_weights_free(&spectral4_weights);
@@ -341,7 +344,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
    * is created: a scene naming a missing folder, or a folder where the
    * report goes, fails now, not after the fits. */
   char c_path[SF_REPORT_PATH_LEN], glsl_path[SF_REPORT_PATH_LEN];
-  if ((o->emit && (output_paths(scene, o, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
+  if ((o->emit && (sf_build_header_paths(scene, o, c_path, glsl_path, sizeof c_path, err) != SF_OK ||
                    sf_codegen_check_files(c_path, glsl_path, err) != SF_OK)) ||
       sf_build_staging_check_out(o->out_dir, err) != SF_OK) {
     if (!out_existed) rmdir(o->out_dir);
@@ -482,8 +485,11 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   /* Everything written: the headers and the staged outputs into place
    * together; otherwise none of them, the previous outputs untouched. */
   if (status == SF_OK) status = sf_build_staging_check(&stage, err);
+  sf_signal_defer burst;   /* a Ctrl-C lands after the renames, not between them */
+  sf_signal_defer_begin(&burst);
   if (status == SF_OK) status = sf_codegen_commit_files(&headers, err);
   if (status == SF_OK) status = sf_build_staging_publish(&stage, err);
+  sf_signal_defer_end(&burst);
   sf_codegen_abort_files(&headers);
   sf_build_staging_discard(&stage);
   if (status == SF_OK) {

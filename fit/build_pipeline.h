@@ -74,6 +74,11 @@ void sf_build_table_options(const sf_scene *scene, const sf_scene_domain *domain
                             const sf_table_set_options *base, const char *cache_dir,
                             sf_table_set_options *out);
 
+/* Where the build writes its headers: o->header_c / o->header_glsl, else
+ * the scene's outputs, else OUT/sky.h and OUT/sky.glsl. */
+int sf_build_header_paths(const sf_scene *scene, const sf_build_options *o, char *c_path, char *glsl_path, size_t n,
+                          sf_error *err);
+
 int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_result *res, sf_error *err);
 
 #endif

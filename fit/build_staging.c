@@ -42,7 +42,7 @@ static void remove_tree(const char *path, int depth) {
 }
 
 /* Staging folders of processes that no longer exist. */
-static void remove_stale(const char *out_dir) {
+void sf_build_staging_remove_stale(const char *out_dir) {
   DIR *d = opendir(out_dir);
   if (!d) return;
   size_t prefix = strlen(STAGING_PREFIX);
@@ -84,7 +84,7 @@ int sf_build_staging_open(sf_build_staging *s, const char *out_dir, sf_error *er
   int w2 = snprintf(s->dir, sizeof s->dir, "%s/" STAGING_PREFIX "%ld", out_dir, (long)getpid());
   if (w1 < 0 || (size_t)w1 >= sizeof s->out_dir || w2 < 0 || (size_t)w2 >= sizeof s->dir)
     return sf_fail(err, SF_ERR_INPUT, "%s: output folder path too long", out_dir);
-  remove_stale(out_dir);
+  sf_build_staging_remove_stale(out_dir);
   remove_tree(s->dir, 0);   /* a folder of this PID's earlier life */
   if (mkdir(s->dir, 0777) != 0)
     return sf_fail(err, SF_ERR_INPUT, "%s: cannot create the staging folder: %s", s->dir, strerror(errno));

@@ -24,6 +24,10 @@ typedef struct sf_build_staging {
  * the work; the publish checks every path again. */
 int sf_build_staging_check_out(const char *out_dir, sf_error *err);
 
+/* Removes the staging folders in out_dir of processes that no longer
+ * exist (cli/interrupt_cleanup.h calls it for an interrupted build). */
+void sf_build_staging_remove_stale(const char *out_dir);
+
 /* Removes stale staging folders in out_dir (which exists) and creates this
  * process's. */
 int sf_build_staging_open(sf_build_staging *s, const char *out_dir, sf_error *err);

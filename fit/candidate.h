@@ -74,6 +74,11 @@ typedef struct sf_candidate {
   char emit_name[48];
   void (*emit)(struct sf_code_writer *w, const void *model);
   const void *emit_model;
+  /* The emitted sky function is skyfit_<emit_name>_sky_radiance(mu, mu_s,
+   * nu), a viewer on the ground (Preetham, Hosek); 0: it takes h_km first
+   * (the network). A property of the code, not of the valid domain: a
+   * network fitted to a ground-only scene still takes h_km. */
+  int emit_ground_viewer;
   /* Weights file written by its fitter ("" for none). */
   char weights_path[4096];
   sf_candidate_eval_fn eval;             /* required */

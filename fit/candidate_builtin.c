@@ -144,8 +144,11 @@ static void baseline_eval(const void *ctx, const double *in, double *out) {
   const baseline_ctx *b = ctx;
   sf_view_ray ray;
   const char *why = NULL;
-  double depth[SF_MAX_CONSTITUENTS] = {0};
-  if (sf_view_ray_make(b->atm, in[0], in[1], SF_RAY_END_NEAREST, -1.0, &ray, &why) == 0 &&
+  double depth[SF_MAX_CONSTITUENTS] = {0}, mu_s_entry;
+  /* a viewer above the top from where its ray enters, as the emitted code
+   * (codegen/baselines.c): the flat model's descent is taken there */
+  if (sf_view_ray_make_at_entry(b->atm, in[0], in[1], 1.0, in[1], SF_RAY_END_NEAREST, -1.0, &ray, &mu_s_entry,
+                                &why) == 0 &&
       ray.t1 > ray.t0)
     baseline_depth(b, &ray, depth);
   sf_transmittance_from_depth(b->atm, depth, out);
@@ -209,6 +212,25 @@ static void fill_float_copy(baseline_ctx *b) {
   }
 }
 
+/* name, label and description, in sf_transmittance_baseline's order */
+static const char *const baseline_texts[][3] = {
+    {"naive", "Naive raymarch",
+     "Midpoint rule with equal steps along the ray for every constituent (seed 000 §11.2.6); the cost unit of "
+     "the report."},
+    {"chapman", "Schuler's Chapman approximation",
+     "Schuler 2012 Chapman-function approximation per exponential constituent (seed 000 eq. 22-25); other "
+     "constituents as a constant shell (seed 000 eq. 59)."},
+    {"taylor", "Galaj's Taylor transmittance",
+     "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); other constituents as "
+     "a constant shell (seed 000 eq. 59)."},
+    {"flat", "Leenman's flat model",
+     "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53); ozone as a constant-density "
+     "shell (eq. 59)."},
+    {"spline", "Galaj's spline transmittance",
+     "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region (seed 002 "
+     "IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59)."},
+};
+
 static void emit_baseline(struct sf_code_writer *w, const void *model) { sf_emit_baseline(w, model); }
 
 static long baseline_constants(const sf_atmosphere *atm, const baseline_ctx *b) {
@@ -242,8 +264,8 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
     n_exp += sf_constituent_exponential(&atm->constituents[c], &H, &d0);
   }
   if (kind != SF_TB_NAIVE && n_exp == 0)
-    return sf_fail(err, SF_ERR_INPUT, "the analytic optical depths need an exponential constituent; %s has none",
-                   atm->name);
+    return sf_fail(err, SF_ERR_INPUT, "%s (%s): the analytic optical depths need an exponential constituent; %s has none",
+                   baseline_texts[kind][0], baseline_texts[kind][1], atm->name);
   baseline_ctx *b = calloc(1, sizeof *b);
   if (!b) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   b->atm = atm;
@@ -256,33 +278,15 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
     return sf_fail(err, SF_ERR_INTERNAL, "spline baseline: out of memory");
   }
   fill_float_copy(b);
-  /* name, label and description, in sf_transmittance_baseline's order */
-  static const char *const texts[][3] = {
-      {"naive", "Naive raymarch",
-       "Midpoint rule with equal steps along the ray for every constituent (seed 000 §11.2.6); the cost unit of "
-       "the report."},
-      {"chapman", "Schuler's Chapman approximation",
-       "Schuler 2012 Chapman-function approximation per exponential constituent (seed 000 eq. 22-25); other "
-       "constituents as a constant shell (seed 000 eq. 59)."},
-      {"taylor", "Galaj's Taylor transmittance",
-       "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); other constituents as "
-       "a constant shell (seed 000 eq. 59)."},
-      {"flat", "Leenman's flat model",
-       "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53); ozone as a constant-density "
-       "shell (eq. 59)."},
-      {"spline", "Galaj's spline transmittance",
-       "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region (seed 002 "
-       "IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59)."},
-  };
   char name[48], label[96];
   if (kind == SF_TB_NAIVE) {
     snprintf(name, sizeof name, "naive%d", steps);
     snprintf(label, sizeof label, "Naive raymarch, %d steps", steps);
   } else {
-    snprintf(name, sizeof name, "%s", texts[kind][0]);
-    snprintf(label, sizeof label, "%s", texts[kind][1]);
+    snprintf(name, sizeof name, "%s", baseline_texts[kind][0]);
+    snprintf(label, sizeof label, "%s", baseline_texts[kind][1]);
   }
-  const char *what = texts[kind][2];
+  const char *what = baseline_texts[kind][2];
   sf_candidate_init(out, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_BASELINE, name, label);
   snprintf(out->description, sizeof out->description, "%s", what);
   static const sf_baseline_kind emitted_kind[] = {SF_BASELINE_NAIVE, SF_BASELINE_CHAPMAN, SF_BASELINE_TAYLOR,

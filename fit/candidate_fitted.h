@@ -30,6 +30,13 @@
  * --mlp-restarts N does (fit/build_pipeline.c). */
 #define SF_BUILD_RESTART_MAX_MISS 3.0
 
+/* 1 if the build made the sky-radiance tables with a single-scattering
+ * table to fit (fit/candidate_registry.c); else 0 and why, for the sky
+ * factories' applies: an atmosphere whose constituents only absorb has a
+ * black sky, and saying "the tables were not made" sent its user looking
+ * for a missing option. */
+int sf_candidate_sky_tables_ready(const sf_candidate_inputs *in, char *why, size_t why_len);
+
 /* Sigmoid-polynomial transmittance (SPEC §7.1): fit/fit_sigmoid.h. */
 int sf_candidate_applies_sigmoid(const sf_candidate_inputs *in, char *why, size_t why_len);
 int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, sf_error *err);

@@ -73,10 +73,7 @@ int sf_candidate_applies_mlp_transmittance(const sf_candidate_inputs *in, char *
   return applies(in, "mlp-transmittance", why, why_len);
 }
 int sf_candidate_applies_mlp_scattering(const sf_candidate_inputs *in, char *why, size_t why_len) {
-  if (!in->sky || in->tables->n_single < 1) {
-    snprintf(why, why_len, "mlp-scattering trains on the scattering tables, which this build has not made");
-    return 0;
-  }
+  if (!sf_candidate_sky_tables_ready(in, why, why_len)) return 0;
   return applies(in, "mlp-scattering", why, why_len);
 }
 

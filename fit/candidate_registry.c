@@ -39,6 +39,21 @@ static void say(sf_candidate_note_fn note, void *ctx, const char *fmt, const cha
   note(ctx, text);
 }
 
+int sf_candidate_sky_tables_ready(const sf_candidate_inputs *in, char *why, size_t why_len) {
+  if (sf_atmosphere_scattering_count(in->atm) == 0) {
+    snprintf(why, why_len,
+             "no constituent of %s scatters light (every scattering coefficient is 0): its sky radiance is 0 "
+             "everywhere, and there is nothing to fit",
+             in->atm->name);
+    return 0;
+  }
+  if (!in->sky || !in->tables || in->tables->n_single < 1) {
+    snprintf(why, why_len, "it is fitted to the sky-radiance tables, which this build has not made");
+    return 0;
+  }
+  return 1;
+}
+
 /* Every registered factory of quantity q that applies (only the
  * restartable ones if restartable_only), made and added to list. */
 static int make_fitted(const sf_candidate_inputs *in, sf_candidate_quantity q, int restartable_only,

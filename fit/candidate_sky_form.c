@@ -80,10 +80,7 @@ static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sky(w, m
 
 static int applies(const sf_candidate_inputs *in, sf_sky_form form, char *why, size_t why_len) {
   const char *name = sf_sky_form_model_name(form);
-  if (!in->sky || !in->tables || in->tables->n_single < 1) {
-    snprintf(why, why_len, "%s is fitted to the sky-radiance tables, which this build has not made", name);
-    return 0;
-  }
+  if (!sf_candidate_sky_tables_ready(in, why, why_len)) return 0;
   if (in->domain.h_min_km > 0.0) {
     snprintf(why, why_len, "%s models a viewer on the ground; the scene's lowest viewer is at %g km", name,
              in->domain.h_min_km);
@@ -230,6 +227,7 @@ int sf_candidate_of_sky_model(const sf_elevation_sky_model *m, const sf_scene_do
   snprintf(out->emit_name, sizeof out->emit_name, "%s", sf_sky_form_model_name(m->form));
   out->emit = emit;
   out->emit_model = &s->model;
+  out->emit_ground_viewer = 1;
   out->eval = sky_form_eval;
   out->eval_f32 = sky_form_eval_f32;
   out->ctx = s;

@@ -36,6 +36,12 @@ int sf_constituent_scatters(const sf_constituent *c, int n_channels) {
   return 0;
 }
 
+int sf_atmosphere_scattering_count(const sf_atmosphere *atm) {
+  int n = 0;
+  for (int i = 0; i < atm->n_constituents; ++i) n += sf_constituent_scatters(&atm->constituents[i], atm->n_channels);
+  return n;
+}
+
 int sf_atmosphere_find(const sf_atmosphere *atm, const char *name) {
   for (int i = 0; i < atm->n_constituents; ++i)
     if (strcmp(atm->constituents[i].name, name) == 0) return i;

@@ -79,6 +79,9 @@ static inline double sf_extinction(const sf_atmosphere *atm, int i, int ch) {
 }
 /* True if constituent i scatters light in any channel. */
 int sf_constituent_scatters(const sf_constituent *c, int n_channels);
+/* The number of constituents that scatter light: 0 for an atmosphere that
+ * only absorbs (a black sky). */
+int sf_atmosphere_scattering_count(const sf_atmosphere *atm);
 /* Index of the constituent called name, or -1. */
 int sf_atmosphere_find(const sf_atmosphere *atm, const char *name);
 

@@ -29,8 +29,8 @@ int sf_view_ray_make(const sf_atmosphere *atm, double h_km, double mu, sf_ray_en
  * sun's cosine at the ray's start (mu_s itself for a viewer inside). On the
  * viewer's own ray the points of a ray from 1e9 km are r^2 + t (t + 2 r mu)
  * with r^2 and t^2 cancelling: the reference's values there had come out
- * 0, 2e-282 or 100 for a column of 8. For the reference; a model taken at
- * the viewer (the flat baseline) keeps sf_view_ray_make. */
+ * 0, 2e-282 or 100 for a column of 8. For the reference, and the
+ * baselines (whose emitted code moves the viewer the same way). */
 int sf_view_ray_make_at_entry(const sf_atmosphere *atm, double h_km, double mu, double mu_s, double nu,
                               sf_ray_end end, double distance, sf_view_ray *out, double *mu_s_out,
                               const char **why);

@@ -1,6 +1,7 @@
 /* The weights file (SPEC §8): writing and validated reading. */
 #include "models/weights_file.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -223,12 +224,18 @@ static int read_inputs(const sf_json_ctx *c, const cJSON *root, sf_weights *w) {
   return SF_OK;
 }
 
-/* Shape of a number or rectangular nested array of finite numbers. */
+/* Shape of a number or rectangular nested array of finite numbers within
+ * float32's range: the emitted code holds them as float32 (SPEC §8), and a
+ * weight of 1e300 had loaded, evaluated and passed `fit sigmoid --check`,
+ * then stopped `skyfit codegen` with a message naming no file nor key. */
 static int array_shape(const sf_json_ctx *c, const cJSON *v, const char *path, int depth, int *n_dims,
                        int *shape) {
   if (cJSON_IsNumber(v)) {
     double x;
     if (sf_json_read_finite(c, v, path, &x)) return SF_ERR_INPUT;
+    if (isinf((float)x))   /* rounds beyond FLT_MAX */
+      return sf_json_fail(c, path, "%.17g is beyond float32's range (%.9g), which the emitted code holds", x,
+                          (double)FLT_MAX);
     *n_dims = 0;
     return SF_OK;
   }

@@ -218,5 +218,42 @@ leftovers=$(find "$tmp/blocked" -name '.staging.*' -o -name '*.tmp.*' | wc -l)
 echo "publish blocked by views/$picture/: exit $rc ($(tail -1 "$tmp/log")); $changed previous outputs changed, $leftovers leftovers"
 [ $rc -eq 2 ] && [ $changed -eq 0 ] && [ "$leftovers" -eq 0 ] || fail "a blocked publish changed the previous outputs"
 
+# Ctrl-C, SIGTERM (what timeout and CI send) and SIGHUP can be handled:
+# the build then leaves neither its staging folder nor a temporary, the
+# previous outputs untouched, and ends by that signal
+# (cli/interrupt_cleanup.h). They had left .staging.PID/ and, in the
+# cache, the table being written.
+# Even trials wait for the staging folder to exist (the run is then past
+# its tables), so that signals do land whatever the machine's speed.
+landed=0
+for k in 1 2 3 4 5 6; do
+  sig=INT; [ $((k % 3)) -eq 1 ] && sig=TERM; [ $((k % 3)) -eq 2 ] && sig=HUP
+  u=$(( (RANDOM * 32768 + RANDOM) % 1000 ))
+  delay_ms=$(( run_ms * u / 1000 ))
+  [ $((k % 2)) -eq 0 ] && delay_ms=0
+  rm -rf "$D"; cp -a "$tmp/start" "$D"
+  # (a background job ignores SIGINT unless told otherwise, as Ctrl-C's
+  # foreground job does not)
+  env --default-signal=INT "$BIN" build "$tmp/scene.json" --out "$D" "${common[@]}" "${new_args[@]}" >"$tmp/log" 2>&1 &
+  pid=$!
+  sleep "$(awk -v m="$delay_ms" 'BEGIN { printf "%.3f", m / 1000 }')"
+  if [ $((k % 2)) -eq 0 ]; then
+    while kill -0 "$pid" 2>/dev/null && [ -z "$(find "$D" -maxdepth 1 -name '.staging.*' -print -quit)" ]; do :; done
+  fi
+  kill -s $sig "$pid" 2>/dev/null
+  rc=0
+  wait "$pid" 2>/dev/null || rc=$?
+  pid=
+  want=$((128 + $(kill -l $sig)))
+  [ $rc -eq $want ] && landed=$((landed + 1))
+  [ $rc -eq 0 ] || [ $rc -eq $want ] || fail "SIG$sig after $delay_ms ms: exit $rc (want $want, or 0 if it finished first)"
+  check_state "SIG$sig $k (after $delay_ms ms of ~$run_ms, exit $rc)"
+  leftovers=$(find "$D" -name '.staging.*' -o -name '*.tmp.*' | wc -l)
+  [ "$leftovers" -eq 0 ] || fail "SIG$sig $k: $leftovers staging folders or temporaries left: $(find "$D" -name '.staging.*' -o -name '*.tmp.*' | head -3)"
+done
+echo "$landed of 6 signals stopped a run (the others came after it had finished)"
+[ "$landed" -ge 1 ] || fail "no signal stopped a run"
+rerun_check "interrupts"
+
 echo "$failures failed"
 [ $failures -eq 0 ]

@@ -461,5 +461,15 @@ expect_error "--to top through the ground" "$(cat "$TMP/all.csv")" "row [0-9]+: 
 expect_error "sky radiance without mu_s" "$(cat "$TMP/all.csv")" "missing column 'mu_s'" \
   sky_radiance --model "$W/mlp-scattering.json"
 
+# Coefficients the atmosphere file accepts but float32 tables cannot hold
+# (a scattering coefficient of 1e12 per km): the tables are refused, exit
+# 2, before anything is printed. `eval sky_radiance` had printed -nan with
+# exit 0.
+printf '{"base": "default", "constituents": [{"name": "rayleigh", "scattering": [1e12, 1e12, 1e12]}]}\n' \
+  > "$TMP/huge.json"
+expect_error "tables holding NaN" "$(printf 'h_km,mu,mu_s,nu\n1,0.5,0.5,0.9\n')" \
+  "its single_rayleigh table holds .*too large for tables of float32" \
+  sky_radiance --atmosphere "$TMP/huge.json" --resolution 32x16,8x16x8x4
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

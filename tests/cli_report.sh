@@ -207,22 +207,42 @@ rc=$?
 grep "chose" "$tmp/ground.out"
 [ $rc -eq 0 ] && grep -Eq "sky_radiance: chose (preetham|hosek) \(meets the budget\)" "$tmp/ground.out" \
   || { echo "FAIL ground scene: Preetham/Hosek should win"; cat "$tmp/ground.out"; fail=1; }
+# stable_sky_name LABEL DIR CALL: DIR/sky.h, with a call of
+# skyfit_sky_radiance, compiles without warnings as C99 and C++17, and
+# DIR/sky.glsl with glslangValidator; sky.h holds the line CALL (the
+# selected model reached).
+stable_sky_name() {
+  local label=$1 dir=$2 call=$3
+  printf '#include "sky.h"\nfloat g(void) { return skyfit_sky_radiance(0.0f, 0.5f, 0.7f, 0.6f).y; }\n' > "$dir/use.c"
+  cc -std=c99 -Wall -Wextra -Werror -pedantic -I"$dir" -c "$dir/use.c" -o "$dir/use.o" &&
+    g++ -std=c++17 -Wall -Wextra -Werror -pedantic -x c++ -I"$dir" -c "$dir/use.c" -o "$dir/use2.o" &&
+    grep -Eq "$call" "$dir/sky.h" ||
+    { echo "FAIL $label: skyfit_sky_radiance does not compile or does not call the selected model"; fail=1; }
+  if command -v glslangValidator >/dev/null; then
+    { printf '#version 450\nlayout(location = 0) out vec4 c;\n'; cat "$dir/sky.glsl";
+      printf 'void main() { c = vec4(skyfit_sky_radiance(0.0, 0.5, 0.7, 0.6), 1.0); }\n'; } > "$dir/use.frag"
+    glslangValidator "$dir/use.frag" > "$dir/glsl.log" 2>&1 ||
+      { echo "FAIL $label: the GLSL with skyfit_sky_radiance does not compile"; cat "$dir/glsl.log"; fail=1; }
+  else
+    echo "FAIL glslangValidator is not installed (scripts/setup.sh installs it)"; fail=1
+  fi
+}
 # The stable name of the selected ground model (f(mu, mu_s, nu)) takes and
-# ignores h_km: the header compiles without warnings as C99 and C++17, the
-# GLSL with glslangValidator, and a call reaches the selected model.
-printf '#include "sky.h"\nfloat g(void) { return skyfit_sky_radiance(0.0f, 0.5f, 0.7f, 0.6f).y; }\n' > "$tmp/ground/use.c"
-cc -std=c99 -Wall -Wextra -Werror -pedantic -I"$tmp/ground" -c "$tmp/ground/use.c" -o "$tmp/ground/use.o" &&
-  g++ -std=c++17 -Wall -Wextra -Werror -pedantic -x c++ -I"$tmp/ground" -c "$tmp/ground/use.c" -o "$tmp/ground/use2.o" &&
-  grep -Eq "return skyfit_(preetham|hosek)_sky_radiance\(mu, mu_s, nu\);" "$tmp/ground/sky.h" ||
-  { echo "FAIL ground scene: skyfit_sky_radiance does not compile or does not call the selected model"; fail=1; }
-if command -v glslangValidator >/dev/null; then
-  { printf '#version 450\nlayout(location = 0) out vec4 c;\n'; cat "$tmp/ground/sky.glsl";
-    printf 'void main() { c = vec4(skyfit_sky_radiance(0.0, 0.5, 0.7, 0.6), 1.0); }\n'; } > "$tmp/ground/use.frag"
-  glslangValidator "$tmp/ground/use.frag" > "$tmp/ground/glsl.log" 2>&1 ||
-    { echo "FAIL ground scene: the GLSL with skyfit_sky_radiance does not compile"; cat "$tmp/ground/glsl.log"; fail=1; }
-else
-  echo "FAIL glslangValidator is not installed (scripts/setup.sh installs it)"; fail=1
-fi
+# ignores h_km.
+stable_sky_name "ground scene" "$tmp/ground" "return skyfit_(preetham|hosek)_sky_radiance\(mu, mu_s, nu\);"
+# A ground scene whose sun sets (-10 deg): Preetham and Hosek need the sun
+# up, so the network is selected, and its stable name passes h_km on. The
+# alias had followed the valid domain (ground only) instead of the model's
+# code, and called skyfit_mlp_sky_radiance(mu, mu_s, nu): neither header
+# compiled, and the build said nothing.
+mkdir -p "$tmp/dusk"
+sed -e 's/"sun_elevation_deg": \[0, 90\]/"sun_elevation_deg": [-10, 90]/' \
+  -e 's/"sky_radiance_rel_rmse": 0.1/"sky_radiance_rel_rmse": 1e6/' "$src/examples/scenes/ground.json" > "$tmp/dusk/scene.json"
+grep -q '\[-10, 90\]' "$tmp/dusk/scene.json" || { echo "FAIL the dusk scene was not written"; fail=1; }
+"$bin" build "$tmp/dusk/scene.json" "${tiny[@]}" --out "$tmp/dusk/out" > "$tmp/dusk.out" 2>&1 &&
+  grep -q "sky_radiance: chose mlp-scattering" "$tmp/dusk.out" ||
+  { echo "FAIL dusk ground scene: the network should be chosen"; cat "$tmp/dusk.out"; fail=1; }
+stable_sky_name "dusk ground scene" "$tmp/dusk/out" "return skyfit_mlp_sky_radiance\(h_km, mu, mu_s, nu\);"
 grep -q '"normalise":[[:space:]]*"none"' "$tmp/ground/weights/mlp-scattering.json" &&
   ! grep -q '"norm_coef"' "$tmp/ground/weights/mlp-scattering.json" ||
   { echo "FAIL ground scene: --mlp-normalise none still normalised the sky network"; fail=1; }
@@ -601,5 +621,53 @@ met = doc["selection"]["transmittance"]["meets_budget"]
 assert met or "mlp-transmittance-3" in by, f"FAIL budget still missed after restart 2 and no restart 3: {sorted(by)}"
 print("budget RMSE/2: restarts " + ", ".join(f"{n} {by[n]['errors']['rmse']:.4g}" for n in sorted(by) if n.startswith("mlp-")))
 PY
+# Headers that would replace an input or a file the build writes itself
+# are refused before any work, exit 2, the inputs untouched: they had
+# overwritten the scene (exit 0), or been lost under the report.
+mkdir -p "$tmp/clash"
+cp "$src/examples/scenes/ground.json" "$tmp/clash/scene.json"
+cp "$tmp/clash/scene.json" "$tmp/clash/scene.orig"
+printf '{"base": "default"}\n' > "$tmp/clash/air.json"
+sed 's/"view"/"atmosphere": "air.json", "outputs": {"c": "air.json", "glsl": "sky.glsl"}, "view"/' \
+  "$tmp/clash/scene.json" > "$tmp/clash/scene-air.json"
+for args in "scene.json --header-c scene.json" "scene.json --header-glsl ./scene.json" \
+            "scene.json --header-c out/report.md" "scene.json --header-glsl out/metrics.json" \
+            "scene.json --header-c out/weights/sky.h" "scene.json --header-c out/x.h --header-glsl ./out//x.h" \
+            "scene.json --header-c $tmp/clash/out/report.md" "scene.json --header-c out/../out/metrics.json" \
+            "scene.json --header-glsl ../clash/scene.json" "scene-air.json"; do
+  read -r -a a <<<"$args"
+  (cd "$tmp/clash" && "$bin" build "${a[@]}" "${tiny[@]}" --out out > /dev/null 2> err)
+  rc=$?
+  [ $rc -eq 2 ] && grep -q "give another path" "$tmp/clash/err" && [ ! -e "$tmp/clash/out" ] &&
+    cmp -s "$tmp/clash/scene.json" "$tmp/clash/scene.orig" && grep -q base "$tmp/clash/air.json" ||
+    { echo "FAIL build $args: exit $rc, or something written"; cat "$tmp/clash/err"; fail=1; }
+done
+# An atmosphere that only absorbs (ozone alone) has a black sky: the build
+# says so, for the sky models and on its summary line, instead of "the
+# tables were not made" (they were); each skipped baseline is named; the
+# reference check names no worst point (it had printed "channel .").
+mkdir -p "$tmp/black"
+cat > "$tmp/black/atmosphere.json" <<'EOF'
+{"name": "absorber-only", "bottom_radius_km": 6360, "top_radius_km": 6460, "channels": "rgb",
+ "constituents": [{"name": "ozone", "scattering": [0, 0, 0], "absorption": [0.650e-3, 1.881e-3, 0.085e-3],
+   "density": [{"width_km": 25, "linear_per_km": 0.0666667, "constant": -0.6666667},
+               {"width_km": 0, "linear_per_km": -0.0666667, "constant": 2.6666667}]}]}
+EOF
+cat > "$tmp/black/scene.json" <<'EOF'
+{"name": "black-sky", "atmosphere": "atmosphere.json", "viewer_altitude_km": [0, 15], "view": "all",
+ "sun_elevation_deg": [-10, 90], "quantities": ["sky_radiance", "transmittance"], "color": "rgb",
+ "error_budget": {"transmittance_rmse": 1e-2, "sky_radiance_rel_rmse": 0.1}}
+EOF
+loud=()
+for a in "${tiny[@]}"; do [ "$a" = --quiet ] || loud+=("$a"); done
+"$bin" build "$tmp/black/scene.json" "${loud[@]}" --out "$tmp/black/out" > "$tmp/black.out" 2>&1 ||
+  { echo "FAIL black-sky build exited non-zero"; cat "$tmp/black.out"; fail=1; }
+grep -q "sky_radiance: no model available (no constituent of the atmosphere scatters light: its sky is black)" "$tmp/black.out" &&
+  [ "$(grep -c "not fitted: no constituent of absorber-only scatters light" "$tmp/black.out")" -eq 5 ] &&
+  ! grep -q "which this build has not made" "$tmp/black.out" &&
+  grep -q "baseline skipped: chapman (" "$tmp/black.out" && grep -q "baseline skipped: spline (" "$tmp/black.out" &&
+  grep -q "Reference check: .*equal at every point" "$tmp/black/out/report.md" &&
+  ! grep -q "channel \." "$tmp/black/out/report.md" ||
+  { echo "FAIL black-sky build: its messages"; cat "$tmp/black.out"; grep "Reference check" "$tmp/black/out/report.md"; fail=1; }
 [ $fail -eq 0 ] && echo "all checks passed"
 exit $fail

@@ -124,6 +124,35 @@ static void check_candidate(const sf_candidate *c, const sf_atmosphere *atm, con
       }
       ++n;
     }
+  /* A viewer outside the atmosphere sees what a viewer where its ray
+   * enters sees: the same ray. Straight down from 1000 km to 1e9 km, and
+   * from 1000 and 10,000 km on rays through 30 km at their closest and
+   * onto the ground (farther, float32 cannot hold such a ray's cosine),
+   * against the candidate's double at the entry point. The flat model had
+   * taken its descent (eq. 53) at the far viewer: T = 1 from 1e9 km
+   * straight down, for 0.94. */
+  double worst_far = 0.0, worst_far_emitted = 0.0;
+  const double R = atm->bottom_radius_km, top = atm->top_radius_km;
+  const double closest[3] = {0.0, R + 30.0, R - 500.0};   /* p; 0: straight down */
+  const double far[4] = {1000.0, 1e4, 1e6, 1e9};
+  for (int a = 0; a < 3; ++a) {
+    double mu_entry = -sqrt((1.0 - closest[a] / top) * (1.0 + closest[a] / top)), at_entry[3];
+    c->eval(c->ctx, (const double[2]){top - R, mu_entry}, at_entry);
+    for (int f = 0; f < (a == 0 ? 4 : 2); ++f) {
+      double r = R + far[f], mu = -sqrt((1.0 - closest[a] / r) * (1.0 + closest[a] / r)), got[3];
+      c->eval(c->ctx, (const double[2]){far[f], mu}, got);
+      float full[3], segment[3];
+      eval((float)far[f], (float)mu, 3.4e38f, full, segment);
+      for (int k = 0; k < 3; ++k) {
+        worst_far = worst_of(worst_far, fabs(got[k] - at_entry[k]));
+        worst_far_emitted = worst_of(worst_far_emitted, fabs(full[k] - at_entry[k]));
+      }
+    }
+  }
+  printf("viewers 1000 km to 1e9 km out vs at the entry point: double max %.3g, emitted C max %.3g\n", worst_far,
+         worst_far_emitted);
+  CHECK(worst_far <= 1e-9);
+  CHECK(worst_far_emitted <= 1e-3);
   /* float32 against double, on rays 1e-4 or more from the horizon: a few
    * float32 roundings of T's optical depth, well under 1e-4 (the sweep,
    * tests/test_float32_sweep.c, bounds these models at the hard cases) */

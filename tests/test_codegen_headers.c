@@ -950,12 +950,16 @@ int main(void) {
     /* Stated float32 bounds on |T_float - T_double| (naive, chapman,
      * taylor, flat, spline), measured with ~1.5x margin. They are set by viewers far in
      * space looking at the ground (h = 5 planet radii: the altitude along a
-     * 32,000 km ray carries float32 cancellation of ~ulp(r^2)/(2r)). */
+     * 32,000 km ray carries float32 cancellation of ~ulp(r^2)/(2r), and the
+     * cosine where it enters the top, ~ulp(p)/(top - p) for the closest
+     * approach p). The flat model starts there too since it moves such
+     * viewers to the top as the others do (it had given T = 1 from far
+     * out); its thick-atmosphere error went from 1.7e-3 to 2.8e-3. */
     static const double bounds[5][SF_BASELINE_COUNT] = {
-        {1.5e-3, 2e-3, 5e-4, 1.5e-3, 1.5e-3}, /* earth (flat measured 9.4e-4, spline 1.04e-3) */
+        {1.5e-3, 2e-3, 5e-4, 1.5e-3, 1.5e-3}, /* earth (flat measured 6.3e-4, spline 1.04e-3) */
         {0.02, 0.06, 0.015, 0.014, 0.11},     /* thin  (flat 9.0e-3, spline 7.4e-2) */
-        {0.015, 0.015, 0.015, 2.5e-3, 6.5e-3}, /* thick (flat 1.7e-3, spline 4.2e-3) */
-        {0.015, 0.012, 0.008, 0.014, 0.015},  /* faint (flat 9.4e-3, spline 1.02e-2) */
+        {0.015, 0.015, 0.015, 4.5e-3, 6.5e-3}, /* thick (flat 2.8e-3, spline 4.2e-3) */
+        {0.015, 0.012, 0.008, 0.017, 0.015},  /* faint (flat 1.1e-2, spline 1.02e-2) */
         {3e-3, 3e-3, 3e-3, 5.5e-3, 2.5e-3}};  /* dense (flat 3.6e-3, spline 1.5e-3) */
     for (int m = 0; m < SF_BASELINE_COUNT; ++m) tc->bound[m] = bounds[i][m];
     for (int c = 0; c < tc->atm.n_constituents; ++c) {

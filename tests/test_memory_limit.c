@@ -123,6 +123,28 @@ static void test_stale_temporaries(void) {
   CHECK(!dead_left);
   CHECK(live_left);
   CHECK(written);
+  /* The same for a whole folder (sf_atomic_remove_stale_in: what an
+   * interrupted build leaves, names unknown): the dead writer's temporary
+   * of any name goes; the live one's, and names that only look alike,
+   * stay. */
+  char other[320], lookalike[320];
+  snprintf(other, sizeof other, "%s/table.exr.tmp.%ld.MnOpQr", dir, (long)child);
+  snprintf(lookalike, sizeof lookalike, "%s/notes.tmp.%ld.txt", dir, (long)child);
+  const char *made[] = {other, lookalike, live};
+  for (int i = 0; i < 3; ++i) {
+    f = fopen(made[i], "w");
+    if (f) fclose(f);
+  }
+  sf_atomic_remove_stale_in(dir);
+  int other_left = stat(other, &st) == 0, lookalike_left = stat(lookalike, &st) == 0;
+  live_left = stat(live, &st) == 0;
+  printf("a folder swept: dead writer's temporary %s, live writer's %s, a look-alike name %s\n",
+         other_left ? "left" : "removed", live_left ? "kept" : "removed", lookalike_left ? "kept" : "removed");
+  CHECK(!other_left);
+  CHECK(live_left);
+  CHECK(lookalike_left);
+  unlink(lookalike);
+  unlink(other);
   unlink(live);
   unlink(target);
   unlink(dead);

@@ -170,17 +170,21 @@ static void replace_param(cJSON *doc, const char *name, int n_dims, const int *s
   sf_weights_add_param(doc, name, n_dims, shape, values);
 }
 
-/* doc, printed and loaded as bad.json, is refused naming the file and key */
+/* doc, printed as bad.json, is refused naming the file and key: by the
+ * weights file's own checks (a number beyond float32) or, loaded, by the
+ * network's */
 static void expect_refused(const cJSON *doc, const char *key) {
   sf_error err = {0};
   sf_weights w;
   sf_mlp_sky back;
   char *text = sf_weights_print(doc);
-  CHECK(text && sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK);
-  CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
+  if (!CHECK(text != NULL)) return;
+  if (sf_weights_load_string(text, "bad.json", NULL, &w, &err) == SF_OK) {
+    CHECK(sf_mlp_sky_from_weights(&w, &back, &err) == SF_ERR_INPUT);
+    sf_weights_free(&w);
+  }
   printf("refused: %s\n", err.message);
-  CHECK(strstr(err.message, "bad.json") && strstr(err.message, key));
-  sf_weights_free(&w);
+  CHECK(err.status == SF_ERR_INPUT && strstr(err.message, "bad.json") && strstr(err.message, key));
   free(text);
 }
 

@@ -143,6 +143,8 @@ int main(void) {
       {"[0.1, ", "[\"x\", ", "params.w[0][0]"},
       {"[-2.5, 6.02214076e+23, -0]", "[-2.5, 6.02214076e+23]", "params.w[1]"},
       {"\"bias\":\t0.7", "\"bias\":\t[]", "params.bias"},
+      /* beyond float32, which the emitted code holds */
+      {"[-2.5, 6.02214076e+23, -0]", "[-2.5, 6.02214076e+39, -0]", "params.w[1][1]"},
       {"\"h_km\":\t[0, 15]", "\"h_km\":\t[15, 0]", "domain.h_km"},
       {"\"mu\":\t[-1, 1]", "\"mu\":\t[-1, 2]", "domain.mu"},
       {"\"scale\":\t1\n", "\"scale\":\t0\n", "inputs[1].scale"},

@@ -43,10 +43,29 @@ static int create_temp(const char *path, char *temp, size_t n) {
   return -1;
 }
 
+/* Linux: pid is a zombie (state Z in /proc/PID/stat: it has exited and
+ * writes nothing more, but its parent has not reaped it yet). */
+static int is_zombie(long pid) {
+  char path[64], line[512];
+  snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+  FILE *f = fopen(path, "r");
+  if (!f) return 0;
+  size_t n = fread(line, 1, sizeof line - 1, f);
+  fclose(f);
+  line[n] = '\0';
+  const char *paren = strrchr(line, ')');   /* the name may hold spaces and parentheses */
+  return paren && paren[1] == ' ' && paren[2] == 'Z';
+}
+
 int sf_process_gone(long pid) {
+  if (pid <= 0 || pid == (long)getpid()) return 0;
   /* kill(pid, 0) fails with ESRCH only when no such process exists; EPERM
-   * (another user's live process) counts as alive. */
-  return pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+   * (another user's live process) counts as alive. A zombie counts as
+   * gone: a build's worker killed with its supervisor (SIGKILL, through
+   * PR_SET_PDEATHSIG: cli/interrupt_cleanup.h) stays one until init reaps
+   * it, and its staging folder had been kept by the next build. */
+  if (kill((pid_t)pid, 0) != 0) return errno == ESRCH;
+  return is_zombie(pid);
 }
 
 /* "PID.XXXXXX" after the "PATH.tmp." prefix: the writer's pid, or 0. */
@@ -74,6 +93,21 @@ void sf_atomic_remove_stale(const char *path) {
     char stale[4096 + 256];
     snprintf(stale, sizeof stale, "%.*s%s", (int)dir_len, dir, e->d_name);
     unlink(stale);
+  }
+  closedir(d);
+}
+
+void sf_atomic_remove_stale_in(const char *folder) {
+  DIR *d = opendir(folder);
+  if (!d) return;
+  for (struct dirent *e; (e = readdir(d)) != NULL;) {
+    const char *tmp = strstr(e->d_name, ".tmp.");
+    if (!tmp || tmp == e->d_name) continue;
+    for (const char *next; (next = strstr(tmp + 1, ".tmp.")) != NULL;) tmp = next;   /* the last one */
+    if (!sf_process_gone(temp_writer_pid(tmp + 5))) continue;
+    char stale[4096 + 256];
+    int w = snprintf(stale, sizeof stale, "%s/%s", folder, e->d_name);
+    if (w > 0 && (size_t)w < sizeof stale) unlink(stale);
   }
   closedir(d);
 }

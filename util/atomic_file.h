@@ -36,5 +36,9 @@ int sf_process_gone(long pid);
  * interrupted run leaves nothing behind once the file is written again.
  * Temporaries of live processes, this one included, are kept. */
 void sf_atomic_remove_stale(const char *path);
+/* The same for every file of folder: any "NAME.tmp.PID.XXXXXX" whose
+ * writing process no longer exists (an interrupted writer's, where the
+ * names it wrote are not known: cli/interrupt_cleanup.h). */
+void sf_atomic_remove_stale_in(const char *folder);
 
 #endif
