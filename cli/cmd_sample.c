@@ -13,6 +13,8 @@
 #include <cjson/cJSON.h>
 
 #include "cli/commands.h"
+#include "cli/interrupt_cleanup.h"
+#include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/table_options.h"
 #include "data/table_set.h"
@@ -124,6 +126,10 @@ static int write_manifest(const char *dir, const sf_atmosphere *atm, const sf_ta
   return status;
 }
 
+/* What an interrupted sample leaves in its folder: the temporary of the
+ * table it was writing. */
+static void remove_stale_tables(void *out_dir) { sf_atomic_remove_stale_in(out_dir); }
+
 int sf_cmd_sample(int argc, char **argv) {
   sf_table_cli o;
   sf_table_cli_default(&o);
@@ -151,11 +157,25 @@ int sf_cmd_sample(int argc, char **argv) {
   sf_atmosphere atm;
   int rc = sf_table_cli_atmosphere(&o, COMMAND, &atm);
   if (rc) return rc;
+  /* DIR/tables.json is none of the inputs: `--out d --atmosphere
+   * d/tables.json` had replaced the atmosphere by the list, exit 0 */
+  char manifest[4096];
+  snprintf(manifest, sizeof manifest, "%s/tables.json", out_dir);
+  const char *inputs[2] = {o.atmosphere_path, o.scene_path};
+  for (int i = 0; i < 2; ++i)
+    if (inputs[i] && sf_cli_same_file(manifest, inputs[i])) {
+      fprintf(stderr, "%s: --out %s: its tables.json would overwrite the input %s; give another folder\n", COMMAND,
+              out_dir, inputs[i]);
+      return 2;
+    }
   sf_error err = {0};
   if (sf_table_set_check(&atm, &o.set, &err) != SF_OK || prepare_folder(out_dir, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", COMMAND, err.message);
     return err.status;
   }
+  /* Ctrl-C, SIGTERM or SIGHUP leave no table half written
+   * (cli/interrupt_cleanup.h): a SIGTERM had left one. */
+  sf_cli_supervise(remove_stale_tables, (void *)out_dir);
 
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !o.quiet);

@@ -161,5 +161,26 @@ else
   echo "note: skyfit eval sky_radiance is not routed to cli/cmd_eval_tables.c yet; its checks were not run"
 fi
 
+# --out whose tables.json is the atmosphere given: refused, the file kept
+# (it had been replaced by the list of tables, exit 0).
+mkdir -p "$tmp/clash"
+printf '{"base": "default"}\n' > "$tmp/clash/tables.json"
+"$BIN" sample --out "$tmp/clash" --atmosphere "$tmp/clash/tables.json" --resolution $small --quiet 2>"$tmp/err"
+rc=$?
+check "--out over its --atmosphere: exit $rc, message: $(cat "$tmp/err")" \
+  "[ $rc -eq 2 ] && grep -q 'would overwrite the input' '$tmp/err' && grep -q base '$tmp/clash/tables.json'"
+# SIGTERM while a table is being written (polled for its temporary): the
+# run ends by the signal and leaves no temporary (cli/interrupt_cleanup.h;
+# one had stayed). A background job ignores SIGINT, hence env.
+env --default-signal=INT "$BIN" sample --out "$tmp/term" --resolution 64x16,16x64x16x8 --quiet &
+pid=$!
+while kill -0 $pid 2>/dev/null && ! compgen -G "$tmp/term/*.tmp.*" >/dev/null; do :; done
+kill -TERM $pid 2>/dev/null
+rc=0
+wait $pid || rc=$?
+left=$(find "$tmp/term" -name '*.tmp.*' 2>/dev/null | wc -l)
+check "SIGTERM while writing: exit $rc (143, or 0 had it finished), $left temporaries left" \
+  "{ [ $rc -eq 143 ] || [ $rc -eq 0 ]; } && [ $left -eq 0 ]"
+
 echo "$failures failed"
 [ $failures -eq 0 ]
