@@ -100,8 +100,8 @@ static void add_cut_piece(const sun_sum *acc, double *sum, const sf_view_row *ro
 static void add_split_piece(const sun_sum *acc, double *sum, const sf_view_row *row, int p, double variation,
                             const double *cuts, int n) {
   double a = row->nodes.piece_start[p], b = row->nodes.piece_end[p];
-  int parts = (int)ceil(variation / SF_SUN_SPLIT_TAU);
-  if (parts > SF_SUN_SPLIT_MAX) parts = SF_SUN_SPLIT_MAX;
+  /* capped before the conversion (a huge coefficient's variation overflowed int) */
+  int parts = (int)fmin(ceil(variation / SF_SUN_SPLIT_TAU), (double)SF_SUN_SPLIT_MAX);
   double split[SF_SUN_SPLIT_MAX + 2 * (SF_MAX_KINKS + 1)];
   int n_split = 0, c = 0;
   for (int j = 1; j <= parts; ++j) {

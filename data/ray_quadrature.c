@@ -130,8 +130,9 @@ static int grade_extinction(const sf_atmosphere *atm, double r, double mu, doubl
     double k_b = extinction_bound(atm, beta_max, r, mu, b);
     double thick = 0.5 * (k_a + k_b) * (b - a);   /* trapezoid estimate */
     double allowed = SF_RAY_QUAD_OPTICAL_GRADING + SF_RAY_QUAD_OPTICAL_GROWTH * tau;
-    int parts = thick > allowed ? (int)ceil(thick / allowed) : 1;
-    if (parts > 64) parts = 64;
+    /* at most 64, capped before the conversion: an optical depth of 1e12
+     * (a coefficient of 1e12 per km) overflowed int (UBSan) */
+    int parts = thick > allowed ? (int)fmin(ceil(thick / allowed), 64.0) : 1;
     if (m + parts > max_breaks) parts = max_breaks - m > 1 ? max_breaks - m : 1;
     for (int j = 1; j < parts; ++j) breaks[m++] = a + (b - a) * j / parts;
     if (m < max_breaks) breaks[m++] = b;

@@ -226,11 +226,10 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   }
   sf_scattering_setup_free(&setup);
 
-  /* Finite numbers of float32 only, before anything is stored: a
-   * scattering coefficient of 1e12 per km or a sun of 1e39 passes the
-   * atmosphere file's checks, and its tables had held NaN or inf: `eval
-   * sky_radiance` printed -nan with exit 0, `sample` wrote the
-   * transmittance table and then failed (exit 1). */
+  /* Finite numbers of float32 only, before anything is stored: a sun of
+   * 1e39 passes the atmosphere file's checks, and its tables held inf:
+   * `sample` wrote the transmittance table and then failed (exit 1), and
+   * `eval sky_radiance` read them. */
   for (int t = 0; t < n && status == SF_OK; ++t) {
     if (set->from_cache[t]) continue;
     const sf_table *table = set->tables[t];

@@ -461,15 +461,24 @@ expect_error "--to top through the ground" "$(cat "$TMP/all.csv")" "row [0-9]+: 
 expect_error "sky radiance without mu_s" "$(cat "$TMP/all.csv")" "missing column 'mu_s'" \
   sky_radiance --model "$W/mlp-scattering.json"
 
-# Coefficients the atmosphere file accepts but float32 tables cannot hold
-# (a scattering coefficient of 1e12 per km): the tables are refused, exit
-# 2, before anything is printed. `eval sky_radiance` had printed -nan with
-# exit 0.
+# A sun the atmosphere file accepts but float32 tables cannot hold (1e39):
+# the tables are refused, exit 2, before anything is printed.
+printf '{"base": "default", "sun_irradiance": [1e39, 1, 1]}\n' > "$TMP/sun39.json"
+expect_error "tables holding inf" "$(printf 'h_km,mu,mu_s,nu\n1,0.5,0.5,0.9\n')" \
+  "its single_rayleigh table holds inf .*too large for tables of float32" \
+  sky_radiance --atmosphere "$TMP/sun39.json" --resolution 32x16,8x16x8x4
+# A scattering coefficient of 1e12 per km: finite values, exit 0. The count
+# of quadrature parts had overflowed int (UBSan: data/ray_quadrature.c)
+# and the tables held NaN.
 printf '{"base": "default", "constituents": [{"name": "rayleigh", "scattering": [1e12, 1e12, 1e12]}]}\n' \
   > "$TMP/huge.json"
-expect_error "tables holding NaN" "$(printf 'h_km,mu,mu_s,nu\n1,0.5,0.5,0.9\n')" \
-  "its single_rayleigh table holds .*too large for tables of float32" \
-  sky_radiance --atmosphere "$TMP/huge.json" --resolution 32x16,8x16x8x4
+if printf 'h_km,mu,mu_s,nu\n1,0.5,0.5,0.9\n' |
+  "$BIN" eval sky_radiance --atmosphere "$TMP/huge.json" --resolution 32x16,8x16x8x4 --quiet > "$TMP/out" 2>"$TMP/err" &&
+  ! grep -Eiq 'nan|inf' "$TMP/out" && awk -F, 'NR == 2 { for (i = 5; i <= 7; ++i) if ($i + 0 < 0) exit 1 }' "$TMP/out"; then
+  pass "1e12 per km: finite, non-negative radiance"
+else
+  fail "1e12 per km: $(cat "$TMP/out" "$TMP/err" | head -c 300)"
+fi
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
