@@ -100,36 +100,31 @@ static int parse_count(const char *command, const char *opt, const char *text, l
   return 0;
 }
 
-/* The file or folder among OUT's names (files, n of them) that path is,
- * into own (n_own bytes); NULL if none. */
-static const char *same_as_one_in(const char *path, const char *out_dir, const char *const *names, size_t n,
-                                  char *own, size_t n_own) {
-  for (size_t i = 0; i < n; ++i) {
-    snprintf(own, n_own, "%s/%s", out_dir, names[i]);
-    if (sf_cli_same_file(path, own)) return own;
-  }
-  return NULL;
-}
-
 /* What header k (0: C, 1: GLSL) would overwrite: an input of the run, a
- * file the build writes itself (report.html, report.md, metrics.json:
- * fit/build_staging.h), the other header; or the folder of the build's it
- * would lie in (OUT's weights/, cache/, views/, plots/: *in_folder set).
- * NULL if none. */
+ * file the build publishes itself (fit/build_staging.h), the other header;
+ * or the folder of the build's it would lie in (OUT's published folders
+ * and cache/: *in_folder set). NULL if none; own holds OUT's paths. */
 static const char *header_clash_of(const char *const paths[2], int k, const char *const inputs[3],
-                                   const char *out_dir, char *own, size_t n_own, int *in_folder) {
-  static const char *const own_files[] = {"report.html", "report.md", "metrics.json"};
-  static const char *const own_folders[] = {"weights", "cache", "views", "plots"};
+                                   const char *out_dir, char own[][SF_REPORT_PATH_LEN + 64], int *in_folder) {
   *in_folder = 0;
-  for (int i = 0; i < 3; ++i)
-    if (inputs[i] && sf_cli_same_file(paths[k], inputs[i])) return inputs[i];
-  const char *clash = same_as_one_in(paths[k], out_dir, own_files, 3, own, n_own);
+  const char *clash = sf_cli_same_as_any(paths[k], inputs, 3);
   if (clash) return clash;
+  const char *files[SF_BUILD_OUT_FILES], *folders[SF_BUILD_OUT_FOLDERS + 1];
+  for (int i = 0; i < SF_BUILD_OUT_FILES; ++i) {
+    snprintf(own[i], sizeof own[i], "%s/%s", out_dir, sf_build_out_files[i]);
+    files[i] = own[i];
+  }
+  for (int i = 0; i <= SF_BUILD_OUT_FOLDERS; ++i) {
+    char *path = own[SF_BUILD_OUT_FILES + i];
+    snprintf(path, sizeof own[0], "%s/%s", out_dir, i < SF_BUILD_OUT_FOLDERS ? sf_build_out_folders[i] : "cache");
+    folders[i] = path;
+  }
+  if ((clash = sf_cli_same_as_any(paths[k], files, SF_BUILD_OUT_FILES)) != NULL) return clash;
   if (k == 1 && sf_cli_same_file(paths[0], paths[1])) return "the C header";
   char folder[SF_REPORT_PATH_LEN];
   const char *slash = strrchr(paths[k], '/');
   snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - paths[k]) : 1, slash ? paths[k] : ".");
-  clash = same_as_one_in(folder, out_dir, own_folders, 4, own, n_own);
+  clash = sf_cli_same_as_any(folder, folders, SF_BUILD_OUT_FOLDERS + 1);
   *in_folder = clash != NULL;
   return clash;
 }
@@ -157,9 +152,9 @@ static int header_clash(const char *command, const char *scene_path, const sf_sc
   if (scene->output_glsl[0]) option[1] = "the scene's outputs.glsl";
   if (o->header_glsl) option[1] = "--header-glsl";
   for (int k = 0; k < 2; ++k) {
-    char own[SF_REPORT_PATH_LEN + 64];
+    char own[SF_BUILD_OUT_FILES + SF_BUILD_OUT_FOLDERS + 1][SF_REPORT_PATH_LEN + 64];
     int in_folder;
-    const char *clash = header_clash_of(paths, k, inputs, o->out_dir, own, sizeof own, &in_folder);
+    const char *clash = header_clash_of(paths, k, inputs, o->out_dir, own, &in_folder);
     if (!clash) continue;
     fprintf(stderr, "%s: %s %s: %s %s, which the build %s; give another path\n", command, option[k], paths[k],
             in_folder ? "lies in" : "is the same file as", clash, in_folder ? "writes itself" : "would overwrite");

@@ -162,12 +162,12 @@ int sf_cmd_sample(int argc, char **argv) {
   char manifest[4096];
   snprintf(manifest, sizeof manifest, "%s/tables.json", out_dir);
   const char *inputs[2] = {o.atmosphere_path, o.scene_path};
-  for (int i = 0; i < 2; ++i)
-    if (inputs[i] && sf_cli_same_file(manifest, inputs[i])) {
-      fprintf(stderr, "%s: --out %s: its tables.json would overwrite the input %s; give another folder\n", COMMAND,
-              out_dir, inputs[i]);
-      return 2;
-    }
+  const char *clash = sf_cli_same_as_any(manifest, inputs, 2);
+  if (clash) {
+    fprintf(stderr, "%s: --out %s: its tables.json would overwrite the input %s; give another folder\n", COMMAND,
+            out_dir, clash);
+    return 2;
+  }
   sf_error err = {0};
   if (sf_table_set_check(&atm, &o.set, &err) != SF_OK || prepare_folder(out_dir, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", COMMAND, err.message);

@@ -73,12 +73,18 @@ void sf_cli_scene_files(const char *scene_path, const char *atmosphere_path, con
   files[2] = atmosphere_path;
 }
 
+const char *sf_cli_same_as_any(const char *path, const char *const *files, int n) {
+  for (int i = 0; i < n; ++i)
+    if (files[i] && sf_cli_same_file(path, files[i])) return files[i];
+  return NULL;
+}
+
 int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,
                           sf_error *err) {
-  for (int i = 0; i < n_inputs; ++i)
-    if (inputs[i] && sf_cli_same_file(path, inputs[i]))
-      return sf_fail(err, SF_ERR_INPUT, "%s %s: the same file as another of the run's files (%s), which it would "
-                                        "overwrite", option, path, inputs[i]);
+  const char *clash = sf_cli_same_as_any(path, inputs, n_inputs);
+  if (clash)
+    return sf_fail(err, SF_ERR_INPUT, "%s %s: the same file as another of the run's files (%s), which it would "
+                                      "overwrite", option, path, clash);
   return sf_atomic_check(path, err);
 }
 

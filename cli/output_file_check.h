@@ -15,6 +15,10 @@
  * ("d.csv" and "./d.csv"). */
 int sf_cli_same_file(const char *a, const char *b);
 
+/* The first of files[0..n) (NULL entries skipped) that is the same file
+ * as path (sf_cli_same_file), or NULL. */
+const char *sf_cli_same_as_any(const char *path, const char *const *files, int n);
+
 /* SF_OK when path (given as option) can be written and is none of the
  * run's other files inputs[0..n) (NULL entries skipped); else SF_ERR_INPUT
  * in err, the message naming the option and the path. */

@@ -59,12 +59,13 @@ void sf_build_staging_remove_stale(const char *out_dir) {
   closedir(d);
 }
 
+const char *const sf_build_out_files[SF_BUILD_OUT_FILES] = {"report.html", "report.md", "metrics.json"};
+const char *const sf_build_out_folders[SF_BUILD_OUT_FOLDERS] = {"views", "weights", "plots"};
+
 int sf_build_staging_check_out(const char *out_dir, sf_error *err) {
-  static const char *const files[] = {"report.html", "report.md", "metrics.json"};
-  static const char *const folders[] = {"views", "weights", "plots"};
-  for (int i = 0; i < 6; ++i) {
-    int folder = i >= 3;
-    const char *name = folder ? folders[i - 3] : files[i];
+  for (int i = 0; i < SF_BUILD_OUT_FILES + SF_BUILD_OUT_FOLDERS; ++i) {
+    int folder = i >= SF_BUILD_OUT_FILES;
+    const char *name = folder ? sf_build_out_folders[i - SF_BUILD_OUT_FILES] : sf_build_out_files[i];
     char path[4096];
     struct stat st;
     int w = snprintf(path, sizeof path, "%s/%s", out_dir, name);

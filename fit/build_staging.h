@@ -13,6 +13,13 @@
 
 #include "util/error.h"
 
+/* What a build publishes in OUT from its staging folder: these files and
+ * folders (besides them OUT holds the cache/ and, by default, the headers). */
+#define SF_BUILD_OUT_FILES 3
+#define SF_BUILD_OUT_FOLDERS 3
+extern const char *const sf_build_out_files[SF_BUILD_OUT_FILES];     /* report.html, report.md, metrics.json */
+extern const char *const sf_build_out_folders[SF_BUILD_OUT_FOLDERS]; /* views, weights, plots */
+
 typedef struct sf_build_staging {
   char out_dir[4096];
   char dir[4096];   /* OUT/.staging.PID */
