@@ -8,6 +8,7 @@
 #include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/interrupt_cleanup.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/size_pair_option.h"
@@ -18,6 +19,7 @@
 #include "codegen/codegen_file.h"
 #include "models/scene_file.h"
 #include "util/atomic_file.h"
+#include "util/cache_prune.h"
 
 #define MIB (1024LL * 1024)
 
@@ -102,8 +104,9 @@ static int parse_count(const char *command, const char *opt, const char *text, l
 
 /* What header k (0: C, 1: GLSL) would overwrite: an input of the run, a
  * file the build publishes itself (fit/build_staging.h), the other header;
- * or the folder of the build's it would lie in (OUT's published folders
- * and cache/: *in_folder set). NULL if none; own holds OUT's paths. */
+ * or the folder of the build's it would lie in, at any depth (OUT's
+ * published folders, which a build replaces whole, and cache/: *in_folder
+ * set). NULL if none; own holds OUT's paths. */
 static const char *header_clash_of(const char *const paths[2], int k, const char *const inputs[3],
                                    const char *out_dir, char own[][SF_REPORT_PATH_LEN + 64], int *in_folder) {
   *in_folder = 0;
@@ -121,10 +124,7 @@ static const char *header_clash_of(const char *const paths[2], int k, const char
   }
   if ((clash = sf_cli_same_as_any(paths[k], files, SF_BUILD_OUT_FILES)) != NULL) return clash;
   if (k == 1 && sf_cli_same_file(paths[0], paths[1])) return "the C header";
-  char folder[SF_REPORT_PATH_LEN];
-  const char *slash = strrchr(paths[k], '/');
-  snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - paths[k]) : 1, slash ? paths[k] : ".");
-  clash = sf_cli_same_as_any(folder, folders, SF_BUILD_OUT_FOLDERS + 1);
+  clash = sf_cli_inside_any(paths[k], folders, SF_BUILD_OUT_FOLDERS + 1);
   *in_folder = clash != NULL;
   return clash;
 }
@@ -172,11 +172,12 @@ typedef struct build_leftovers {
 
 static void remove_build_leftovers(void *ctx) {
   const build_leftovers *l = ctx;
-  static const char *const folders[] = {"", "/cache", "/cache/costs", "/cache/fits"};
   char path[SF_REPORT_PATH_LEN + 32];
   sf_build_staging_remove_stale(l->out_dir);
-  for (size_t i = 0; i < sizeof folders / sizeof *folders; ++i) {
-    snprintf(path, sizeof path, "%s%s", l->out_dir, folders[i]);
+  sf_atomic_remove_stale_in(l->out_dir);
+  for (int i = 0; i < SF_CACHE_FOLDERS; ++i) {
+    const char *sub = sf_cache_folders[i].sub;
+    snprintf(path, sizeof path, "%s/cache%s%s", l->out_dir, sub[0] ? "/" : "", sub);
     sf_atomic_remove_stale_in(path);
   }
   for (int k = 0; k < 2; ++k)
@@ -192,7 +193,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
   int quiet = 0;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    const char *v = sf_cli_value_after(argc, argv, i), *missing = NULL;
     long n;
     sf_error perr = {0};
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
@@ -204,24 +205,24 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       o.quick = 1;
     } else if (!strcmp(a, "--no-views")) {
       o.report.render_views = 0;
-    } else if (!strcmp(a, "--out") && v) {
+    } else if (sf_cli_valued(a, "--out", v, &missing)) {
       o.out_dir = argv[++i];
-    } else if (emit && !strcmp(a, "--header-c") && v) {
+    } else if (emit && sf_cli_valued(a, "--header-c", v, &missing)) {
       o.header_c = argv[++i];
-    } else if (emit && !strcmp(a, "--header-glsl") && v) {
+    } else if (emit && sf_cli_valued(a, "--header-glsl", v, &missing)) {
       o.header_glsl = argv[++i];
-    } else if (emit && !strcmp(a, "--prefix") && v) {
+    } else if (emit && sf_cli_valued(a, "--prefix", v, &missing)) {
       if (sf_codegen_prefix_check(argv[++i], &perr) != SF_OK) {
         fprintf(stderr, "%s: --prefix: %s\n", command, perr.message);
         return 2;
       }
       o.prefix = argv[i];
-    } else if (!strcmp(a, "--resolution") && v) {
+    } else if (sf_cli_valued(a, "--resolution", v, &missing)) {
       if (sf_table_resolution_parse(argv[++i], &o.tables.res, &perr) != SF_OK) {
         fprintf(stderr, "%s: %s\n", command, perr.message);
         return 2;
       }
-    } else if (!strcmp(a, "--views") && v) {
+    } else if (sf_cli_valued(a, "--views", v, &missing)) {
       int w, h;
       ++i;
       if (sf_cli_parse_size_pair(v, 1, 8192, &w, &h)) {
@@ -230,19 +231,19 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       }
       o.report.view_width = w;
       o.report.view_height = h;
-    } else if (!strcmp(a, "--samples") && v) {
+    } else if (sf_cli_valued(a, "--samples", v, &missing)) {
       if (parse_count(command, a, argv[++i], 1, 100000000, &n)) return 2;
       o.report.domain_samples = (size_t)n;
-    } else if (!strcmp(a, "--timing-points") && v) {
+    } else if (sf_cli_valued(a, "--timing-points", v, &missing)) {
       if (parse_count(command, a, argv[++i], 1, 100000000, &n)) return 2;
       o.report.timing_points = (size_t)n;
-    } else if (!strcmp(a, "--repetitions") && v) {
+    } else if (sf_cli_valued(a, "--repetitions", v, &missing)) {
       if (parse_count(command, a, argv[++i], 1, 1000, &n)) return 2;
       o.report.timing_repetitions = (int)n;
-    } else if (!strcmp(a, "--seed") && v) {
+    } else if (sf_cli_valued(a, "--seed", v, &missing)) {
       if (parse_count(command, a, argv[++i], 0, 2147483647L, &n)) return 2;
       o.report.seed = (unsigned long long)n;
-    } else if (!strcmp(a, "--mlp-epochs") && v) {
+    } else if (sf_cli_valued(a, "--mlp-epochs", v, &missing)) {
       int t, sc;
       char extra;
       ++i;
@@ -252,20 +253,20 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       }
       o.mlp_transmittance_epochs = t;
       o.mlp_scattering_epochs = sc;
-    } else if (!strcmp(a, "--mlp-samples") && v) {
+    } else if (sf_cli_valued(a, "--mlp-samples", v, &missing)) {
       if (parse_count(command, a, argv[++i], 0, 1000000000L, &n)) return 2;
       o.mlp_scattering_samples = n == 0 ? -1 : n;
-    } else if (!strcmp(a, "--mlp-restarts") && v) {
+    } else if (sf_cli_valued(a, "--mlp-restarts", v, &missing)) {
       if (parse_count(command, a, argv[++i], 1, 100, &n)) return 2;
       o.mlp_restarts = (int)n;
-    } else if (!strcmp(a, "--mlp-normalise") && v) {
+    } else if (sf_cli_valued(a, "--mlp-normalise", v, &missing)) {
       ++i;
       if (strcmp(v, "none") != 0 && strcmp(v, "brightness") != 0) {
         fprintf(stderr, "%s: --mlp-normalise: expected none or brightness, got '%s'\n", command, v);
         return 2;
       }
       o.mlp_scattering_normalise = strcmp(v, "brightness") == 0;
-    } else if (!strcmp(a, "--mlp-normalise-cap") && v) {
+    } else if (sf_cli_valued(a, "--mlp-normalise-cap", v, &missing)) {
       ++i;
       if (strcmp(v, "none") == 0)
         o.mlp_scattering_normalise_cap = INFINITY;
@@ -273,9 +274,9 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         fprintf(stderr, "%s: --mlp-normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
         return 2;
       }
-    } else if (!strcmp(a, "--cache-limit") && v) {
+    } else if (sf_cli_valued(a, "--cache-limit", v, &missing)) {
       if (sf_cli_parse_cache_limit(command, argv[++i], &o.cache_limit_bytes)) return 2;
-    } else if (!strcmp(a, "--threads") && v) {
+    } else if (sf_cli_valued(a, "--threads", v, &missing)) {
       if (parse_count(command, a, argv[++i], 1, 1024, &n)) return 2;
       o.report.run.n_threads = (int)n;
       o.tables.run.n_threads = (int)n;
@@ -285,8 +286,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       fprintf(stderr, "%s: one scene file only: '%s' after '%s'\n", command, a, scene_path);
       return 2;
     } else {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", command, a);
-      return 2;
+      return sf_cli_bad_option(command, a, missing);
     }
   }
   sf_scene *scene = malloc(sizeof *scene);

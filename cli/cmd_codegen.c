@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/option_value.h"
 #include "codegen/baseline_part.h"
 #include "codegen/codegen_file.h"
 #include "codegen/fitted_part.h"
@@ -19,7 +20,7 @@ typedef struct codegen_options {
   const char *weights[MAX_INPUTS];
   int n_weights;
   const char *atmosphere_path, *scene_path, *baselines, *out_dir, *name, *prefix;
-  int naive_steps, want_c, want_glsl, quiet;
+  int naive_steps, naive_steps_given, want_c, want_glsl, quiet;
 } codegen_options;
 
 static void codegen_usage(FILE *out) {
@@ -66,13 +67,23 @@ static int parse_lang(const char *s, codegen_options *o) {
   return 0;
 }
 
+/* Whether the --baselines list (NULL: none) names the naive raymarch. */
+static int lists_naive(const char *baselines) {
+  for (const char *p = baselines; p && *p;) {
+    size_t n = strcspn(p, ",");
+    if (n == 5 && strncmp(p, "naive", 5) == 0) return 1;
+    p += n + (p[n] == ',');
+  }
+  return 0;
+}
+
 static int parse_options(int argc, char **argv, codegen_options *o) {
   memset(o, 0, sizeof *o);
   o->naive_steps = SF_BASELINE_DEFAULT_STEPS;
   o->name = "skyfit";
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
-    const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+    const char *next = sf_cli_value_after(argc, argv, i);
     int takes = strcmp(a, "--weights") == 0 || strcmp(a, "--atmosphere") == 0 ||
                 strcmp(a, "--scene") == 0 || strcmp(a, "--baselines") == 0 ||
                 strcmp(a, "--naive-steps") == 0 || strcmp(a, "--lang") == 0 ||
@@ -87,7 +98,7 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
       return 2;
     }
     if (!next) {
-      fprintf(stderr, "skyfit codegen: %s needs a value\n", a);
+      sf_cli_bad_option("skyfit codegen", a, a);
       return 2;
     }
     ++i;
@@ -118,6 +129,7 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
         return 2;
       }
       o->naive_steps = (int)n;
+      o->naive_steps_given = 1;
     } else if (parse_lang(next, o) != 0) {
       fprintf(stderr, "skyfit codegen: --lang: expected glsl, c or both, got '%s'\n", next);
       return 2;
@@ -138,6 +150,11 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
   /* as skyfit sample and fit: one source of the atmosphere */
   if (o->atmosphere_path && o->scene_path) {
     fprintf(stderr, "skyfit codegen: --atmosphere and --scene both name the atmosphere: give one\n");
+    return 2;
+  }
+  /* it had been accepted and ignored without the naive baseline */
+  if (o->naive_steps_given && !lists_naive(o->baselines)) {
+    fprintf(stderr, "skyfit codegen: --naive-steps applies to the naive baseline (--baselines naive,...)\n");
     return 2;
   }
   /* a weights file carries its own atmosphere */

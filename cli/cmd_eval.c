@@ -11,6 +11,7 @@
 #include "cli/csv_points.h"
 #include "cli/cmd_eval_tables.h"
 #include "cli/eval_model.h"
+#include "cli/option_value.h"
 #include "models/atmosphere_file.h"
 #include "models/optical_depth.h"
 #include "models/phase.h"
@@ -76,19 +77,20 @@ static int parse_options(int argc, char **argv, eval_options *o) {
   const char *q = NULL;
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
+    const char *v = sf_cli_value_after(argc, argv, i), *missing = NULL;
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       eval_usage(stdout);
       return 0;
-    } else if (strcmp(a, "--atmosphere") == 0 && i + 1 < argc) {
+    } else if (sf_cli_valued(a, "--atmosphere", v, &missing)) {
       o->atmosphere_path = argv[++i];
-    } else if (strcmp(a, "--model") == 0 && i + 1 < argc) {
+    } else if (sf_cli_valued(a, "--model", v, &missing)) {
       o->model_path = argv[++i];
     } else if (strcmp(a, "--phase") == 0) {
       o->phase = 1;
     } else if (strcmp(a, "--quiet") == 0) {
       o->quiet = 1;
-    } else if (strcmp(a, "--to") == 0 && i + 1 < argc) {
-      const char *v = argv[++i];
+    } else if (sf_cli_valued(a, "--to", v, &missing)) {
+      ++i;
       to_given = 1;
       if (strcmp(v, "top") == 0) o->end = SF_RAY_END_TOP;
       else if (strcmp(v, "nearest") == 0) o->end = SF_RAY_END_NEAREST;
@@ -96,7 +98,7 @@ static int parse_options(int argc, char **argv, eval_options *o) {
         fprintf(stderr, "skyfit eval: --to: expected 'nearest' or 'top', got '%s'\n", v);
         return 2;
       }
-    } else if (strcmp(a, "--to-distance") == 0 && i + 1 < argc) {
+    } else if (sf_cli_valued(a, "--to-distance", v, &missing)) {
       char *end;
       distance_given = 1;
       o->distance = strtod(argv[++i], &end);
@@ -105,9 +107,12 @@ static int parse_options(int argc, char **argv, eval_options *o) {
                 argv[i]);
         return 2;
       }
-    } else if (a[0] == '-') {
-      fprintf(stderr, "skyfit eval: unknown option '%s' (or missing value); see --help\n", a);
+    } else if (strcmp(a, "--tables") == 0) {   /* "unknown option" had said nothing of why */
+      fprintf(stderr, "skyfit eval: --tables: the reference's multiple_scattering and sky_radiance read tables; "
+              "a fitted model (--model) and the other quantities do not\n");
       return 2;
+    } else if (a[0] == '-') {
+      return sf_cli_bad_option("skyfit eval", a, missing);
     } else if (!q) {
       q = a;
     } else {
@@ -129,7 +134,10 @@ static int parse_options(int argc, char **argv, eval_options *o) {
   else if (strcmp(q, "transmittance") == 0) o->what = Q_TRANSMITTANCE;
   else if (strcmp(q, "single_scattering") == 0) o->what = Q_SINGLE_SCATTERING;
   else if (strcmp(q, "sky_radiance") == 0 && o->model_path) o->what = Q_SKY_RADIANCE;
-  else {
+  else if (strcmp(q, "multiple_scattering") == 0 && o->model_path) {   /* it had been an "unknown quantity" */
+    fprintf(stderr, "skyfit eval: --model: fitted models give transmittance or sky_radiance, not %s\n", q);
+    return 2;
+  } else {
     fprintf(stderr,
             "skyfit eval: unknown quantity '%s' (optical_depth, transmittance, single_scattering, "
             "multiple_scattering, sky_radiance)\n",

@@ -9,6 +9,7 @@
 
 #include "cli/cmd_eval_tables.h"
 #include "cli/csv_points.h"
+#include "cli/option_value.h"
 #include "cli/progress_bar.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
@@ -75,7 +76,8 @@ int sf_cmd_eval_tables(int argc, char **argv) {
     int used = sf_table_cli_option(&o, COMMAND, argc, argv, &i);
     if (used < 0) return 2;
     if (used) continue;
-    if (strcmp(a, "--tables") == 0 && i + 1 < argc) {
+    const char *missing = NULL;
+    if (sf_cli_valued(a, "--tables", sf_cli_value_after(argc, argv, i), &missing)) {
       tables_dir = argv[++i];
     } else if (strcmp(a, "--to") == 0 || strcmp(a, "--to-distance") == 0) {
       /* the tables hold whole rays (SPEC §6); "unknown option" had said
@@ -86,8 +88,7 @@ int sf_cmd_eval_tables(int argc, char **argv) {
               COMMAND, a);
       return 2;
     } else if (a[0] == '-') {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
-      return 2;
+      return sf_cli_bad_option(COMMAND, a, missing);
     } else if (!quantity) {
       quantity = a;
     } else {

@@ -8,6 +8,7 @@
 
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/fit_commands.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
@@ -202,16 +203,23 @@ static int run_sky(int argc, char **argv, int scattering) {
                 "scattering orders\n", command, a);
         return 2;
       }
+      /* the data sets read the tables on Bruneton's grid (below): leenman
+       * had been accepted and ignored, its tables in --tables recomputed */
+      if (r > 0 && strcmp(a, "--parameterization") == 0 && job.tables.set.kind != SF_PARAM_BRUNETON) {
+        fprintf(stderr, "%s: --parameterization: the networks train on the tables of the bruneton "
+                "parameterization only\n", command);
+        return 2;
+      }
     }
     if (r < 0) return 2;
     if (r > 0) continue;
-    int has_value = i + 1 < argc;
+    int has_value = sf_cli_value_after(argc, argv, i) != NULL;
     if ((strcmp(a, "--tables") == 0 || strcmp(a, "--dump-dataset") == 0 ||
          (scattering && (strcmp(a, "--target") == 0 || strcmp(a, "--split") == 0 ||
                          strcmp(a, "--normalise") == 0 || strcmp(a, "--normalise-cap") == 0)) ||
          (!scattering && (strcmp(a, "--input-map") == 0 || strcmp(a, "--target-root") == 0))) &&
         !has_value) {
-      fprintf(stderr, "%s: %s needs a value\n", command, a);
+      sf_cli_bad_option(command, a, a);
       return 2;
     }
     if (strcmp(a, "--tables") == 0) job.tables_dir = argv[++i];
@@ -318,7 +326,14 @@ static int run_sky(int argc, char **argv, int scattering) {
     char text[64];
     if (scattering) snprintf(text, sizeof text, "4,8,8,%d", n_out);
     else snprintf(text, sizeof text, "2,%s,%d", SF_MLP_TRANSMITTANCE_HIDDEN, n_out);
-    sf_mlp_shape_parse_layers(text, &t->shape, &err);
+    if (sf_mlp_shape_parse_layers(text, &t->shape, &err)) {
+      err = (sf_error){0};   /* the parser's message names a --layers not given */
+      sf_fail(&err, SF_ERR_INPUT, "the network would have %d outputs (%d channels%s), more than the %d units a "
+              "layer may have: give the atmosphere fewer channels%s", n_out, nch,
+              n_out > nch ? " times the constituents that scatter and the multiple scattering" : "",
+              SF_MLP_MAX_WIDTH, n_out > nch ? ", or train on --target radiance" : "");
+      goto fail;
+    }
   }
   if (sf_target_root_check(job.target_root, &t->shape, &err)) goto fail;
   if (job.mlp.write_init) {
@@ -613,7 +628,7 @@ static void plain_usage(FILE *out) {
           "(over the whole set) and seconds per epoch as JSON on stdout (null when the run ran\n"
           "no epoch: --resume of a training that had finished). No validation split\n"
           "unless --validation is given. Defaults: --hidden sigmoid --output exp_neg --loss mse\n"
-          "--batch 1024 --epochs 10.\n"
+          "--batch 1024 --epochs 10 --lr 0.01 --lr-decay 1.\n"
           "\n"
           "  --data F.csv, --inputs N  the data (required, with --layers)\n");
   sf_mlp_cli_help(out);
@@ -639,8 +654,8 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     int r = sf_mlp_cli_option(&o, command, argc, argv, &i);
     if (r < 0) return 2;
     if (r > 0) continue;
-    if ((strcmp(a, "--data") == 0 || strcmp(a, "--inputs") == 0) && i + 1 >= argc) {
-      fprintf(stderr, "%s: %s needs a value\n", command, a);
+    if ((strcmp(a, "--data") == 0 || strcmp(a, "--inputs") == 0) && !sf_cli_value_after(argc, argv, i)) {
+      sf_cli_bad_option(command, a, a);
       return 2;
     }
     if (strcmp(a, "--data") == 0) data_path = argv[++i];

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "fit/candidate_cache.h"
 #include "models/atmosphere_file.h"
@@ -58,8 +59,8 @@ int sf_mlp_cli_option(sf_mlp_cli *o, const char *command, int argc, char **argv,
   int known = 0;
   for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
   if (!known) return 0;
-  if (*i + 1 >= argc) {
-    fprintf(stderr, "%s: %s needs a value\n", command, a);
+  if (!sf_cli_value_after(argc, argv, *i)) {
+    sf_cli_bad_option(command, a, a);
     return -1;
   }
   const char *v = argv[++*i];
@@ -198,7 +199,7 @@ void sf_mlp_cli_help(FILE *out) {
           "  --loss-floor F          default 1e-4\n"
           "  --epochs N              epochs per restart\n"
           "  --batch N               mini-batch size (0: the whole training set)\n"
-          "  --lr X, --lr-decay D    Adam learning rate (default 0.01), x D per epoch (default 1)\n"
+          "  --lr X, --lr-decay D    Adam learning rate, times D each epoch (defaults above)\n"
           "  --restarts N            independent restarts; the best validation loss is kept (the best\n"
           "                          training loss without a validation set)\n"
           "  --patience N            early stopping after N epochs without a better validation loss\n"

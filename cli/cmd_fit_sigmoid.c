@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/fit_commands.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/size_pair_option.h"
@@ -63,7 +64,7 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
   sf_sigmoid_fit_options_default(&opt);
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    const char *v = sf_cli_value_after(argc, argv, i), *missing = NULL;
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       usage(stdout);
       return 0;
@@ -72,26 +73,22 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
     } else if (strcmp(a, "--tables") == 0) {
       fprintf(stderr, "%s: --tables: the sigmoid fit uses the exact optical depth, not tables\n", COMMAND);
       return 2;
-    } else if (!v) {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
-      return 2;
-    } else if (strcmp(a, "--out") == 0) {
+    } else if (sf_cli_valued(a, "--out", v, &missing)) {
       out = argv[++i];
-    } else if (strcmp(a, "--scene") == 0) {
+    } else if (sf_cli_valued(a, "--scene", v, &missing)) {
       scene_path = argv[++i];
-    } else if (strcmp(a, "--atmosphere") == 0) {
+    } else if (sf_cli_valued(a, "--atmosphere", v, &missing)) {
       atm_path = argv[++i];
-    } else if (strcmp(a, "--check") == 0) {
+    } else if (sf_cli_valued(a, "--check", v, &missing)) {
       check = argv[++i];
-    } else if (strcmp(a, "--grid") == 0) {
+    } else if (sf_cli_valued(a, "--grid", v, &missing)) {
       if (sf_cli_parse_size_pair(argv[++i], 2, 2000, &opt.n_h, &opt.n_mu)) {
         fprintf(stderr, "%s: --grid: expected NHxNMU with 2..2000 each, got '%s'\n", COMMAND, argv[i]);
         return 2;
       }
       grid_given = 1;
     } else {
-      fprintf(stderr, "%s: unknown option '%s'; see --help\n", COMMAND, a);
-      return 2;
+      return sf_cli_bad_option(COMMAND, a, missing);
     }
   }
   if (check && (out || scene_path || atm_path || grid_given)) {   /* they had been accepted and ignored */

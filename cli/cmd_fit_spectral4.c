@@ -10,6 +10,7 @@
 
 #include "cli/cache_limit_option.h"
 #include "cli/fit_commands.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "fit/spectral4_run.h"
@@ -96,32 +97,29 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
   sf_error err = {0};
   for (int i = 1; i < argc; ++i) {
     const char *a = argv[i];
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    const char *v = sf_cli_value_after(argc, argv, i), *missing = NULL;
     if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
       usage(stdout);
       return 0;
     } else if (strcmp(a, "--quiet") == 0) {
       quiet = 1;
-    } else if (!v) {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
-      return 2;
-    } else if (strcmp(a, "--out") == 0) {
+    } else if (sf_cli_valued(a, "--out", v, &missing)) {
       out = argv[++i];
-    } else if (strcmp(a, "--scene") == 0) {
+    } else if (sf_cli_valued(a, "--scene", v, &missing)) {
       scene_path = argv[++i];
-    } else if (strcmp(a, "--atmosphere") == 0) {
+    } else if (sf_cli_valued(a, "--atmosphere", v, &missing)) {
       atm_path = argv[++i];
-    } else if (strcmp(a, "--cache") == 0) {
+    } else if (sf_cli_valued(a, "--cache", v, &missing)) {
       cache = argv[++i];
-    } else if (strcmp(a, "--cache-limit") == 0) {
+    } else if (sf_cli_valued(a, "--cache-limit", v, &missing)) {
       if (sf_cli_parse_cache_limit(COMMAND, argv[++i], &cache_limit_bytes)) return 2;
-    } else if (strcmp(a, "--resolution") == 0) {
+    } else if (sf_cli_valued(a, "--resolution", v, &missing)) {
       if (sf_table_resolution_parse(argv[++i], &opt.res, &err) ||
           sf_table_resolution_check(&opt.res, SF_PARAM_BRUNETON, &err)) {
         fprintf(stderr, "%s: %s\n", COMMAND, err.message);
         return 2;
       }
-    } else if (strcmp(a, "--orders") == 0) {
+    } else if (sf_cli_valued(a, "--orders", v, &missing)) {
       char *end = NULL;
       long n = strtol(argv[++i], &end, 10);
       if (!end || *end || n < 1 || n > 64) {
@@ -129,7 +127,7 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
         return 2;
       }
       opt.orders = (int)n;
-    } else if (strcmp(a, "--threads") == 0) {
+    } else if (sf_cli_valued(a, "--threads", v, &missing)) {
       char *end = NULL;
       long n = strtol(argv[++i], &end, 10);
       if (!end || *end || n < 1 || n > 1024) {
@@ -138,8 +136,7 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
       }
       opt.n_threads = (int)n;
     } else {
-      fprintf(stderr, "%s: unknown option '%s'; see --help\n", COMMAND, a);
-      return 2;
+      return sf_cli_bad_option(COMMAND, a, missing);
     }
   }
   if (!out) {

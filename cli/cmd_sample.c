@@ -14,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "cli/interrupt_cleanup.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/table_options.h"
@@ -143,11 +144,11 @@ int sf_cmd_sample(int argc, char **argv) {
     int used = sf_table_cli_option(&o, COMMAND, argc, argv, &i);
     if (used < 0) return 2;
     if (used) continue;
-    if (strcmp(a, "--out") == 0 && i + 1 < argc) {
+    const char *missing = NULL;
+    if (sf_cli_valued(a, "--out", sf_cli_value_after(argc, argv, i), &missing)) {
       out_dir = argv[++i];
     } else {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", COMMAND, a);
-      return 2;
+      return sf_cli_bad_option(COMMAND, a, missing);
     }
   }
   if (!out_dir) {

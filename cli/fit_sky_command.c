@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/csv_points.h"
+#include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/size_pair_option.h"
@@ -402,29 +403,26 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
     if (used < 0) return 2;
     if (used && strcmp(a, "--quiet") != 0 && strcmp(a, "--scene") != 0 && !table_option) table_option = a;
     if (used) continue;
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    const char *v = sf_cli_value_after(argc, argv, i), *missing = NULL;
     if (strcmp(a, "--unbounded") == 0) {
       unbounded = 1;
-    } else if (!v) {
-      fprintf(stderr, "%s: unknown option '%s' (or missing value); see --help\n", command, a);
-      return 2;
-    } else if (strcmp(a, "--out") == 0) {
+    } else if (sf_cli_valued(a, "--out", v, &missing)) {
       out = argv[++i];
-    } else if (strcmp(a, "--scene") == 0) {
+    } else if (sf_cli_valued(a, "--scene", v, &missing)) {
       scene = argv[++i];
-    } else if (strcmp(a, "--tables") == 0) {
+    } else if (sf_cli_valued(a, "--tables", v, &missing)) {
       tables = argv[++i];
-    } else if (strcmp(a, "--samples") == 0) {
+    } else if (sf_cli_valued(a, "--samples", v, &missing)) {
       samples = argv[++i];
-    } else if (strcmp(a, "--check") == 0) {
+    } else if (sf_cli_valued(a, "--check", v, &missing)) {
       check = argv[++i];
-    } else if (strcmp(a, "--scale") == 0) {
+    } else if (sf_cli_valued(a, "--scale", v, &missing)) {
       if (parse_double(argv[++i], &scale) || !(scale > 0)) {
         fprintf(stderr, "%s: --scale: expected a positive number, got '%s'\n", command, argv[i]);
         return 2;
       }
       scale_given = 1;
-    } else if (strcmp(a, "--elevations") == 0) {
+    } else if (sf_cli_valued(a, "--elevations", v, &missing)) {
       char *end;
       long n = strtol(argv[++i], &end, 10);
       if (*end || n < 6 || n > SF_SKY_MAX_ELEVATIONS) {
@@ -434,15 +432,14 @@ int sf_fit_sky_command(sf_sky_form form, int argc, char **argv) {
       }
       n_elevations = (int)n;
       if (!table_option) table_option = a;
-    } else if (strcmp(a, "--grid") == 0) {
+    } else if (sf_cli_valued(a, "--grid", v, &missing)) {
       if (sf_cli_parse_size_pair(argv[++i], 2, 1024, &n_theta, &n_phi)) {
         fprintf(stderr, "%s: --grid: expected NTxNP with 2..1024 each, got '%s'\n", command, argv[i]);
         return 2;
       }
       if (!table_option) table_option = a;
     } else {
-      fprintf(stderr, "%s: unknown option '%s'; see --help\n", command, a);
-      return 2;
+      return sf_cli_bad_option(command, a, missing);
     }
   }
   if (o.scene_path) scene = o.scene_path;   /* parsed by the shared table options */

@@ -15,7 +15,7 @@ static const command commands[] = {
     {"report", sf_cmd_report, "measure every model of a scene and write report.html, report.md, metrics.json"},
     {"codegen", sf_cmd_codegen, "emit GLSL and C headers for fitted models and analytic baselines"},
     {"eval", sf_cmd_eval,
-     "evaluate reference quantities (optical depth, transmittance, single scattering) at CSV points"},
+     "evaluate at CSV points the reference quantities (optical depth ... sky radiance) or a fitted model"},
     {"fit", sf_cmd_fit, "fit a compact model (sigmoid, preetham, hosek, spectral4, mlp-*) and write its weights"},
     {"sample", sf_cmd_sample, "compute the reference tables (transmittance, single and multiple scattering) into a folder"},
 };

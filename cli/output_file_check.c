@@ -79,6 +79,18 @@ const char *sf_cli_same_as_any(const char *path, const char *const *files, int n
   return NULL;
 }
 
+const char *sf_cli_inside_any(const char *path, const char *const *folders, int n) {
+  char lexical[2 * PATH_MAX];
+  absolute_lexical_path(path, lexical, sizeof lexical);
+  for (size_t cut = strlen(lexical); cut-- > 0;) {   /* each folder on it, deepest first */
+    if (lexical[cut] != '/') continue;
+    lexical[cut ? cut : 1] = '\0';
+    const char *inside = sf_cli_same_as_any(lexical, folders, n);
+    if (inside) return inside;
+  }
+  return NULL;
+}
+
 int sf_cli_output_problem(const char *option, const char *path, const char *const *inputs, int n_inputs,
                           sf_error *err) {
   const char *clash = sf_cli_same_as_any(path, inputs, n_inputs);

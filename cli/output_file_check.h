@@ -19,6 +19,11 @@ int sf_cli_same_file(const char *a, const char *b);
  * as path (sf_cli_same_file), or NULL. */
 const char *sf_cli_same_as_any(const char *path, const char *const *files, int n);
 
+/* The first of folders[0..n) (NULL entries skipped) that path lies in, at
+ * any depth ("OUT/views/a/b.h" lies in "OUT/views"), each folder on path
+ * compared by sf_cli_same_file; NULL when none. */
+const char *sf_cli_inside_any(const char *path, const char *const *folders, int n);
+
 /* SF_OK when path (given as option) can be written and is none of the
  * run's other files inputs[0..n) (NULL entries skipped); else SF_ERR_INPUT
  * in err, the message naming the option and the path. */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/option_value.h"
 #include "models/atmosphere_file.h"
 #include "models/scene_file.h"
 
@@ -24,8 +25,8 @@ static int parse_int(const char *text, long lo, long hi, long *out) {
 
 int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **argv, int *i) {
   const char *a = argv[*i];
-  int has_value = *i + 1 < argc;
-  const char *v = has_value ? argv[*i + 1] : NULL;
+  const char *v = sf_cli_value_after(argc, argv, *i);
+  int has_value = v != NULL;
   sf_error err = {0};
   if (strcmp(a, "--quiet") == 0) {
     o->quiet = 1;
@@ -37,7 +38,7 @@ int sf_table_cli_option(sf_table_cli *o, const char *command, int argc, char **a
   for (int k = 0; with_value[k]; ++k) known |= strcmp(a, with_value[k]) == 0;
   if (!known) return 0;
   if (!has_value) {
-    fprintf(stderr, "%s: %s needs a value\n", command, a);
+    sf_cli_bad_option(command, a, a);
     return -1;
   }
   ++*i;

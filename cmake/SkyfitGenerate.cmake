@@ -27,7 +27,8 @@
 # One target may call it several times with different NAMEs; with
 # different PREFIXes as well (every emitted name starts <prefix>_ instead
 # of skyfit_), two scenes' headers go into one translation unit or shader.
-# Configure stops with a message on an unknown argument, a keyword
+# Configure stops with a message on an unknown argument (a misspelt
+# keyword, wherever it stands), an unknown baseline, a keyword
 # without its value (BUILD_OPTIONS alone may be empty), BUILD_OPTIONS with
 # BASELINES (codegen does not take them) and a scene whose atmosphere
 # file does not exist.
@@ -58,6 +59,26 @@ function(skyfit_generate)
     message(FATAL_ERROR "skyfit_generate: unknown arguments: ${SG_UNPARSED_ARGUMENTS} (keywords: TARGET SCENE "
                         "OUTPUT_DIR LANG NAME PREFIX BASELINES BUILD_OPTIONS)")
   endif()
+  # After a keyword of several values the misspelt one lands among its
+  # values (LANG c BASELINES naive PREFX p): caught here too, not by skyfit
+  # at build time ("unknown baseline 'PREFX'"). skyfit's own options and
+  # values are never capitalised words.
+  foreach(keyword LANG BASELINES BUILD_OPTIONS)
+    foreach(value IN LISTS SG_${keyword})
+      if(value MATCHES "^[A-Z][A-Z_]*$")
+        message(FATAL_ERROR "skyfit_generate: unknown argument ${value} after ${keyword} (keywords: TARGET SCENE "
+                            "OUTPUT_DIR LANG NAME PREFIX BASELINES BUILD_OPTIONS)")
+      endif()
+    endforeach()
+  endforeach()
+  set(known_baselines naive chapman taylor flat spline)   # skyfit codegen --baselines (codegen/baselines.h)
+  string(REPLACE "," ";" baseline_names "${SG_BASELINES}")
+  foreach(baseline IN LISTS baseline_names)
+    if(NOT baseline IN_LIST known_baselines)
+      message(FATAL_ERROR "skyfit_generate: BASELINES: unknown baseline '${baseline}' (naive, chapman, taylor, "
+                          "flat, spline)")
+    endif()
+  endforeach()
   # (BUILD_OPTIONS ${empty_variable} is fine; an empty BASELINES had run
   # the whole skyfit build instead)
   foreach(keyword TARGET SCENE OUTPUT_DIR NAME PREFIX LANG BASELINES)

@@ -110,6 +110,7 @@ int sf_spectral4_emit_load(const sf_weights *w, sf_spectral4_emit *out, sf_error
   if (sf_weights_param(w, "absorption", 2, sc4, flat, nc * 4, err)) return err->status;
   for (int c = 0; c < nc; ++c) memcpy(out->absorption[c], flat + 4 * c, sizeof out->absorption[c]);
   for (int c = 0; c < nc; ++c) snprintf(out->names[c], sizeof out->names[c], "%s", w->atmosphere.constituents[c].name);
+  if (sf_weights_check_params_read(w, err)) return err->status;
   int rc = check_physical(w->source, out, err);
   return rc ? rc : check_matrices(w->source, out, err);
 }

@@ -140,7 +140,7 @@ static int cost_cache_path(const sf_report *rep, const sf_candidate *c, int prec
   sf_cache_key_add_number(&k, "points", (double)o->timing_points);
   sf_cache_key_add_number(&k, "repetitions", o->timing_repetitions);
   sf_cache_key_add_number(&k, "seed", (double)o->seed);
-  return sf_cache_path(o->cost_cache_dir, "costs", c->name, &k, path, n, err);
+  return sf_cache_path(o->cost_cache_dir, SF_CACHE_COSTS, c->name, &k, path, n, err);
 }
 
 /* A cached timing and the run that measured it ("" when unusable). */

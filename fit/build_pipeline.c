@@ -186,6 +186,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     int st = sf_weights_load_file(rep->spectral4.weights_path, "spectral4", &spectral4_weights, err);
     if (st == SF_OK) st = sf_fitted_part(&spectral4_weights, &spectral4_model, &parts[n], err);
     if (st != SF_OK) {
+      sf_fitted_free(spectral4_model);   /* sf_fitted_part leaves *model to free on failure too */
       sf_weights_free(&spectral4_weights);
       return st;
     }

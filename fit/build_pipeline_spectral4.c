@@ -94,7 +94,7 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
   sf_cache_key_add_number(&k, "view", scene->view);
   sf_cache_key_add_number(&k, "quick", o->quick);
   char path[4400];
-  if (sf_cache_path(o->cache_dir, "fits", "spectral4", &k, path, sizeof path, err) != SF_OK) return err->status;
+  if (sf_cache_path(o->cache_dir, SF_CACHE_FITS, "spectral4", &k, path, sizeof path, err) != SF_OK) return err->status;
 
   sf_weights w;
   memset(&w, 0, sizeof w);

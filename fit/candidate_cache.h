@@ -18,6 +18,7 @@
 #include <stddef.h>
 
 #include "fit/candidate_registry.h"
+#include "util/cache_prune.h"
 #include "util/error.h"
 
 /* Bump whenever a change to a candidate's fit changes its parameters. The
@@ -45,7 +46,8 @@ void sf_cache_key_add_text(sf_cache_key *k, const char *name, const char *v);
 /* The table resolution and orders of the build's tables (for fits to them). */
 void sf_cache_key_add_tables(sf_cache_key *k, const sf_candidate_inputs *in);
 
-/* CACHE/<sub>/<model>-<16 hex digits of the key's hash>.json; creates
+/* CACHE/<sub>/<model>-<16 hex digits of the key's hash>.json, sub one of the
+ * cache's folders (SF_CACHE_FITS, SF_CACHE_COSTS: util/cache_prune.h); creates
  * CACHE/<sub>. in->cache_dir NULL: path "" (no caching), SF_OK. */
 int sf_cache_path(const char *cache_dir, const char *sub, const char *model, const sf_cache_key *k,
                   char *path, size_t n, sf_error *err);

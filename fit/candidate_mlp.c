@@ -1,7 +1,8 @@
 /* The neural sky (SPEC §7.4-7.5, seed 000 §9.6, models/mlp_sky.h) as
- * candidates: the transmittance network (2 inputs, 4 sigmoid units, exp(-x)
- * outputs; rays to the ground by eq. 43) and the scattering network (4
- * inputs, 8-8 sigmoid units, exp(-x) outputs: single scattering per
+ * candidates: the transmittance network (Bruneton's 2 inputs (x_r, x_mu),
+ * sigmoid hidden layers SF_MLP_TRANSMITTANCE_HIDDEN (fit/mlp_lm.h),
+ * exp(-exp(-z)) outputs; rays to the ground by eq. 43) and the scattering
+ * network (4 inputs, 8-8 sigmoid units, exp(-x) outputs: single scattering per
  * constituent without its phase function, then multiple; the phase
  * functions applied exactly). Trained with the hand-written Adam of
  * fit/train.h on the reference tables' grid points inside the scene's
@@ -282,7 +283,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     }
   }
   char path[4400];
-  if (sf_cache_path(in->cache_dir, "fits", job->name, &key, path, sizeof path, err) != SF_OK) return err->status;
+  if (sf_cache_path(in->cache_dir, SF_CACHE_FITS, job->name, &key, path, sizeof path, err) != SF_OK) return err->status;
   sf_mlp_sky *m = calloc(1, sizeof *m);
   if (!m) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   int loaded = 0;

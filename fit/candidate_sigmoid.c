@@ -124,7 +124,7 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   sf_cache_key_add_number(&key, "n_h", o.n_h);
   sf_cache_key_add_number(&key, "n_mu", o.n_mu);
   char path[4400];
-  if (sf_cache_path(in->cache_dir, "fits", "sigmoid", &key, path, sizeof path, err) != SF_OK) {
+  if (sf_cache_path(in->cache_dir, SF_CACHE_FITS, "sigmoid", &key, path, sizeof path, err) != SF_OK) {
     free(s);
     return err->status;
   }

@@ -162,7 +162,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
   sf_cache_key_add_number(&key, "n_theta", o.n_theta);
   sf_cache_key_add_number(&key, "n_phi", o.n_phi);
   char path[4400];
-  if (sf_cache_path(in->cache_dir, "fits", name, &key, path, sizeof path, err) != SF_OK) return err->status;
+  if (sf_cache_path(in->cache_dir, SF_CACHE_FITS, name, &key, path, sizeof path, err) != SF_OK) return err->status;
 
   sf_elevation_sky_model *m = calloc(1, sizeof *m);
   if (!m) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
@@ -225,8 +225,13 @@ int sf_candidate_of_sky_model(const sf_elevation_sky_model *m, const sf_scene_do
   out->constant_bytes = 4 * out->n_params;
   out->valid = *valid;
   snprintf(out->emit_name, sizeof out->emit_name, "%s", sf_sky_form_model_name(m->form));
-  out->emit = emit;
-  out->emit_model = &s->model;
+  /* The emitted code returns vec1..vec4 (codegen/emit_sky.c): a model of
+   * more channels is measured and reported, and not emitted (it had been
+   * selected, and the build failed at code generation). */
+  if (s->n_channels <= 4) {
+    out->emit = emit;
+    out->emit_model = &s->model;
+  }
   out->emit_ground_viewer = 1;
   out->eval = sky_form_eval;
   out->eval_f32 = sky_form_eval_f32;

@@ -95,6 +95,7 @@ int sf_elevation_sky_load(const char *path, sf_sky_form form, sf_elevation_sky_m
     status = sf_weights_param(&w, sf_sky_form_scale_name(form), 2, sshape, s,
                               nk * SF_BEZIER_POINTS, err);
   if (status == SF_OK) status = sf_weights_param(&w, "sun_elevation_rad", 1, rshape, range, 2, err);
+  if (status == SF_OK) status = sf_weights_check_params_read(&w, err);
   if (status == SF_OK && !(range[0] >= 0.0 && range[0] <= range[1] && range[1] <= 0.5 * SF_PI + 1e-12))
     status = sf_fail(err, SF_ERR_INPUT,
                      "%s: params.sun_elevation_rad: expected 0 <= min <= max <= pi/2, got [%g, %g]",

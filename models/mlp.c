@@ -231,6 +231,14 @@ int sf_mlp_from_weights_prefixed(const sf_weights *w, const char *prefix, sf_mlp
       free(scratch);
       return SF_ERR_INPUT;
     }
+    /* The evaluators' buffers hold SF_MLP_MAX_WIDTH units a layer (a file
+     * of 2000 had overrun the stack). */
+    for (int axis = l == 0 ? 1 : 0; axis >= 0; --axis)
+      if (shape[axis] < 1 || shape[axis] > SF_MLP_MAX_WIDTH) {
+        free(scratch);
+        return sf_fail(err, SF_ERR_INPUT, "%s: params.%s: %d %s, expected 1 to %d", w->source, name, shape[axis],
+                       axis ? "columns (inputs)" : "rows (units)", SF_MLP_MAX_WIDTH);
+      }
     if (l == 0) s.sizes[0] = shape[1];
     s.sizes[l + 1] = shape[0];
   }

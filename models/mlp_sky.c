@@ -362,8 +362,9 @@ int sf_mlp_sky_from_weights(const sf_weights *w, sf_mlp_sky *m, sf_error *err) {
       return err->status;
     }
   }
-  if (target != SF_MLP_TARGET_TRANSMITTANCE_TOP &&
-      (load_norm(w, m, 0, err) || (m->horizon_split && load_norm(w, m, 1, err)))) {
+  if ((target != SF_MLP_TARGET_TRANSMITTANCE_TOP &&
+       (load_norm(w, m, 0, err) || (m->horizon_split && load_norm(w, m, 1, err)))) ||
+      sf_weights_check_params_read(w, err)) {
     sf_mlp_sky_free(m);
     return err->status;
   }

@@ -99,6 +99,7 @@ int sf_sigmoid_model_load(const char *path, sf_sigmoid_model *out, sf_weights *w
   double *values = malloc(sizeof *values * (size_t)n_values);
   if (!values && status == SF_OK) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
   if (status == SF_OK) status = sf_weights_param(&w, "a", 3, shape, values, n_values, err);
+  if (status == SF_OK) status = sf_weights_check_params_read(&w, err);
   if (status == SF_OK)
     for (int c = 0; c < out->n_constituents; ++c)
       for (int k = 0; k < out->n_channels; ++k)

@@ -374,6 +374,12 @@ int sf_weights_load_string(const char *json, const char *source_name, const char
       read_params(&c, root) || read_optional_object(&c, root, "metrics") ||
       read_optional_object(&c, root, "training"))
     goto fail;
+  out->n_params = cJSON_GetArraySize(sf_json_get(root, "params"));
+  out->params_read = calloc((size_t)out->n_params + 1, 1);
+  if (!out->params_read) {
+    sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", out->source);
+    goto fail;
+  }
   out->root = root;
   return SF_OK;
 fail:
@@ -398,6 +404,9 @@ void sf_weights_free(sf_weights *w) {
   if (!w) return;
   cJSON_Delete(w->root);
   w->root = NULL;
+  free(w->params_read);
+  w->params_read = NULL;
+  w->n_params = 0;
 }
 
 static void shape_text(char *buf, size_t n, int n_dims, const int *shape) {
@@ -428,8 +437,12 @@ int sf_weights_param(const sf_weights *w, const char *name, int n_dims, int *sha
   sf_json_ctx c = {w->source, err};
   char path[SF_JSON_PATH_LEN];
   sf_json_join_key(path, sizeof path, "params", name);
-  const cJSON *v = sf_json_get(sf_json_get(w->root, "params"), name);
+  const cJSON *params = sf_json_get(w->root, "params");
+  const cJSON *v = sf_json_get(params, name);
   if (!v) return sf_json_fail(&c, path, "missing");
+  int index = 0;
+  for (const cJSON *e = params->child; e != v; e = e->next) ++index;
+  if (index < w->n_params) w->params_read[index] = 1;
   int dims, got[SF_WEIGHTS_MAX_DIMS];
   if (array_shape(&c, v, path, 0, &dims, got)) return SF_ERR_INPUT;
   int match = dims == n_dims;
@@ -447,6 +460,17 @@ int sf_weights_param(const sf_weights *w, const char *name, int n_dims, int *sha
   for (int k = 0; k < n_dims; ++k) shape[k] = got[k];
   int filled = 0;
   flatten(v, values, &filled);
+  return SF_OK;
+}
+
+int sf_weights_check_params_read(const sf_weights *w, sf_error *err) {
+  const cJSON *params = sf_json_get(w->root, "params");
+  int i = 0;
+  for (const cJSON *e = params ? params->child : NULL; e; e = e->next, ++i)
+    if (i >= w->n_params || !w->params_read[i])
+      return sf_fail(err, SF_ERR_INPUT,
+                     "%s: params.%s: not a parameter of this %s model (misspelt, or left from another model?)",
+                     w->source, e->string, w->model);
   return SF_OK;
 }
 

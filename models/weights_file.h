@@ -52,6 +52,11 @@ typedef struct sf_weights {
   int n_inputs;
   sf_weights_input inputs[SF_WEIGHTS_MAX_INPUTS];
   cJSON *root;     /* the whole document; params/metrics/training read from it */
+  /* params_read[i]: whether sf_weights_param has read the i-th entry of
+   * params (file order), n_params of them; owned. Bookkeeping for
+   * sf_weights_check_params_read, the one thing reading a param changes. */
+  unsigned char *params_read;
+  int n_params;
 } sf_weights;
 
 /* For a model whose inputs are not learnt (sigmoid, Perez, Hosek): the
@@ -106,6 +111,13 @@ void sf_weights_free(sf_weights *w);
  * SF_ERR_INPUT "<file>: params.<name>: expected an array of shape 4x3, got 4x2". */
 int sf_weights_param(const sf_weights *w, const char *name, int n_dims, int *shape,
                      double *values, int n_values, sf_error *err);
+
+/* SF_OK when every entry of params has been read by sf_weights_param;
+ * else SF_ERR_INPUT naming the file and the first entry left unread: a
+ * model's loader calls it once it has read all it takes, so that a
+ * misspelt or foreign parameter ("norm_capp", a ground network in a
+ * transmittance file) is refused rather than silently ignored. */
+int sf_weights_check_params_read(const sf_weights *w, sf_error *err);
 
 /* metrics[name] as a number, or NAN when absent or not a number. */
 double sf_weights_metric(const sf_weights *w, const char *name);

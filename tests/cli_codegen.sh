@@ -113,6 +113,13 @@ if [ -n "${SKYFIT_SOURCE_DIR:-}" ]; then
   "$SKYFIT_BIN" codegen --weights "$SKYFIT_SOURCE_DIR/weights/default/sigmoid.json" --atmosphere "$tmp/names/a.json" \
     --lang c --out "$tmp/names" --name ignored 2>/dev/null
   check "--atmosphere without --baselines exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/names/ignored.h ]"
+  "$SKYFIT_BIN" codegen --weights "$SKYFIT_SOURCE_DIR/weights/default/sigmoid.json" --naive-steps 8 \
+    --lang c --out "$tmp/names" --name steps 2>"$tmp/err.txt"
+  check "--naive-steps without the naive baseline exits 2, nothing written (it had been ignored)" \
+    "[ $? -eq 2 ] && [ ! -e $tmp/names/steps.h ] && grep -q 'applies to the naive baseline' $tmp/err.txt"
+  "$SKYFIT_BIN" codegen --baselines chapman,naive --naive-steps 8 --lang c --out "$tmp/names" --name steps8 2>/dev/null
+  check "--naive-steps with --baselines chapman,naive: written, 8 steps" \
+    "[ $? -eq 0 ] && grep -q '8-step midpoint raymarch' $tmp/names/steps8.h"
 fi
 # Two atmospheres in one program: --prefix renames every emitted name
 # (functions, types, macros), so both headers compile in one translation

@@ -116,6 +116,12 @@ bad_configure() {   # bad_configure NAME EXPECTED -- the skyfit_generate argumen
   echo "ok   $name: configure stops with '$want'"
 }
 bad_configure misspelt "unknown arguments: PREFX;p" -- TARGET app PREFX p SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+bad_configure misspelt_after_baselines "unknown argument PREFX after BASELINES" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive chapman PREFX p
+bad_configure misspelt_after_options "unknown argument PREFX after BUILD_OPTIONS" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BUILD_OPTIONS --quick PREFX p
+bad_configure unknown_baseline "BASELINES: unknown baseline 'bogus'" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive,bogus
 bad_configure empty_baselines "BASELINES needs a value" -- TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES
 sed -i 's/"atmosphere": *"[^"]*"/"atmosphere": "nope.json"/' "$tmp/consumer/sky.json"
 grep -q '"nope.json"' "$tmp/consumer/sky.json" || { echo "FAIL the test could not point sky.json at nope.json"; exit 1; }

@@ -451,7 +451,39 @@ if [[ -s "$TMP/generic.json" ]]; then
   expect_error "a model eval does not take" "$(cat "$TMP/all.csv")" 'generic.json: model: eval does not evaluate model "mlp"' \
     transmittance --model "$TMP/generic.json"
 else fail "could not write a generic network's weights file"; fi
+expect_error "multiple scattering of a fitted model" "$(cat "$TMP/ground.csv")" \
+  "--model: fitted models give transmittance or sky_radiance, not multiple_scattering" \
+  multiple_scattering --model "$W/mlp-scattering.json"
+expect_error "--tables with --model" "$(cat "$TMP/ground.csv")" "--tables: the reference's multiple_scattering" \
+  sky_radiance --model "$W/mlp-scattering.json" --tables "$TMP"
 expect_error "a missing weights file" "$(cat "$TMP/all.csv")" "no_such.json" transmittance --model "$TMP/no_such.json"
+# Parameters the model does not read (they had been ignored): a misspelt
+# one, the sky network's ground network in a transmittance file, a layer
+# past a gap in the numbering.
+python3 - "$W" "$TMP" <<'PY'
+import json, sys
+w, d = sys.argv[1], sys.argv[2]
+s = json.load(open(w + "/mlp-scattering.json"))
+t = json.load(open(w + "/mlp-transmittance.json"))
+s["params"]["norm_capp"] = s["params"]["norm_cap"]
+json.dump(s, open(d + "/s_misspelt.json", "w"))
+t2 = dict(t, params=dict(t["params"], ground_W0=t["params"]["W0"]))
+json.dump(t2, open(d + "/t_ground.json", "w"))
+t3 = dict(t, params=dict(t["params"], W4=t["params"]["W2"]))
+json.dump(t3, open(d + "/t_gap.json", "w"))
+# a layer wider than the evaluators' buffers (256 units): 2000 had overrun the stack
+n_out = len(t["params"]["W2"])
+t4 = dict(t, params={"W0": [[0.1, 0.2]] * 2000, "b0": [0.0] * 2000, "W1": [[0.001] * 2000] * n_out, "b1": [0.0] * n_out})
+json.dump(t4, open(d + "/t_wide.json", "w"))
+PY
+expect_error "a misspelt parameter" "$(cat "$TMP/ground.csv")" \
+  's_misspelt.json: params.norm_capp: not a parameter of this mlp-scattering model' sky_radiance --model "$TMP/s_misspelt.json"
+expect_error "a ground network in a transmittance file" "$(cat "$TMP/all.csv")" \
+  't_ground.json: params.ground_W0: not a parameter of this mlp-transmittance model' transmittance --model "$TMP/t_ground.json"
+expect_error "a layer past a gap" "$(cat "$TMP/all.csv")" \
+  't_gap.json: params.W4: not a parameter' transmittance --model "$TMP/t_gap.json"
+expect_error "a layer of 2000 units" "$(cat "$TMP/all.csv")" \
+  't_wide.json: params.W0: 2000 rows \(units\), expected 1 to 256' transmittance --model "$TMP/t_wide.json"
 expect_error "--to top of the sigmoid" "$(cat "$TMP/all.csv")" "--to top and --to-distance take an mlp-transmittance model" \
   transmittance --model "$W/sigmoid.json" --to top
 expect_error "a segment of the sky network" "$(cat "$TMP/ground.csv")" "--to top and --to-distance take an mlp-transmittance" \

@@ -364,9 +364,22 @@ expect_error "bad target root" "--target-root: expected an integer in 1..16" "$B
   --out "$TMP/bad.json"
 expect_error "target root of a sigmoid output" "needs the output exp_neg or exp_neg_exp" "$BIN" fit mlp-transmittance \
   --target-root 4 --output sigmoid --out "$TMP/bad.json"
+expect_error "leenman tables" "--parameterization: the networks train on the tables of the bruneton" "$BIN" fit mlp-scattering \
+  --parameterization leenman --out "$TMP/bad.json"
 expect_error "bad split" "--split" "$BIN" fit mlp-scattering --split vertical --out "$TMP/bad.json"
 expect_error "bad normalisation" "--normalise" "$BIN" fit mlp-scattering --normalise log --out "$TMP/bad.json"
 expect_error "negative normalisation cap" "--normalise-cap" "$BIN" fit mlp-scattering --normalise-cap -1 --out "$TMP/bad.json"
+# 100 channels, two constituents that scatter: 300 outputs of the separate
+# target, more than a layer may have (the shape's error had been ignored)
+python3 -c "
+import json
+c = lambda n, s, p: {'name': n, 'scattering': s, 'absorption': 0, 'phase': p, 'density': [{'exp_term': 1, 'exp_scale_per_km': -0.125}]}
+print(json.dumps({'name': 'wide', 'bottom_radius_km': 6360, 'top_radius_km': 6460,
+                  'channels': {'wavelengths_nm': [400 + 3 * i for i in range(100)]},
+                  'constituents': [c('rayleigh', {'recipe': 'rayleigh_bucholtz'}, {'kind': 'rayleigh'}),
+                                   c('haze', [1e-3] * 100, {'kind': 'henyey_greenstein', 'g': 0.7})]}))" >"$TMP/a100.json"
+expect_error "300 outputs" "the network would have 300 outputs (100 channels times" "$BIN" fit mlp-scattering \
+  --atmosphere "$TMP/a100.json" --out "$TMP/bad.json"
 expect_error "layers vs data" "inputs and" "$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 3,4,3 --out "$TMP/bad.json"
 printf 'a,b,c\n1,2,3\n1,oops,3\n' >"$TMP/bad.csv"
 expect_error "bad csv" "line 3, column 2" "$BIN" fit mlp --data "$TMP/bad.csv" --inputs 2 --layers 2,2,1 --out "$TMP/bad.json"

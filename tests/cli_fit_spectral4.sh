@@ -87,5 +87,16 @@ touch -d "2020-01-01" "$stale"
 "$BIN" fit spectral4 "${small[@]}" --out "$TMP/fit/w3.json" --cache-limit none >"$TMP/out" 2>"$TMP/err" || true
 if [[ -s $TMP/fit/w3.json && -e $stale ]]; then pass "--cache-limit none keeps every entry"; else fail "--cache-limit none: $(tail -3 "$TMP/err")"; fi
 
+# A parameter the model does not take (it had been ignored): codegen refuses it.
+python3 -c "
+import json, sys
+w = json.load(open(sys.argv[1])); w['params']['weight_nm'] = w['params']['weights_nm']
+json.dump(w, open(sys.argv[2], 'w'))" "$TMP/fit/w.json" "$TMP/extra.json"
+rc=0
+"$BIN" codegen --weights "$TMP/extra.json" --lang c --out "$TMP/extra_gen" >"$TMP/out" 2>"$TMP/err" || rc=$?
+if [[ $rc -eq 2 && ! -e $TMP/extra_gen ]] && grep -q "extra.json: params.weight_nm: not a parameter of this spectral4 model" "$TMP/err"; then
+  pass "codegen refuses a parameter spectral4 does not take: $(cat "$TMP/err")"
+else fail "codegen with params.weight_nm: exit $rc, $(cat "$TMP/err")"; fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -73,6 +73,9 @@ bad = copy.deepcopy(h); bad["params"]["sun_elevation_rad"] = [0, 2.5]; dump("hra
 # inputs that are not the model's own normalisation (they had been ignored)
 bad = copy.deepcopy(h); bad["inputs"] = w["inputs"]; dump("hinputs.json", bad)
 bad = copy.deepcopy(w); bad["inputs"][0]["scale"] = 2; dump("sinputs.json", bad)
+# a parameter the model does not take (it had been ignored): a misspelling, another model's
+bad = copy.deepcopy(w); bad["params"]["b"] = [1.0]; dump("sextra.json", bad)
+bad = copy.deepcopy(h); bad["params"]["scale"] = h["params"]["radiance"]; dump("hextra.json", bad)
 PY
 # --grid and --views take digits 'x' digits and nothing else (cli/size_pair_option.h)
 for g in 8x16x3 8x16abc 8x16,3 +8x+16 " 8x16" 1x16; do
@@ -104,6 +107,8 @@ expect 2 "hosek wrong shape" "params.coefficients" -- "$bin" fit hosek --check "
 expect 2 "hosek missing radiance" "params.radiance" -- "$bin" fit hosek --check "$tmp/hmissing.json"
 expect 2 "hosek elevation range" "sun_elevation_rad" -- "$bin" fit hosek --check "$tmp/hrange.json"
 expect 2 "hosek as preetham" "model" -- "$bin" fit preetham --check "$tmp/h.json"
+expect 2 "sigmoid with a parameter it does not take" "params.b: not a parameter of this sigmoid model" -- "$bin" fit sigmoid --check "$tmp/sextra.json"
+expect 2 "hosek with preetham's scale" "params.scale: not a parameter of this hosek model" -- "$bin" fit hosek --check "$tmp/hextra.json"
 expect 2 "sigmoid --tables refused" "exact optical depth" -- "$bin" fit sigmoid --tables "$tmp" --out "$tmp/x.json"
 expect 2 "hosek scene without ground viewer" "ground" -- bash -c "echo '{\"viewer_altitude_km\": [5, 10]}' > '$tmp/sc.json' && '$bin' fit hosek --scene '$tmp/sc.json' --out '$tmp/x.json'"
 [ -e "$tmp/x.json" ] && { echo "FAIL: a failed fit wrote its output"; fail=1; }

@@ -420,6 +420,24 @@ echo "3-wavelength atmosphere: exit $rc, $n_views view files; $(grep -o 'The sta
   ! grep -q "Error maps" "$tmp/spec3/report.md" ||
   { echo "FAIL a 3-wavelength atmosphere's views"; cat "$tmp/spec3.out"; fail=1; }
 
+# Five wavelengths: no model's code holds them (vec1..vec4), so the build
+# emits none and says so, exit 0. Preetham and Hosek had been selected as
+# emittable, and the build failed at code generation, exit 2, no report.
+sed 's/"spec3", "channels": {"wavelengths_nm": \[440, 550, 680\]}/"spec5", "channels": {"wavelengths_nm": [440, 500, 550, 610, 680]}/;
+     s/\[0, 0, 0\]/[0, 0, 0, 0, 0]/; s/\[1, 1, 1\]/[1, 1, 1, 1, 1]/;
+     s/\[0.0331, 0.01356, 0.0058\]/[0.0331, 0.021, 0.01356, 0.009, 0.0058]/;
+     s/\[0.003996, 0.003996, 0.003996\]/0.003996/; s/\[0.000444, 0.000444, 0.000444\]/0.000444/;
+     s/\[0.000085, 0.001881, 0.00065\]/[0.000085, 0.001, 0.001881, 0.0012, 0.00065]/' \
+  "$tmp/spec3_atm.json" > "$tmp/spec5_atm.json"
+printf '{"atmosphere": "spec5_atm.json", "viewer_altitude_km": [0, 0], "view": "above_horizon", "sun_elevation_deg": [0, 90],
+ "quantities": ["sky_radiance"], "error_budget": {"sky_radiance_rel_rmse": 10}}' > "$tmp/spec5.json"
+"$bin" build "$tmp/spec5.json" "${tiny[@]}" --out "$tmp/spec5" > "$tmp/spec5.out" 2>&1
+rc=$?
+echo "5-wavelength sky: exit $rc; $(grep -o 'Not eligible: [^.]*' "$tmp/spec5/report.md" | head -1)"
+[ $rc -eq 0 ] && grep -q "headers: none emitted" "$tmp/spec5.out" &&
+  grep -q "preetham: it cannot be emitted as code; hosek: it cannot be emitted as code" "$tmp/spec5/report.md" ||
+  { echo "FAIL a 5-wavelength sky"; cat "$tmp/spec5.out"; fail=1; }
+
 # Bad input: exit 2 with a message, nothing written.
 printf '{"atmosphere": "no-such-file.json"}' > "$tmp/missing.json"
 printf '{"quantities": ["sky_radiance", "colour"]}' > "$tmp/quantity.json"
@@ -623,7 +641,9 @@ print("budget RMSE/2: restarts " + ", ".join(f"{n} {by[n]['errors']['rmse']:.4g}
 PY
 # Headers that would replace an input or a file the build writes itself
 # are refused before any work, exit 2, the inputs untouched: they had
-# overwritten the scene (exit 0), or been lost under the report.
+# overwritten the scene (exit 0), or been lost under the report; a header
+# deeper in a folder the build replaces whole (out/views/new/deeper/) had
+# been accepted, the check looking at its own folder only.
 mkdir -p "$tmp/clash"
 cp "$src/examples/scenes/ground.json" "$tmp/clash/scene.json"
 cp "$tmp/clash/scene.json" "$tmp/clash/scene.orig"
@@ -634,7 +654,8 @@ for args in "scene.json --header-c scene.json" "scene.json --header-glsl ./scene
             "scene.json --header-c out/report.md" "scene.json --header-glsl out/metrics.json" \
             "scene.json --header-c out/weights/sky.h" "scene.json --header-c out/x.h --header-glsl ./out//x.h" \
             "scene.json --header-c $tmp/clash/out/report.md" "scene.json --header-c out/../out/metrics.json" \
-            "scene.json --header-glsl ../clash/scene.json" "scene-air.json"; do
+            "scene.json --header-glsl ../clash/scene.json" "scene-air.json" \
+            "scene.json --header-c out/views/new/deeper/sky.h" "scene.json --header-glsl out/cache/x/../y/sky.glsl"; do
   read -r -a a <<<"$args"
   (cd "$tmp/clash" && "$bin" build "${a[@]}" "${tiny[@]}" --out out > /dev/null 2> err)
   rc=$?

@@ -72,6 +72,9 @@ static int time_before(struct timespec a, struct timespec b) {
 }
 
 /* Least recently used first; equal times in path order (a fixed order). */
+const sf_cache_folder sf_cache_folders[SF_CACHE_FOLDERS] = {{"", "exr"}, {SF_CACHE_FITS, "json"},
+                                                             {SF_CACHE_COSTS, "json"}};
+
 static int compare_by_use(const void *pa, const void *pb) {
   const cache_entry *a = pa, *b = pb;
   if (time_before(a->used, b->used)) return -1;
@@ -84,14 +87,14 @@ int sf_cache_prune(const char *cache_dir, long long limit_bytes, struct timespec
   memset(res, 0, sizeof *res);
   entry_list list = {0};
   char folder[4096];
-  static const char *const subs[][2] = {{"", "exr"}, {"/fits", "json"}, {"/costs", "json"}};
-  for (int s = 0; s < 3; ++s) {
-    int w = snprintf(folder, sizeof folder, "%s%s", cache_dir, subs[s][0]);
+  for (int s = 0; s < SF_CACHE_FOLDERS; ++s) {
+    const sf_cache_folder *f = &sf_cache_folders[s];
+    int w = snprintf(folder, sizeof folder, "%s%s%s", cache_dir, f->sub[0] ? "/" : "", f->sub);
     if (w < 0 || (size_t)w >= sizeof folder) {
       free(list.items);
       return sf_fail(err, SF_ERR_INPUT, "cache %s: folder name too long", cache_dir);
     }
-    int listed = list_entries(folder, subs[s][1], &list, err);
+    int listed = list_entries(folder, f->ext, &list, err);
     if (listed != SF_OK) {
       free(list.items);
       return listed;

@@ -26,6 +26,20 @@
  * tables at the build's default resolution (34 MB each). */
 #define SF_CACHE_LIMIT_DEFAULT_BYTES (2048LL * 1024 * 1024)
 
+/* The cache's folders, relative to the cache folder ("" the folder
+ * itself), and the extension of the entries each holds: tables; fits
+ * (SF_CACHE_FITS) and timings (SF_CACHE_COSTS), the subfolders that
+ * fit/candidate_cache.h's sf_cache_path writes into. The one list of them
+ * that pruning and an interrupted build's cleanup (cli/build_command.c)
+ * walk. */
+#define SF_CACHE_FITS "fits"
+#define SF_CACHE_COSTS "costs"
+typedef struct sf_cache_folder {
+  const char *sub, *ext;
+} sf_cache_folder;
+#define SF_CACHE_FOLDERS 3
+extern const sf_cache_folder sf_cache_folders[SF_CACHE_FOLDERS];
+
 /* Marks the cache entry at path used now (its modification time), so that
  * pruning keeps it before those unused longer. Silent: an entry that
  * cannot be marked is only removed sooner. */
