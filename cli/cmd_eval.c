@@ -65,7 +65,8 @@ static void eval_usage(FILE *out) {
           "  --to nearest|top   ray end: the ground or the top, whichever comes first\n"
           "                     (default), or the top (rays that hit the ground are an error)\n"
           "  --to-distance D    the segment from the viewer to distance D km along the ray\n"
-          "                     (--to top and --to-distance: the reference, or mlp-transmittance)\n"
+          "                     (--to top and --to-distance: the reference, sigmoid or\n"
+          "                     mlp-transmittance)\n"
           "  --quiet            no notes on stderr (errors are still reported)\n"
           "  --help             this text\n");
 }

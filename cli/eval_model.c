@@ -69,16 +69,21 @@ int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m,
 }
 
 int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double distance, sf_error *err) {
-  if ((end == SF_RAY_END_NEAREST && distance < 0.0) || m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE) return SF_OK;
+  if ((end == SF_RAY_END_NEAREST && distance < 0.0) || m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE ||
+      m->kind == SF_EVAL_MODEL_SIGMOID)
+    return SF_OK;
   return sf_fail(err, SF_ERR_INPUT,
                  "%s: model \"%s\" evaluates the full ray (to the ground or the top, whichever comes first); "
-                 "--to top and --to-distance take an mlp-transmittance model",
+                 "--to top and --to-distance take a transmittance model (sigmoid, mlp-transmittance)",
                  m->path, m->name);
 }
 
 void sf_eval_model_values(const sf_eval_model *m, const double *v, double distance, double *out) {
   switch (m->kind) {
-    case SF_EVAL_MODEL_SIGMOID: sf_sigmoid_model_eval(&m->sigmoid, v[0], v[1], out); return;
+    case SF_EVAL_MODEL_SIGMOID:
+      if (distance >= 0.0) sf_sigmoid_model_eval_segment(&m->sigmoid, v[0], v[1], distance, out);
+      else sf_sigmoid_model_eval(&m->sigmoid, v[0], v[1], out);
+      return;
     case SF_EVAL_MODEL_SKY_FORM: sf_sky_radiance_clamped(&m->sky, v[1], v[2], v[3], out); return;
     case SF_EVAL_MODEL_MLP_SCATTERING: sf_mlp_scattering(&m->mlp, v[0], v[1], v[2], v[3], out); return;
     case SF_EVAL_MODEL_MLP_TRANSMITTANCE:

@@ -1,7 +1,7 @@
 /* `skyfit eval QUANTITY --model W.json` (SPEC §11): a fitted model's values
  * at the points instead of the reference's, in double, from the model's own
  * evaluation (what its emitted function computes in float32):
- *   transmittance  sigmoid            sf_sigmoid_model_eval (full ray)
+ *   transmittance  sigmoid            sf_sigmoid_model_eval, _segment (eq. 43)
  *                  mlp-transmittance  sf_mlp_transmittance, _segment (eq. 43)
  *   sky_radiance   mlp-scattering     sf_mlp_scattering (full ray)
  *                  preetham, hosek    sf_sky_radiance_clamped (a viewer on the
@@ -46,8 +46,9 @@ typedef struct sf_eval_model {
 int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m, sf_error *err);
 
 /* Whether the model evaluates the stretch asked for (end, distance >= 0: a
- * segment): every model the full ray; mlp-transmittance also the top and
- * segments. SF_ERR_INPUT saying what the model evaluates. */
+ * segment): every model the full ray; the transmittance models (sigmoid,
+ * mlp-transmittance) also the top and segments. SF_ERR_INPUT saying what
+ * the model evaluates. */
 int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double distance, sf_error *err);
 
 /* out[m->n_channels] at v = (h_km, mu) or (h_km, mu, mu_s, nu), whose

@@ -86,6 +86,12 @@ typedef struct sf_sigmoid_model {
 /* Full-ray transmittance per channel (steps 1-4 above). */
 void sf_sigmoid_model_eval(const sf_sigmoid_model *m, double h_km, double mu,
                            double *transmittance);
+/* Transmittance per channel of the segment from the viewer to distance
+ * d_km along the ray (the ray's end at most), as the emitted
+ * skyfit_sigmoid_transmittance_segment: the ratio of two full rays
+ * (eq. 43), reversed for a ray that ends on the ground. */
+void sf_sigmoid_model_eval_segment(const sf_sigmoid_model *m, double h_km, double mu, double d_km,
+                                   double *transmittance);
 /* To-top transmittance per channel, prod_c T_top_ck(h, mu), as fitted
  * (no geometry: meaningful for mu >= 0). */
 void sf_sigmoid_model_eval_top(const sf_sigmoid_model *m, double h_km, double mu,

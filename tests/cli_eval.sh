@@ -321,6 +321,14 @@ sigmoid_rmse=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1]))[
 "$BIN" eval transmittance --model "$W/sigmoid.json" <"$TMP/all.csv" >"$TMP/sigmoid.csv"
 rmse_within "sigmoid, full rays (twice its file's RMSE $sigmoid_rmse)" "$TMP/ref.csv" "$TMP/sigmoid.csv" \
   "$(python3 -c "print(2 * $sigmoid_rmse)")"
+# its segments (eq. 43, as the emitted skyfit_sigmoid_transmittance_segment)
+# and rays to the top within the same bound as its full rays
+for d in 10 100; do
+  "$BIN" eval transmittance --to-distance $d --model "$W/sigmoid.json" <"$TMP/up.csv" >"$TMP/sigmoid_$d.csv"
+  rmse_within "sigmoid, segments of $d km" "$TMP/ref_$d.csv" "$TMP/sigmoid_$d.csv" "$(python3 -c "print(2 * $sigmoid_rmse)")"
+done
+"$BIN" eval transmittance --to top --model "$W/sigmoid.json" <"$TMP/up.csv" >"$TMP/sigmoid_top.csv"
+rmse_within "sigmoid, rays to the top" "$TMP/ref_top.csv" "$TMP/sigmoid_top.csv" "$(python3 -c "print(2 * $sigmoid_rmse)")"
 
 # ---- sky radiance -----------------------------------------------------------
 printf 'h_km,mu,mu_s,nu\n0,-0.5,0.5,0.1\n0,-0.01,0.9,0.2\n' >"$TMP/down.csv"
@@ -345,7 +353,8 @@ else fail "--quiet: '$c' against '$b'; stderr $(cat "$TMP/err_quiet")"; fi
 
 # ---- against the emitted code -----------------------------------------------
 # The emitted float32 functions (skyfit codegen from the same weights) at
-# 2000 random sky points: eval --model's doubles within 1e-4 of them,
+# 2000 random sky points (the transmittance models also on segments of 30
+# km): eval --model's doubles within 1e-4 of them,
 # relative to max(|value|, 1e-3 of the model's largest value), which float32
 # rounding keeps (tests/test_codegen_headers.c states the tighter
 # per-function bounds) and any mix-up of inputs or models breaks.
@@ -363,6 +372,7 @@ PY
 cat >"$TMP/drive.c" <<'C'
 #include <stdio.h>
 #include "skyfit.h"
+#define SEGMENT_KM 30.0f   /* the segments' length (T, S) */
 /* argv[1]: the model; stdin: the CSV points; stdout: the values as eval --model writes them */
 int main(int argc, char **argv) {
   char line[512];
@@ -375,6 +385,8 @@ int main(int argc, char **argv) {
       case 'p': v = skyfit_preetham_sky_radiance((float)mu, (float)mu_s, (float)nu); break;
       case 'h': v = skyfit_hosek_sky_radiance((float)mu, (float)mu_s, (float)nu); break;
       case 't': v = skyfit_mlp_transmittance((float)h, (float)mu); break;
+      case 'T': v = skyfit_mlp_transmittance_segment((float)h, (float)mu, SEGMENT_KM); break;
+      case 'S': v = skyfit_sigmoid_transmittance_segment((float)h, (float)mu, SEGMENT_KM); break;
       default: v = skyfit_sigmoid_transmittance((float)h, (float)mu); break;
     }
     printf("%.9g,%.9g,%.9g\n", v.x, v.y, v.z);
@@ -383,18 +395,39 @@ int main(int argc, char **argv) {
 }
 C
 cut -d, -f1,2 "$TMP/sky.csv" >"$TMP/ray.csv"
+# the rays whose 30 km segment ends above the ground (eval refuses the
+# others), those toward the ground included: 2000 of them
+python3 - "$TMP/segment.csv" "$TMP/segment4.csv" <<'PY'
+import math, random, sys
+r, R, n = random.Random(11), 6360.0, 0
+with open(sys.argv[1], "w") as f, open(sys.argv[2], "w") as f4:   # f4: the driver's 4 columns
+    f.write("h_km,mu\n")
+    f4.write("h_km,mu,mu_s,nu\n")
+    while n < 2000:
+        h, mu = r.uniform(0, 100), r.uniform(-1, 1)
+        rad = R + h
+        disc = rad * rad * (mu * mu - 1) + R * R
+        if mu < 0 and disc >= 0 and -rad * mu - math.sqrt(disc) < 30.5:
+            continue
+        f.write("%.17g,%.17g\n" % (h, mu))
+        f4.write("%.17g,%.17g,0,0\n" % (h, mu))
+        n += 1
+PY
 if cc -std=c99 -O2 -I"$TMP/gen" -o "$TMP/drive" "$TMP/drive.c" -lm; then
-  for m in mlp-scattering preetham hosek mlp-transmittance sigmoid; do
+  for m in mlp-scattering preetham hosek mlp-transmittance sigmoid mlp-transmittance-segment sigmoid-segment; do
+    segment=() drive_in=sky.csv
     case $m in
       mlp-transmittance) q=transmittance key=t points=ray.csv ;;
       sigmoid) q=transmittance key=s points=ray.csv ;;
+      mlp-transmittance-segment) q=transmittance key=T points=segment.csv drive_in=segment4.csv segment=(--to-distance 30) ;;
+      sigmoid-segment) q=transmittance key=S points=segment.csv drive_in=segment4.csv segment=(--to-distance 30) ;;
       *) q=sky_radiance key=$m points=sky.csv ;;
     esac
     # the values only: the columns after the inputs
-    "$BIN" eval $q --model "$W/$m.json" <"$TMP/$points" 2>/dev/null |
+    "$BIN" eval $q --model "$W/${m%-segment}.json" "${segment[@]}" <"$TMP/$points" 2>/dev/null |
       awk -F, -v skip=$([[ $q == transmittance ]] && echo 2 || echo 4) 'NR > 1 {
         s = $(skip + 1); for (i = skip + 2; i <= NF; ++i) s = s "," $i; print s }' >"$TMP/eval_$m"
-    "$TMP/drive" "$key" <"$TMP/sky.csv" >"$TMP/c_$m"
+    "$TMP/drive" "$key" <"$TMP/$drive_in" >"$TMP/c_$m"
     line=$(python3 - "$TMP/eval_$m" "$TMP/c_$m" <<'PY'
 import sys
 d = [[float(x) for x in l.split(",")] for l in open(sys.argv[1])]
@@ -484,9 +517,7 @@ expect_error "a layer past a gap" "$(cat "$TMP/all.csv")" \
   't_gap.json: params.W4: not a parameter' transmittance --model "$TMP/t_gap.json"
 expect_error "a layer of 2000 units" "$(cat "$TMP/all.csv")" \
   't_wide.json: params.W0: 2000 rows \(units\), expected 1 to 256' transmittance --model "$TMP/t_wide.json"
-expect_error "--to top of the sigmoid" "$(cat "$TMP/all.csv")" "--to top and --to-distance take an mlp-transmittance model" \
-  transmittance --model "$W/sigmoid.json" --to top
-expect_error "a segment of the sky network" "$(cat "$TMP/ground.csv")" "--to top and --to-distance take an mlp-transmittance" \
+expect_error "a segment of the sky network" "$(cat "$TMP/ground.csv")" "--to top and --to-distance take a transmittance model" \
   sky_radiance --model "$W/mlp-scattering.json" --to-distance 5
 expect_error "--to top through the ground" "$(cat "$TMP/all.csv")" "row [0-9]+: the ray hits the ground" \
   transmittance --model "$W/mlp-transmittance.json" --to top
