@@ -153,7 +153,7 @@ static void emit_layer_value(sf_code_writer *w, const sf_density_layer *l) {
   if (!terms) sf_cw_emit(w, "0.0f");
 }
 
-static void emit_density(sf_code_writer *w, const sf_constituent *c) {
+void sf_emit_constituent_density(sf_code_writer *w, const sf_constituent *c) {
   sf_cw_emit(w, "@min(@max(");
   double top_of_layer = 0.0;
   for (int i = 0; i < c->n_layers - 1; ++i) {
@@ -195,7 +195,7 @@ static void emit_naive_depths(sf_code_writer *w, const sf_baseline *b) {
              (double)b->steps, b->steps, atm->bottom_radius_km);
   for (int i = 0; i < atm->n_constituents; ++i) {
     sf_cw_emit(w, "      d%d += ", i);
-    emit_density(w, &atm->constituents[i]);
+    sf_emit_constituent_density(w, &atm->constituents[i]);
     sf_cw_emit(w, ";\n");
   }
   sf_cw_emit(w, "      k += 1.0f;\n    }\n");

@@ -76,6 +76,11 @@ int sf_baseline_check(const sf_baseline *b, sf_error *err);
  * vector types they use). */
 void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b);
 
+/* The expression of constituent c's density at the float variable h (km
+ * above the ground): its layers by cumulative width, clamped to [0, 1]
+ * (models/atmosphere.h); for the naive sky too (codegen/emit_sky_naive.h). */
+void sf_emit_constituent_density(sf_code_writer *w, const sf_constituent *c);
+
 /* The same model in double precision through models/ (what the emitted
  * float code approximates): density integral (km) of every constituent
  * over [t0, t1] along the ray from radius r, and the transmittance per

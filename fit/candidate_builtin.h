@@ -42,6 +42,10 @@ int sf_candidate_reference_transmittance(const sf_atmosphere *atm, sf_candidate 
 int sf_candidate_table_transmittance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
 /* Sky radiance from the tables: the reference of the sky-radiance models. */
 int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
+/* The naive sky (models/sky_naive.h): single scattering raymarched,
+ * SF_SKY_NAIVE_VIEW_STEPS x SF_SKY_NAIVE_SUN_STEPS, the sky-radiance
+ * baseline for every viewer (fit/candidate_sky_naive.c). */
+int sf_candidate_sky_naive(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
 /* An analytic transmittance baseline; steps is used by SF_TB_NAIVE only
  * (name "naive<steps>"). SF_ERR_INPUT when the model does not apply (no
  * exponential constituent for Chapman/Taylor/flat/spline). */

@@ -134,6 +134,9 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   if (want_radiance) {
     if (sf_candidate_table_sky_radiance(in->sky, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
       return err->status;
+    if (sf_atmosphere_scattering_count(in->atm) > 0 &&
+        (sf_candidate_sky_naive(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK))
+      return err->status;
   }
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     if (q == SF_CANDIDATE_SKY_RADIANCE && !want_radiance) continue;

@@ -1,0 +1,50 @@
+/* The naive sky (SPEC §7.6 "N-step raymarch"; seed 000 §11.2.6, Terrell
+ * 2016 with ozone): single scattering by direct numerical integration,
+ *   L = E_sun sum_i P_i(nu) beta_s,i sum_k rho_i(p_k) T(viewer -> p_k) T(p_k -> sun) dt,
+ * p_k the midpoints of view_steps equal steps of the view ray (to the
+ * ground or out of the atmosphere), T(viewer -> p_k) by the same midpoint
+ * sum, T(p_k -> sun) by a sun_steps midpoint raymarch to the top, 0 where
+ * the planet hides the sun. No multiple scattering and no ground light,
+ * as in the seed: the sky-radiance baseline of the speed-against-error
+ * report, for every viewer (a viewer above the top starts where its ray
+ * enters, as the reference does), where Preetham and Hosek take a ground
+ * viewer only. Converges to the reference's single scattering times the
+ * phase functions (models/single_scattering.h) as the steps grow
+ * (tests/test_sky_naive.c); codegen/emit_sky_naive.h emits the same sums
+ * in float32. */
+#ifndef SKYFIT_MODELS_SKY_NAIVE_H
+#define SKYFIT_MODELS_SKY_NAIVE_H
+
+#include "models/atmosphere.h"
+
+/* Terrell's steps: 16 along the view ray, 8 toward the sun. */
+#define SF_SKY_NAIVE_VIEW_STEPS 16
+#define SF_SKY_NAIVE_SUN_STEPS 8
+
+typedef struct sf_sky_naive {
+  const sf_atmosphere *atm;
+  int view_steps, sun_steps;   /* >= 1 each */
+} sf_sky_naive;
+
+/* L[atm->n_channels] at (h_km, mu, mu_s, nu), nu clamped to what mu and
+ * mu_s allow (SPEC §3). */
+void sf_sky_naive_radiance(const sf_sky_naive *m, double h_km, double mu, double mu_s, double nu, double *L);
+
+/* The same sums in float32, as the emitted code runs them (the report
+ * times this): the atmosphere's numbers rounded once by
+ * sf_sky_naive_f_make, at most 4 channels. */
+typedef struct sf_sky_naive_f {
+  int view_steps, sun_steps, n_constituents, n_channels;
+  float bottom, thickness;
+  int n_layers[SF_MAX_CONSTITUENTS];
+  float layer_top[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS];
+  float layer[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS][4];   /* linear, constant, exp_term, exp_scale */
+  float scattering[SF_MAX_CONSTITUENTS][4], extinction[SF_MAX_CONSTITUENTS][4], sun[4];
+  sf_phase phase[SF_MAX_CONSTITUENTS];
+} sf_sky_naive_f;
+
+/* 0, or -1 when the atmosphere has more than 4 channels. */
+int sf_sky_naive_f_make(const sf_sky_naive *m, sf_sky_naive_f *out);
+void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, float mu_s, float nu, float *L);
+
+#endif
