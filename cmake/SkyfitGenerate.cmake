@@ -73,6 +73,7 @@ function(skyfit_generate)
   endforeach()
   set(known_baselines naive chapman taylor flat spline)   # skyfit codegen --baselines (codegen/baselines.h)
   string(REPLACE "," ";" baseline_names "${SG_BASELINES}")
+  list(REMOVE_ITEM baseline_names "")   # "naive,chapman,": codegen skips the empty name too
   foreach(baseline IN LISTS baseline_names)
     if(NOT baseline IN_LIST known_baselines)
       message(FATAL_ERROR "skyfit_generate: BASELINES: unknown baseline '${baseline}' (naive, chapman, taylor, "

@@ -9,6 +9,22 @@ static int scatters(const sf_atmosphere *atm, int i, int k) {
   return atm->constituents[i].scattering[k] != 0.0 && atm->constituents[i].phase.kind != SF_PHASE_NONE;
 }
 
+/* Whether constituent i scatters in some channel, and whether it dims
+ * some channel: the variables it needs. None is emitted that nothing
+ * reads (-Wall -Werror: an absorber's phase function, a transparent
+ * constituent's depths). */
+static int scatters_any(const sf_atmosphere *atm, int i) {
+  for (int k = 0; k < atm->n_channels; ++k)
+    if (scatters(atm, i, k)) return 1;
+  return 0;
+}
+
+static int dims_any(const sf_atmosphere *atm, int i) {
+  for (int k = 0; k < atm->n_channels; ++k)
+    if (sf_extinction(atm, i, k) != 0.0) return 1;
+  return 0;
+}
+
 void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
   const sf_atmosphere *atm = m->atm;
   const int nc = atm->n_constituents, nk = atm->n_channels;
@@ -30,9 +46,13 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "  float r = %F + hv;\n",
              R, H, R);
   for (int i = 0; i < nc; ++i)
-    if (atm->constituents[i].phase.kind != SF_PHASE_NONE) sf_emit_phase(w, i, &atm->constituents[i].phase);
-  for (int i = 0; i < nc; ++i) sf_cw_emit(w, "  float v%d = 0.0f, rho%d, sun%d;  /* %s */\n", i, i, i,
-                                          atm->constituents[i].name);
+    if (scatters_any(atm, i)) sf_emit_phase(w, i, &atm->constituents[i].phase);
+  for (int i = 0; i < nc; ++i) {
+    if (dims_any(atm, i))
+      sf_cw_emit(w, "  float v%d = 0.0f, rho%d, sun%d;  /* %s */\n", i, i, i, atm->constituents[i].name);
+    else if (scatters_any(atm, i))
+      sf_cw_emit(w, "  float rho%d;  /* %s */\n", i, atm->constituents[i].name);
+  }
   sf_cw_emit(w,
              "  float h = 0.0f, view_k = 0.5f;  /* (no int-to-float cast is spelled alike in C and GLSL) */\n"
              "  float dt = (seg.y - seg.x) / %F;\n"
@@ -44,6 +64,7 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "    h = hp;\n",
              (double)m->view_steps, m->view_steps, R, R);
   for (int i = 0; i < nc; ++i) {
+    if (!dims_any(atm, i) && !scatters_any(atm, i)) continue;
     sf_cw_emit(w, "    rho%d = ", i);
     sf_emit_constituent_density(w, &atm->constituents[i]);
     sf_cw_emit(w, ";\n");
@@ -54,7 +75,8 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "    if (!(msp < 0.0f && g.x <= g.y)) {  /* else the planet hides the sun */\n"
              "      float ds = @max(skyfit_sphere_hits(rp, msp, %F, %F - hp).y, 0.0f) / %F;\n",
              R, R, R + H, H, (double)m->sun_steps);
-  for (int i = 0; i < nc; ++i) sf_cw_emit(w, "      sun%d = 0.0f;\n", i);
+  for (int i = 0; i < nc; ++i)
+    if (dims_any(atm, i)) sf_cw_emit(w, "      sun%d = 0.0f;\n", i);
   sf_cw_emit(w,
              "      float sun_k = 0.5f;\n"
              "      for (int j = 0; j < %d; ++j) {\n"
@@ -62,6 +84,7 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "        sun_k += 1.0f;\n",
              m->sun_steps, R);
   for (int i = 0; i < nc; ++i) {
+    if (!dims_any(atm, i)) continue;
     sf_cw_emit(w, "        sun%d += ", i);
     sf_emit_constituent_density(w, &atm->constituents[i]);
     sf_cw_emit(w, ";\n");
@@ -79,7 +102,8 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
     sf_cw_emit(w, ");\n");
   }
   sf_cw_emit(w, "    }\n");
-  for (int i = 0; i < nc; ++i) sf_cw_emit(w, "    v%d += rho%d * dt;\n", i, i);
+  for (int i = 0; i < nc; ++i)
+    if (dims_any(atm, i)) sf_cw_emit(w, "    v%d += rho%d * dt;\n", i, i);
   sf_cw_emit(w, "  }\n");
   for (int k = 0; k < nk; ++k) sf_cw_emit(w, "  l%d *= dt * %F;\n", k, atm->sun_irradiance[k]);
   sf_cw_emit(w, "  }\n  }\n  return %C", nk);

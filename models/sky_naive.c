@@ -130,6 +130,45 @@ static float phase_f(const sf_phase *p, float nu) {
   return 0.0f;
 }
 
+/* The emitted helpers' geometry (codegen/emit_helpers.c), in float32 as
+ * they run it: distances from altitudes, not from radii, whose difference
+ * loses a low viewer's altitude (sf_ray_*_f take radii: a viewer 1 m up
+ * looking down had come out 2.3 % off the emitted code, 1.7 m up 11 %). */
+static void sphere_hits_f(float r, float mu, float R, float R_minus_r, float *near, float *far) {
+  float disc = R_minus_r * (R + r) + (r * mu) * (r * mu);
+  if (disc < 0.0f) {
+    *near = 1.0f;
+    *far = -1.0f;
+    return;
+  }
+  float root = sqrtf(disc);
+  float q = -(r * mu + (mu >= 0.0f ? root : -root));
+  float b = q != 0.0f ? -R_minus_r * (r + R) / q : 0.0f;
+  *near = q < b ? q : b;
+  *far = q < b ? b : q;
+}
+
+/* skyfit_air_clip's [a, b] for the whole ray (t0 = 0, t1 = 3.4e38). */
+static void air_clip_f(float bottom, float thickness, float h, float mu, float *a, float *b) {
+  float r = bottom + h, s0, s1, g0, g1;
+  *a = *b = 0.0f;
+  sphere_hits_f(r, mu, bottom + thickness, thickness - h, &s0, &s1);
+  if (s0 > s1) return;
+  float lo = 0.0f, hi = 3.4e38f;
+  if (s0 > lo) lo = s0;
+  if (s1 < hi) hi = s1;
+  sphere_hits_f(r, mu, bottom, -h, &g0, &g1);
+  if (g0 < g1) {
+    if (lo <= g0) {
+      if (g0 < hi) hi = g0;
+    } else if (lo < g1) {
+      lo = g1;
+    }
+  }
+  *a = lo;
+  *b = hi > lo ? hi : lo;
+}
+
 void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, float mu_s, float nu, float *L) {
   const int nc = m->n_constituents, nk = m->n_channels;
   for (int k = 0; k < nk; ++k) L[k] = 0.0f;
@@ -137,7 +176,6 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
   nu = fminf(fmaxf(nu, mu * mu_s - spread), mu * mu_s + spread);
   float R = m->bottom, Rt = m->bottom + m->thickness;
   float r = R + fmaxf(h_km, 0.0f), t0, t1;
-  int ground;
   float h = fmaxf(h_km, 0.0f);
   if (h > m->thickness) {   /* above the top: from where the ray enters (the emitted skyfit_ray_enter) */
     float disc;
@@ -154,7 +192,8 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
     r = Rt;
     h = m->thickness;
   }
-  if (!sf_ray_atmosphere_segment_f(r, mu, R, Rt, &t0, &t1, &ground) || !(t1 > t0)) return;
+  air_clip_f(R, m->thickness, h, mu, &t0, &t1);
+  if (!(t1 > t0)) return;
   float phase[SF_MAX_CONSTITUENTS], view[SF_MAX_CONSTITUENTS] = {0};
   for (int i = 0; i < nc; ++i) phase[i] = phase_f(&m->phase[i], nu);
   float dt = (t1 - t0) / (float)m->view_steps;
@@ -164,9 +203,10 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
     float mu_s_p = fminf(fmaxf((r * mu_s + t * nu) / (R + hp), -1.0f), 1.0f);
     float rho[SF_MAX_CONSTITUENTS], sun[SF_MAX_CONSTITUENTS] = {0};
     for (int i = 0; i < nc; ++i) rho[i] = density_f(m, i, hp);
-    float rp = R + hp, t_near, t_far;
-    if (!sf_ray_hits_sphere_from_above_f(rp, mu_s_p, R)) {
-      if (!sf_ray_sphere_intersections_f(rp, mu_s_p, Rt, &t_near, &t_far)) t_far = 0.0f;
+    float rp = R + hp, g0, g1, t_near, t_far;
+    sphere_hits_f(rp, mu_s_p, R, -hp, &g0, &g1);
+    if (!(mu_s_p < 0.0f && g0 <= g1)) {   /* else the planet hides the sun */
+      sphere_hits_f(rp, mu_s_p, Rt, m->thickness - hp, &t_near, &t_far);
       float ds = fmaxf(t_far, 0.0f) / (float)m->sun_steps;
       for (int j = 0; j < m->sun_steps; ++j) {
         float hj = sf_ray_altitude_at_f(R, hp, mu_s_p, ((float)j + 0.5f) * ds);

@@ -29,7 +29,7 @@
 
 typedef void (*sky_fn)(float h, float mu, float mu_s, float nu, float *out);
 
-enum { N_POINTS = 9 };
+enum { N_POINTS = 11 };
 static const double points[N_POINTS][4] = {
     {0.0, 0.3, 0.5, 0.2},      /* ground, noon-ish */
     {0.0, 0.02, 0.05, 0.9},    /* horizon, toward a low sun */
@@ -40,6 +40,10 @@ static const double points[N_POINTS][4] = {
     {100.0, -0.3, 0.4, 0.0},   /* at the top, looking down */
     {1000.0, -0.99, 0.5, -0.4},/* space */
     {20.0, 0.9, 1.0, 0.9},     /* sun overhead */
+    /* 1 and 1.7 m up, looking down: the float32 evaluation had taken
+     * radii's differences there, 2.3 % and 11 % off the emitted code */
+    {0.001, -0.5, 0.5, 0.0},
+    {0.00165561, -0.6595, 0.5771, -0.1962},
 };
 
 /* The reference: sum_i P_i(nu) times single scattering of constituent i. */
@@ -102,7 +106,7 @@ static int build_library(const char *dir, const char *header, const char *so) {
   return system(cmd) == 0 ? 0 : -1;
 }
 
-static void check_emitted(const sf_atmosphere *atm, const char *dir) {
+static void check_emitted(const sf_atmosphere *atm, const char *dir, const char *base) {
   sf_candidate c;
   sf_error err = {0};
   if (!CHECK(sf_candidate_sky_naive(atm, &c, &err) == SF_OK)) return;
@@ -131,9 +135,10 @@ static void check_emitted(const sf_atmosphere *atm, const char *dir) {
   parts[1].emit = sf_emit_selection_alias;
   parts[1].model = &alias;
   char header[1200], so[1200];
-  snprintf(header, sizeof header, "%s/naive_sky.h", dir);
-  snprintf(so, sizeof so, "%s/naive_sky.so", dir);
-  if (!CHECK(sf_codegen_write(parts, 2, 1, 1, dir, "naive_sky", NULL, &err) == SF_OK)) {
+  printf("-- %s\n", atm->name);
+  snprintf(header, sizeof header, "%s/%s.h", dir, base);
+  snprintf(so, sizeof so, "%s/%s.so", dir, base);
+  if (!CHECK(sf_codegen_write(parts, 2, 1, 1, dir, base, NULL, &err) == SF_OK)) {
     printf("%s\n", err.message);
     sf_candidate_free(&c);
     return;
@@ -197,10 +202,10 @@ static void check_emitted(const sf_atmosphere *atm, const char *dir) {
   /* the GLSL compiles, where glslangValidator is installed (scripts/setup.sh) */
   char cmd[4096];
   snprintf(cmd, sizeof cmd,
-           "command -v glslangValidator >/dev/null || exit 77; { echo '#version 330'; cat %s/naive_sky.glsl; "
+           "command -v glslangValidator >/dev/null || exit 77; { echo '#version 330'; cat %s/%s.glsl; "
            "echo 'out vec4 c; void main() { c = vec4(skyfit_sky_radiance(1.0, 0.3, 0.5, 0.2), 1.0); }'; } "
            "> %s/use.frag && glslangValidator %s/use.frag > %s/glsl.log",
-           dir, dir, dir, dir);
+           dir, base, dir, dir, dir);
   int rc = system(cmd);
   if (WIFEXITED(rc) && WEXITSTATUS(rc) == 77) printf("glslangValidator not installed: GLSL not compiled\n");
   else if (CHECK(rc == 0)) printf("the GLSL compiles (glslangValidator)\n");
@@ -214,7 +219,22 @@ int main(void) {
   check_convergence(&atm);
   char dir[] = "/tmp/skyfit-sky-naive-XXXXXX";
   if (!mkdtemp(dir)) return 1;
-  check_emitted(&atm, dir);
+  check_emitted(&atm, dir, "naive_sky");
+  /* and with a constituent that absorbs only (but names a phase function)
+   * and one that does nothing: their unread variables had failed -Wall
+   * -Werror (the phase function, the depths) */
+  sf_atmosphere odd = atm;
+  snprintf(odd.name, sizeof odd.name, "default with an absorber and a transparent constituent");
+  sf_constituent *absorber = &odd.constituents[odd.n_constituents++];
+  *absorber = atm.constituents[1];
+  snprintf(absorber->name, sizeof absorber->name, "soot");
+  for (int k = 0; k < odd.n_channels; ++k) absorber->scattering[k] = 0.0, absorber->absorption[k] = 2e-4 * (k + 1);
+  sf_constituent *none = &odd.constituents[odd.n_constituents++];
+  *none = atm.constituents[0];
+  snprintf(none->name, sizeof none->name, "nothing");
+  for (int k = 0; k < odd.n_channels; ++k) none->scattering[k] = none->absorption[k] = 0.0;
+  sf_atmosphere_finalize(&odd);
+  check_emitted(&odd, dir, "naive_sky_odd");
   char cmd[200];
   snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
   if (system(cmd) != 0) printf("could not remove %s\n", dir);

@@ -71,10 +71,10 @@ static int time_before(struct timespec a, struct timespec b) {
   return a.tv_sec < b.tv_sec || (a.tv_sec == b.tv_sec && a.tv_nsec < b.tv_nsec);
 }
 
-/* Least recently used first; equal times in path order (a fixed order). */
 const sf_cache_folder sf_cache_folders[SF_CACHE_FOLDERS] = {{"", "exr"}, {SF_CACHE_FITS, "json"},
                                                              {SF_CACHE_COSTS, "json"}};
 
+/* Least recently used first; equal times in path order (a fixed order). */
 static int compare_by_use(const void *pa, const void *pb) {
   const cache_entry *a = pa, *b = pb;
   if (time_before(a->used, b->used)) return -1;
