@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "emitted_library.h"
 #include "codegen/codegen_file.h"
 #include "codegen/emit_selection_alias.h"
 #include "fit/candidate_registry.h"
@@ -30,22 +31,17 @@ typedef void (*transmittance_fn)(float h_km, float mu, float t_km, float *full, 
 
 /* A shared library over the header: the stable names, full ray and segment. */
 static int build_library(const char *dir, const char *header, const char *so) {
-  char driver[1200], cmd[4096];
+  char driver[1200], text[2048];
   snprintf(driver, sizeof driver, "%s/driver.c", dir);
-  FILE *f = fopen(driver, "w");
-  if (!f) return -1;
-  fprintf(f,
-          "#include \"%s\"\n"
-          "void eval_transmittance(float h, float mu, float t, float *full, float *segment) {\n"
-          "  skyfit_vec3 a = skyfit_transmittance(h, mu), b = skyfit_transmittance_segment(h, mu, t);\n"
-          "  full[0] = a.x; full[1] = a.y; full[2] = a.z;\n"
-          "  segment[0] = b.x; segment[1] = b.y; segment[2] = b.z;\n"
-          "}\n",
-          header);
-  fclose(f);
-  snprintf(cmd, sizeof cmd, "cc -std=c99 -O2 -fPIC -shared -Wall -Wextra -Werror -pedantic %s -o %s -lm", driver,
-           so);
-  return system(cmd) == 0 ? 0 : -1;
+  snprintf(text, sizeof text,
+           "#include \"%s\"\n"
+           "void eval_transmittance(float h, float mu, float t, float *full, float *segment) {\n"
+           "  skyfit_vec3 a = skyfit_transmittance(h, mu), b = skyfit_transmittance_segment(h, mu, t);\n"
+           "  full[0] = a.x; full[1] = a.y; full[2] = a.z;\n"
+           "  segment[0] = b.x; segment[1] = b.y; segment[2] = b.z;\n"
+           "}\n",
+           header);
+  return emitted_library_build(driver, text, so);
 }
 
 /* The rays: h over the default scene's altitudes (the ground to 400 km:

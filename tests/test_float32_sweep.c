@@ -64,6 +64,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "emitted_library.h"
 #include "codegen/baseline_part.h"
 #include "codegen/codegen_file.h"
 #include "codegen/fitted_part.h"
@@ -721,7 +722,7 @@ static void sweep_atmosphere_run(sweep_atmosphere *sa, int index, int with_fitte
   sf_fitted_link(sa->fitted, parts + first, sa->n_fitted);
   add_fitted_functions(sa, fs, &n_fs);
 
-  char base[64], header[1024], driver[1024], so[1024], cmd[4096];
+  char base[64], header[1024], driver[1024], so[1024];
   snprintf(base, sizeof base, "sweep_%s", sa->name);
   if (!CHECK(sf_codegen_write(parts, n_parts, 1, 0, tmp_dir, base, NULL, &err) == SF_OK)) {
     printf("%s\n", err.message);
@@ -734,8 +735,7 @@ static void sweep_atmosphere_run(sweep_atmosphere *sa, int index, int with_fitte
   char header_name[80];
   snprintf(header_name, sizeof header_name, "%s.h", base);
   CHECK(write_driver(driver, header_name, fs, n_fs) == 0);
-  snprintf(cmd, sizeof cmd, "cc -std=c99 -O2 -fPIC -shared -Wall -Wextra -Werror -pedantic %s -o %s -lm", driver, so);
-  if (!CHECK(run(cmd) == 0)) return;
+  if (!CHECK(emitted_library_compile(driver, so) == 0)) return;
   void *lib = dlopen(so, RTLD_NOW | RTLD_LOCAL);
   if (!CHECK(lib != NULL)) {
     printf("%s\n", dlerror());

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "emitted_library.h"
 #include "codegen/codegen_file.h"
 #include "codegen/emit_selection_alias.h"
 #include "fit/candidate_builtin.h"
@@ -89,21 +90,16 @@ static void check_convergence(const sf_atmosphere *atm) {
 }
 
 static int build_library(const char *dir, const char *header, const char *so) {
-  char driver[1200], cmd[4096];
+  char driver[1200], text[2048];
   snprintf(driver, sizeof driver, "%s/driver.c", dir);
-  FILE *f = fopen(driver, "w");
-  if (!f) return -1;
-  fprintf(f,
-          "#include \"%s\"\n"
-          "void eval_sky(float h, float mu, float mu_s, float nu, float *out) {\n"
-          "  skyfit_vec3 v = skyfit_sky_radiance(h, mu, mu_s, nu);\n"
-          "  out[0] = v.x; out[1] = v.y; out[2] = v.z;\n"
-          "}\n",
-          header);
-  fclose(f);
-  snprintf(cmd, sizeof cmd, "cc -std=c99 -O2 -fPIC -shared -Wall -Wextra -Werror -pedantic %s -o %s -lm", driver,
-           so);
-  return system(cmd) == 0 ? 0 : -1;
+  snprintf(text, sizeof text,
+           "#include \"%s\"\n"
+           "void eval_sky(float h, float mu, float mu_s, float nu, float *out) {\n"
+           "  skyfit_vec3 v = skyfit_sky_radiance(h, mu, mu_s, nu);\n"
+           "  out[0] = v.x; out[1] = v.y; out[2] = v.z;\n"
+           "}\n",
+           header);
+  return emitted_library_build(driver, text, so);
 }
 
 static void check_emitted(const sf_atmosphere *atm, const char *dir, const char *base) {
