@@ -25,7 +25,7 @@ typedef struct codegen_options {
 
 static void codegen_usage(FILE *out) {
   fprintf(out,
-          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat,spline]\n"
+          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat,spline,naive-sky]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -42,7 +42,9 @@ static void codegen_usage(FILE *out) {
           "                     59), spline (Galaj, seed 002 IV.E: Hermite meshes 50 x 20 as\n"
           "                     constant arrays). Leenman's raymarched model (seed 000 11.2.10) raymarches\n"
           "                     scattering only and takes its optical depths from the flat\n"
-          "                     model: its transmittance is 'flat', not 'naive'\n"
+          "                     model: its transmittance is 'flat', not 'naive'; and the\n"
+          "                     sky-radiance baseline naive-sky (single scattering, 16 view x 8\n"
+          "                     sun steps, seed 000 11.2.6: skyfit_naive_sky_radiance)\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
           "                     built-in Earth)\n"
@@ -179,10 +181,12 @@ typedef struct codegen_job {
   sf_baseline baselines[SF_BASELINE_COUNT];
   int n_baselines;
   sf_spline_model spline;          /* the spline baseline's meshes, if asked */
+  sf_sky_naive sky;                /* --baselines naive-sky */
+  int has_sky;
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
-  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT];
+  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 1];
   int n_parts;
 } codegen_job;
 
@@ -203,10 +207,19 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
   snprintf(list, sizeof list, "%s", o->baselines);
   for (char *save = NULL, *item = strtok_r(list, ",", &save); item;
        item = strtok_r(NULL, ",", &save)) {
+    if (strcmp(item, "naive-sky") == 0) {   /* the sky-radiance baseline (models/sky_naive.h) */
+      if (job->has_sky) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
+      job->sky = (sf_sky_naive){&job->scene.atmosphere, SF_SKY_NAIVE_VIEW_STEPS, SF_SKY_NAIVE_SUN_STEPS};
+      job->has_sky = 1;
+      if (sf_sky_naive_part(&job->sky, &job->domain, &job->parts[job->n_parts], err) != SF_OK) return err->status;
+      ++job->n_parts;
+      continue;
+    }
     int kind = sf_baseline_kind_parse(item);
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
-                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline)", item);
+                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline, naive-sky)",
+                     item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)
         return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
@@ -232,6 +245,7 @@ static int run(const codegen_options *o, codegen_job *job, sf_error *err) {
     if (load_scene(o, job, err) != SF_OK) return err->status;
     if (add_baselines(o, job, err) != SF_OK) return err->status;
   }
+  int first_weights_part = job->n_parts;
   for (int i = 0; i < o->n_weights; ++i) {
     if (sf_weights_load_file(o->weights[i], NULL, &job->weights[i], err) != SF_OK)
       return err->status;
@@ -240,7 +254,7 @@ static int run(const codegen_options *o, codegen_job *job, sf_error *err) {
       return err->status;
     ++job->n_parts;
   }
-  sf_fitted_link(job->fitted, job->parts + job->n_baselines, job->n_weights);
+  sf_fitted_link(job->fitted, job->parts + first_weights_part, job->n_weights);
   return sf_codegen_write(job->parts, job->n_parts, o->want_c, o->want_glsl, o->out_dir, o->name, o->prefix,
                           err);
 }

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "codegen/emit_sky_naive.h"
 #include "models/atmosphere_file.h"
 
 static void emit_baseline(sf_code_writer *w, const void *model) {
@@ -27,5 +28,33 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
            rmse, max_abs);
   part->emit = emit_baseline;
   part->model = b;
+  return SF_OK;
+}
+
+static void emit_sky_naive(sf_code_writer *w, const void *model) { sf_emit_sky_naive(w, (const sf_sky_naive *)model); }
+
+int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err) {
+  const sf_atmosphere *atm = m->atm;
+  if (atm->n_channels > 4)
+    return sf_fail(err, SF_ERR_INPUT, "naive-sky: emitted code returns vec1-vec4, the atmosphere has %d channels",
+                   atm->n_channels);
+  if (sf_atmosphere_scattering_count(atm) == 0)
+    return sf_fail(err, SF_ERR_INPUT, "naive-sky: no constituent of %s scatters light: its sky is black",
+                   atm->name);
+  memset(part, 0, sizeof *part);
+  snprintf(part->name, sizeof part->name, "naive");
+  snprintf(part->quantity, sizeof part->quantity, "sky_radiance");
+  snprintf(part->summary, sizeof part->summary,
+           "naive sky: single scattering by a %d-step midpoint raymarch of the view ray and another of %d steps "
+           "toward the sun at each step, no multiple scattering (seed 000 §11.2.6)",
+           m->view_steps, m->sun_steps);
+  snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", atm->name);
+  sf_atmosphere_hash_hex(atm, part->atmosphere_hash);
+  part->domain = *domain;
+  snprintf(part->error, sizeof part->error,
+           "not measured here: its error against the reference sky radiance (which the tables give) is in "
+           "skyfit report's naive-sky row");
+  part->emit = emit_sky_naive;
+  part->model = m;
   return SF_OK;
 }

@@ -5,10 +5,19 @@
 
 #include "codegen/baselines.h"
 #include "codegen/codegen_file.h"
+#include "models/sky_naive.h"
 
 /* Fills part for b (which must outlive part) over domain; measures the
  * error (sf_baseline_measure, a few ms). */
 int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_codegen_part *part,
                      sf_error *err);
+
+/* Fills part for the naive sky m (models/sky_naive.h; must outlive part)
+ * over domain: the sky-radiance baseline `skyfit codegen --baselines
+ * naive-sky` emits. Its error against the reference sky radiance needs
+ * the tables (skyfit report measures it); part->error says so.
+ * SF_ERR_INPUT where it cannot be emitted (more than 4 channels, nothing
+ * that scatters). */
+int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err);
 
 #endif

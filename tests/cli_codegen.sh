@@ -23,6 +23,27 @@ check "header names atmosphere, hash, domain, error" \
 check "same function names in C and GLSL" \
   "[ \"\$(grep -o 'skyfit_[a-z_]*transmittance[a-z_]*(' $tmp/a/skyfit.h | sort -u)\" = \"\$(grep -o 'skyfit_[a-z_]*transmittance[a-z_]*(' $tmp/a/skyfit.glsl | sort -u)\" ]"
 
+# The naive sky beside the naive raymarch (both named naive): one header
+# that compiles as -Wall -Wextra -Werror -pedantic C99 and as GLSL, with a
+# plausible sky (tests/test_sky_naive.c checks its values against the
+# reference single scattering)
+mkdir -p "$tmp/sky"
+"$SKYFIT_BIN" codegen --baselines naive,naive-sky --lang both --out "$tmp/sky" --quiet
+check "naive,naive-sky: exits 0, the header says where its error is" \
+  "[ $? -eq 0 ] && grep -q 'skyfit_naive_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/sky/skyfit.h && grep -q \"skyfit report's naive-sky row\" $tmp/sky/skyfit.h"
+printf '#include "skyfit.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 L = skyfit_naive_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 T = skyfit_naive_transmittance(0.0f, 0.5f);\n  printf("%%.9g %%.9g %%.9g %%.9g\\n", L.x, L.y, L.z, T.x);\n  return 0;\n}\n' >"$tmp/sky/use.c"
+check "naive,naive-sky: the C compiles with -Werror and runs" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/sky -o $tmp/sky/use $tmp/sky/use.c -lm && $tmp/sky/use > $tmp/sky/out.txt"
+check "naive,naive-sky: a sky brighter in blue than red, a transmittance in (0, 1)" \
+  "awk '{ exit !(\$1 > 0 && \$3 > \$1 && \$4 > 0 && \$4 < 1) }' $tmp/sky/out.txt"
+if command -v glslangValidator >/dev/null; then
+  { echo '#version 330'; cat "$tmp/sky/skyfit.glsl"
+    echo 'out vec4 c; void main() { c = vec4(skyfit_naive_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_naive_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/sky/use.frag"
+  check "naive,naive-sky: the GLSL compiles" "glslangValidator $tmp/sky/use.frag > $tmp/sky/glsl.log 2>&1"
+fi
+"$SKYFIT_BIN" codegen --baselines naive-sky,naive-sky --lang c --out "$tmp/sky" --name twice 2>"$tmp/err.txt"
+check "naive-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/sky/twice.h ] && grep -q 'given twice' $tmp/err.txt"
+
 mkdir -p "$tmp/c"
 "$SKYFIT_BIN" codegen --baselines chapman --lang c --out "$tmp/c" --quiet
 check "only chapman asked: no naive/taylor functions or helpers" \
