@@ -12,6 +12,7 @@
 #include "fit/candidate_fitted.h"
 #include "fit/fit_sigmoid.h"
 #include "fit/fit_weights_doc.h"
+#include "models/emitted_float.h"
 #include "util/cache_prune.h"
 
 typedef struct sigmoid_ctx {
@@ -58,24 +59,13 @@ static void log_top_f(const sigmoid_ctx *s, float h, float mu, float *out) {
 static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
   const sigmoid_ctx *s = ctx;
   const int nc = s->n_channels;
-  const float R = s->bottom_f, h_top = s->h_top_f, Rt = R + h_top;
+  const float R = s->bottom_f, h_top = s->h_top_f;
   for (size_t p = 0; p < n; ++p) {
     float *T = out + (size_t)nc * p;
     float h = fmaxf(in[2 * p], 0.0f), mu = fminf(fmaxf(in[2 * p + 1], -1.0f), 1.0f);
-    if (h > h_top) {   /* skyfit_ray_enter */
-      float r = R + h, disc;
-      if (r > 2.0f * Rt) {
-        float p_close = r * sqrtf(fmaxf((1.0f - mu) * (1.0f + mu), 0.0f));
-        disc = (Rt - p_close) * (Rt + p_close);
-      } else {
-        disc = (h_top - h) * (Rt + r) + (r * mu) * (r * mu);
-      }
-      if (!(mu < 0.0f) || !(disc > 0.0f)) {
-        for (int k = 0; k < nc; ++k) T[k] = 1.0f;
-        continue;
-      }
-      mu = fminf(fmaxf(-sqrtf(disc) / Rt, -1.0f), 1.0f);
-      h = h_top;
+    if (!sf_emitted_ray_enter_f(R, h_top, &h, &mu, NULL, 0.0f)) {   /* a viewer above the top that misses it */
+      for (int k = 0; k < nc; ++k) T[k] = 1.0f;
+      continue;
     }
     float up[4], other[4];
     if (mu >= 0.0f) {

@@ -16,6 +16,7 @@
 #define SKYFIT_MODELS_SKY_NAIVE_H
 
 #include "models/atmosphere.h"
+#include "models/emitted_float.h"
 
 /* Terrell's steps: 16 along the view ray, 8 toward the sun. */
 #define SF_SKY_NAIVE_VIEW_STEPS 16
@@ -36,9 +37,7 @@ void sf_sky_naive_radiance(const sf_sky_naive *m, double h_km, double mu, double
 typedef struct sf_sky_naive_f {
   int view_steps, sun_steps, n_constituents, n_channels;
   float bottom, thickness;
-  int n_layers[SF_MAX_CONSTITUENTS];
-  float layer_top[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS];
-  float layer[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS][4];   /* linear, constant, exp_term, exp_scale */
+  sf_density_f density[SF_MAX_CONSTITUENTS];
   float scattering[SF_MAX_CONSTITUENTS][4], extinction[SF_MAX_CONSTITUENTS][4], sun[4];
   sf_phase phase[SF_MAX_CONSTITUENTS];
 } sf_sky_naive_f;
