@@ -63,7 +63,7 @@ static void sigmoid_eval_f32(const void *ctx, size_t n, const float *in, float *
   for (size_t p = 0; p < n; ++p) {
     float *T = out + (size_t)nc * p;
     float h = fmaxf(in[2 * p], 0.0f), mu = fminf(fmaxf(in[2 * p + 1], -1.0f), 1.0f);
-    if (!sf_emitted_ray_enter_f(R, h_top, &h, &mu, NULL, 0.0f)) {   /* a viewer above the top that misses it */
+    if (h > h_top && !sf_emitted_ray_enter_f(R, h_top, &h, &mu, NULL, 0.0f)) {   /* above the top, missing it */
       for (int k = 0; k < nc; ++k) T[k] = 1.0f;
       continue;
     }
