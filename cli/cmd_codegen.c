@@ -25,7 +25,8 @@ typedef struct codegen_options {
 
 static void codegen_usage(FILE *out) {
   fprintf(out,
-          "usage: skyfit codegen [--weights W.json ...] [--baselines naive,chapman,taylor,flat,spline,naive-sky]\n"
+          "usage: skyfit codegen [--weights W.json ...]\n"
+          "                      [--baselines naive,chapman,taylor,flat,spline,naive-sky,raymarched-sky]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -35,16 +36,19 @@ static void codegen_usage(FILE *out) {
           "\n"
           "options:\n"
           "  --weights FILE     a fitted model's weights file (SPEC §8); repeatable\n"
-          "  --baselines LIST   analytic transmittance baselines (SPEC §7.6), comma-separated:\n"
+          "  --baselines LIST   analytic baselines (SPEC §7.6), comma-separated. Transmittance:\n"
           "                     naive (N-step midpoint raymarch of the densities),\n"
           "                     chapman (Schuler, seed 000 eq. 22-25), taylor (Galaj, seed 002\n"
           "                     eq. 17), flat (Leenman's flat/DR-1 model, seed 000 eq. 51, 53,\n"
           "                     59), spline (Galaj, seed 002 IV.E: Hermite meshes 50 x 20 as\n"
-          "                     constant arrays). Leenman's raymarched model (seed 000 11.2.10) raymarches\n"
-          "                     scattering only and takes its optical depths from the flat\n"
-          "                     model: its transmittance is 'flat', not 'naive'; and the\n"
-          "                     sky-radiance baseline naive-sky (single scattering, 16 view x 8\n"
-          "                     sun steps, seed 000 11.2.6: skyfit_naive_sky_radiance)\n"
+          "                     constant arrays); all but naive need an exponential\n"
+          "                     constituent. Sky radiance (single scattering): naive-sky\n"
+          "                     (16 view x 8 sun steps, seed 000 11.2.6:\n"
+          "                     skyfit_naive_sky_radiance) and raymarched-sky (Leenman's\n"
+          "                     raymarched model, seed 000 11.2.10: 5 steps integrated in\n"
+          "                     closed form with the flat model's optical depths:\n"
+          "                     skyfit_raymarched_sky_radiance; at most 4 constituents).\n"
+          "                     Every baseline: at most 4 channels\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
           "                     built-in Earth)\n"
@@ -183,10 +187,12 @@ typedef struct codegen_job {
   sf_spline_model spline;          /* the spline baseline's meshes, if asked */
   sf_sky_naive sky;                /* --baselines naive-sky */
   int has_sky;
+  sf_sky_raymarched raymarched;    /* --baselines raymarched-sky */
+  int has_raymarched;
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
-  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 1];
+  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 2];
   int n_parts;
 } codegen_job;
 
@@ -215,10 +221,21 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
       ++job->n_parts;
       continue;
     }
+    if (strcmp(item, "raymarched-sky") == 0) {   /* Leenman's (models/sky_raymarched.h) */
+      if (job->has_raymarched) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
+      sf_sky_raymarched_make(&job->scene.atmosphere, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT,
+                             &job->raymarched);
+      job->has_raymarched = 1;
+      if (sf_sky_raymarched_part(&job->raymarched, &job->domain, &job->parts[job->n_parts], err) != SF_OK)
+        return err->status;
+      ++job->n_parts;
+      continue;
+    }
     int kind = sf_baseline_kind_parse(item);
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
-                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline, naive-sky)",
+                     "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline, naive-sky, "
+                     "raymarched-sky)",
                      item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)

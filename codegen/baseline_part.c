@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "codegen/emit_sky_naive.h"
+#include "codegen/emit_sky_raymarched.h"
 #include "models/atmosphere_file.h"
 
 static void emit_baseline(sf_code_writer *w, const void *model) {
@@ -55,6 +56,37 @@ int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_c
            "not measured here: its error against the reference sky radiance (which the tables give) is in "
            "skyfit report's naive-sky row");
   part->emit = emit_sky_naive;
+  part->model = m;
+  return SF_OK;
+}
+
+static void emit_sky_raymarched(sf_code_writer *w, const void *model) {
+  sf_emit_sky_raymarched(w, (const sf_sky_raymarched *)model);
+}
+
+int sf_sky_raymarched_part(const sf_sky_raymarched *m, const sf_scene_domain *domain, sf_codegen_part *part,
+                           sf_error *err) {
+  const sf_atmosphere *atm = m->atm;
+  const char *why = NULL;
+  if (!sf_sky_raymarched_emittable(m, &why)) return sf_fail(err, SF_ERR_INPUT, "raymarched-sky: %s", why);
+  if (sf_atmosphere_scattering_count(atm) == 0)
+    return sf_fail(err, SF_ERR_INPUT, "raymarched-sky: no constituent of %s scatters light: its sky is black",
+                   atm->name);
+  memset(part, 0, sizeof *part);
+  snprintf(part->name, sizeof part->name, "raymarched");
+  snprintf(part->quantity, sizeof part->quantity, "sky_radiance");
+  snprintf(part->summary, sizeof part->summary,
+           "raymarched sky: single scattering in %d steps of the view ray, each integrated in closed form with "
+           "the flat model's optical depths, the planet's shadow split off; no multiple scattering (seed 000 "
+           "§10.4, §11.2.10)",
+           m->steps);
+  snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", atm->name);
+  sf_atmosphere_hash_hex(atm, part->atmosphere_hash);
+  part->domain = *domain;
+  snprintf(part->error, sizeof part->error,
+           "not measured here: its error against the reference sky radiance (which the tables give) is in "
+           "skyfit report's raymarched-sky row");
+  part->emit = emit_sky_raymarched;
   part->model = m;
   return SF_OK;
 }

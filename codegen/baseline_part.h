@@ -6,6 +6,7 @@
 #include "codegen/baselines.h"
 #include "codegen/codegen_file.h"
 #include "models/sky_naive.h"
+#include "models/sky_raymarched.h"
 
 /* Fills part for b (which must outlive part) over domain; measures the
  * error (sf_baseline_measure, a few ms). */
@@ -19,5 +20,11 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
  * SF_ERR_INPUT where it cannot be emitted (more than 4 channels, nothing
  * that scatters). */
 int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err);
+
+/* The same for Leenman's raymarched sky m (models/sky_raymarched.h):
+ * `skyfit codegen --baselines raymarched-sky`. SF_ERR_INPUT where it
+ * cannot be emitted (sf_sky_raymarched_emittable, nothing that scatters). */
+int sf_sky_raymarched_part(const sf_sky_raymarched *m, const sf_scene_domain *domain, sf_codegen_part *part,
+                           sf_error *err);
 
 #endif

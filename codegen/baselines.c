@@ -40,8 +40,7 @@ void sf_baseline_describe(const sf_baseline *b, char *out, size_t n) {
       break;
     case SF_BASELINE_FLAT:
       snprintf(out, n, "Leenman's flat model (seed 000 eq. 51; eq. 53 at the viewer; ground point "
-                       "as midpoint, 11.3.3; eq. 59 shells); also the transmittance of his "
-                       "raymarched model (11.2.10)");
+                       "as midpoint, 11.3.3; eq. 59 shells)");
       break;
     case SF_BASELINE_SPLINE:
       snprintf(out, n, "Galaj's spline transmittance (seed 002 IV.E, Hermite meshes %d x %d); "
@@ -64,6 +63,10 @@ int sf_baseline_check(const sf_baseline *b, sf_error *err) {
                    sf_baseline_kind_name(b->kind), atm->n_channels);
   if (b->kind == SF_BASELINE_NAIVE && b->steps < 1)
     return sf_fail(err, SF_ERR_INPUT, "baseline naive: steps must be >= 1, got %d", b->steps);
+  if (b->kind != SF_BASELINE_NAIVE && !sf_atmosphere_has_exponential(atm))
+    return sf_fail(err, SF_ERR_INPUT,
+                   "baseline %s: the analytic optical depths need an exponential constituent; %s has none",
+                   sf_baseline_kind_name(b->kind), atm->name);
   if (b->kind == SF_BASELINE_SPLINE &&
       (!b->spline || b->spline->n_constituents != atm->n_constituents))
     return sf_fail(err, SF_ERR_INTERNAL, "baseline spline: no spline model for its atmosphere");
@@ -319,7 +322,7 @@ static void emit_taylor_depths(sf_code_writer *w, const sf_baseline *b) {
  *   g = sqrt(A + s^2) - s = A / (q + s),
  *   g_a - g_b = (ds (g_a + g_b) - 2 H dh) / (q_a + q_b),  b = a + (dh, dh, ds),
  *   sqrt(A_a) - sqrt(A_b) = -2 H dh / (sqrt(A_a) + sqrt(A_b)). */
-static void emit_flat_helpers(sf_code_writer *w) {
+void sf_emit_flat_helpers(sf_code_writer *w) {
   sf_cw_emit(w,
       "#ifndef SKYFIT_HELPER_FLAT\n#define SKYFIT_HELPER_FLAT\n"
       "/* seed 000 eq. 51: the column of exp(-h/H) from (h, r) along s >= 0,\n"
@@ -393,6 +396,50 @@ static void emit_flat_depths(sf_code_writer *w, const sf_baseline *b) {
   emit_shells(w, atm);
 }
 
+int sf_atmosphere_has_exponential(const sf_atmosphere *atm) {
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    if (is_exponential(&atm->constituents[i], &H, &d0)) return 1;
+  }
+  return 0;
+}
+
+void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm) {
+  if (!sf_atmosphere_has_exponential(atm)) {   /* shells only: nothing reads the ends' geometry */
+    emit_shells(w, atm);
+    return;
+  }
+  emit_segment_ends(w, atm, 1);
+  sf_cw_emit(w,
+             "    float h0 = seg.z, h1 = seg.w;\n"
+             "    float r0 = %F + h0, r1 = %F + h1;\n"
+             "    float hc = dd_bb / (d + %F);  /* the closest approach's altitude */\n"
+             "    /* h1 - h0 from the ends' distances s (r^2 = d^2 + s^2) */\n"
+             "    float ds = seg.y - seg.x;\n"
+             "    float dh01 = ds * (s1 + s0) / (r1 + r0);\n",
+             atm->bottom_radius_km, atm->bottom_radius_km, atm->bottom_radius_km);
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    if (!is_exponential(&atm->constituents[i], &H, &d0)) continue;
+    /* rising: eq. 51 at both ends; falling: reversed, the lower end as
+     * midpoint (§11.3.3); through the closest point c: eq. 53 about c,
+     * 2 up(c, 0) - up(0 reversed) - up(1), as the two differences from c
+     * (models/optical_depth_flat.c, descent CLOSEST; c to an end: dh =
+     * r - d = s^2 / (r + d)) */
+    sf_cw_emit(w,
+               "    {  /* %s */\n"
+               "      float H = %F;\n"
+               "      float tau = shape == 0 ? skyfit_flat_up_diff(H, h0, r0, s0, dh01, ds)\n"
+               "                : shape == 1 ? skyfit_flat_up_diff(H, h1, r1, -s1, -dh01, ds)\n"
+               "                : skyfit_flat_up_diff(H, hc, d, 0.0f, s0 * s0 / (r0 + d), -s0)\n"
+               "                  + skyfit_flat_up_diff(H, hc, d, 0.0f, s1 * s1 / (r1 + d), s1);\n"
+               "      d%d = tau > 0.0f ? %F * tau : 0.0f;\n"
+               "    }\n",
+               atm->constituents[i].name, H, i, d0);
+  }
+  emit_shells(w, atm);
+}
+
 static void emit_spline_depths(sf_code_writer *w, const sf_baseline *b) {
   emit_segment_ends(w, b->atmosphere, 1);
   sf_emit_spline_depths(w, b->atmosphere, b->spline);
@@ -405,7 +452,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   int n = atm->n_channels;
   char description[256];
   sf_baseline_describe(b, description, sizeof description);
-  if (b->kind == SF_BASELINE_FLAT) emit_flat_helpers(w);
+  if (b->kind == SF_BASELINE_FLAT) sf_emit_flat_helpers(w);
   if (b->kind == SF_BASELINE_SPLINE) sf_emit_spline_tables(w, b->spline);
   sf_cw_emit(w, "/* %s: %s. */\n", name, description);
   sf_cw_emit(w, "@fn %V skyfit_%s_transmittance_between(float h_km, float mu, float t0, float t1) {\n", n, name);

@@ -13,10 +13,12 @@
  *  - spline:  Gałaj's spline transmittance, seed 002 §IV.E, Hermite meshes
  *             of 50 x 20 points (models/optical_depth_spline.h; the meshes
  *             become constant float arrays, codegen/baseline_spline.h).
- * Leenman's "raymarched" model (seed 000 §11.2.10) is no separate
- * transmittance baseline: it raymarches the *scattering* integral (eq. 54-57,
- * 5 steps) and takes every optical depth from the flat model (§10.1), so its
- * transmittance is exactly "flat" — not the N-step density raymarch "naive".
+ * Leenman's "raymarched" model (seed 000 §11.2.10) is no transmittance
+ * baseline: it raymarches the *scattering* integral (eq. 54-57, 5 steps)
+ * with the flat model's optical depths; it is the sky-radiance baseline
+ * raymarched-sky (codegen/emit_sky_raymarched.h), whose columns take the
+ * closest point as the midpoint of a descending ray
+ * (sf_emit_flat_columns_closest) where "flat" takes eq. 53 at the viewer.
  * Chapman, Taylor and spline exist only for exponential constituents; any other
  * (the ozone tent) is the constant shell of seed 000 §10.5 / eq. 59 with
  * the exact chord through it (models/optical_depth_flat.h), so the emitted
@@ -69,7 +71,8 @@ const char *sf_baseline_kind_name(sf_baseline_kind kind);
 void sf_baseline_describe(const sf_baseline *b, char *out, size_t n);
 
 /* Checks that the baseline can be emitted for its atmosphere (1-4
- * channels, steps >= 1, a spline model for "spline"); SF_ERR_INPUT naming the problem otherwise. */
+ * channels, steps >= 1, an exponential constituent for all but "naive",
+ * a spline model for "spline"); SF_ERR_INPUT naming the problem otherwise. */
 int sf_baseline_check(const sf_baseline *b, sf_error *err);
 
 /* Writes the three functions above into w (which records the helpers and
@@ -80,6 +83,25 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b);
  * above the ground): its layers by cumulative width, clamped to [0, 1]
  * (models/atmosphere.h); for the naive sky too (codegen/emit_sky_naive.h). */
 void sf_emit_constituent_density(sf_code_writer *w, const sf_constituent *c);
+
+/* The flat model's pieces (seed 000 eq. 51, 53) in float32, behind their
+ * own guard: skyfit_flat_up, skyfit_flat_up_diff and the horizontal
+ * columns; emitted with the flat baseline and the raymarched sky. */
+void sf_emit_flat_helpers(sf_code_writer *w);
+
+/* Whether some constituent of atm is exponential (what Chapman, Taylor,
+ * flat and spline approximate; the others are shells). */
+int sf_atmosphere_has_exponential(const sf_atmosphere *atm);
+
+/* Statements setting float d<i> (declared 0 by the caller) to the flat
+ * model's column (km) of every constituent over the piece seg = (t0, t1,
+ * altitude at t0, altitude at t1), seg.y > seg.x, of the line (h_km, mu):
+ * a skyfit_air_clip(...) of the ray, or a piece of the line through the
+ * ground (the raymarched sky's sun columns). Descent
+ * SF_FLAT_DESCENT_CLOSEST (models/optical_depth_flat.h), whose columns add
+ * up along a ray; shells for the non-exponential constituents. Needs
+ * sf_emit_flat_helpers. For the raymarched sky (codegen/emit_sky_raymarched.h). */
+void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm);
 
 /* The same model in double precision through models/ (what the emitted
  * float code approximates): density integral (km) of every constituent

@@ -1,29 +1,7 @@
 #include "codegen/emit_sky_naive.h"
 
 #include "codegen/baselines.h"
-#include "codegen/emit_phase.h"
-
-/* Whether constituent i scatters light of channel k (its phase function
- * emitted as p<i>). */
-static int scatters(const sf_atmosphere *atm, int i, int k) {
-  return atm->constituents[i].scattering[k] != 0.0 && atm->constituents[i].phase.kind != SF_PHASE_NONE;
-}
-
-/* Whether constituent i scatters in some channel, and whether it dims
- * some channel: the variables it needs. None is emitted that nothing
- * reads (-Wall -Werror: an absorber's phase function, a transparent
- * constituent's depths). */
-static int scatters_any(const sf_atmosphere *atm, int i) {
-  for (int k = 0; k < atm->n_channels; ++k)
-    if (scatters(atm, i, k)) return 1;
-  return 0;
-}
-
-static int dims_any(const sf_atmosphere *atm, int i) {
-  for (int k = 0; k < atm->n_channels; ++k)
-    if (sf_extinction(atm, i, k) != 0.0) return 1;
-  return 0;
-}
+#include "codegen/emit_sky_frame.h"
 
 void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
   const sf_atmosphere *atm = m->atm;
@@ -32,25 +10,13 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
   sf_cw_emit(w,
              "/* naive sky: single scattering by a %d-step midpoint raymarch of the view ray, the sun's\n"
              " * optical depth at each step by a %d-step one, no multiple scattering (seed 000 §11.2.6,\n"
-             " * SPEC 7.6 naive). */\n"
-             "@fn %V skyfit_naive_sky_radiance(float h_km, float mu, float mu_s, float nu) {\n"
-             "  nu = skyfit_clamp_nu(mu, mu_s, nu);\n"
-             "  @vec4 e = skyfit_ray_enter(%F, %F, @max(h_km, 0.0f), mu, mu_s, nu);\n",
-             m->view_steps, m->sun_steps, nk, R, H);
-  for (int k = 0; k < nk; ++k) sf_cw_emit(w, "  float l%d = 0.0f;\n", k);
-  sf_cw_emit(w,
-             "  if (e.w >= 0.0f) {\n"
-             "  float hv = e.x, m = e.y, ms = e.z;\n"
-             "  @vec4 seg = skyfit_air_clip(%F, %F, hv, m, 0.0f, 3.4e38f);\n"
-             "  if (seg.y > seg.x) {\n"
-             "  float r = %F + hv;\n",
-             R, H, R);
-  for (int i = 0; i < nc; ++i)
-    if (scatters_any(atm, i)) sf_emit_phase(w, i, &atm->constituents[i].phase);
+             " * SPEC 7.6 naive). */\n",
+             m->view_steps, m->sun_steps);
+  sf_emit_sky_open(w, atm, "naive");
   for (int i = 0; i < nc; ++i) {
-    if (dims_any(atm, i))
+    if (sf_emit_sky_dims_any(atm, i))
       sf_cw_emit(w, "  float v%d = 0.0f, rho%d, sun%d;  /* %s */\n", i, i, i, atm->constituents[i].name);
-    else if (scatters_any(atm, i))
+    else if (sf_emit_sky_scatters_any(atm, i))
       sf_cw_emit(w, "  float rho%d;  /* %s */\n", i, atm->constituents[i].name);
   }
   sf_cw_emit(w,
@@ -64,7 +30,7 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "    h = hp;\n",
              (double)m->view_steps, m->view_steps, R, R);
   for (int i = 0; i < nc; ++i) {
-    if (!dims_any(atm, i) && !scatters_any(atm, i)) continue;
+    if (!sf_emit_sky_dims_any(atm, i) && !sf_emit_sky_scatters_any(atm, i)) continue;
     sf_cw_emit(w, "    rho%d = ", i);
     sf_emit_constituent_density(w, &atm->constituents[i]);
     sf_cw_emit(w, ";\n");
@@ -76,7 +42,7 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "      float ds = @max(skyfit_sphere_hits(rp, msp, %F, %F - hp).y, 0.0f) / %F;\n",
              R, R, R + H, H, (double)m->sun_steps);
   for (int i = 0; i < nc; ++i)
-    if (dims_any(atm, i)) sf_cw_emit(w, "      sun%d = 0.0f;\n", i);
+    if (sf_emit_sky_dims_any(atm, i)) sf_cw_emit(w, "      sun%d = 0.0f;\n", i);
   sf_cw_emit(w,
              "      float sun_k = 0.5f;\n"
              "      for (int j = 0; j < %d; ++j) {\n"
@@ -84,7 +50,7 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
              "        sun_k += 1.0f;\n",
              m->sun_steps, R);
   for (int i = 0; i < nc; ++i) {
-    if (!dims_any(atm, i)) continue;
+    if (!sf_emit_sky_dims_any(atm, i)) continue;
     sf_cw_emit(w, "        sun%d += ", i);
     sf_emit_constituent_density(w, &atm->constituents[i]);
     sf_cw_emit(w, ";\n");
@@ -98,17 +64,13 @@ void sf_emit_sky_naive(sf_code_writer *w, const sf_sky_naive *m) {
     }
     sf_cw_emit(w, ")) * (0.0f");
     for (int i = 0; i < nc; ++i)
-      if (scatters(atm, i, k)) sf_cw_emit(w, " + %F * p%d * rho%d", atm->constituents[i].scattering[k], i, i);
+      if (sf_emit_sky_scatters(atm, i, k)) sf_cw_emit(w, " + %F * p%d * rho%d", atm->constituents[i].scattering[k], i, i);
     sf_cw_emit(w, ");\n");
   }
   sf_cw_emit(w, "    }\n");
   for (int i = 0; i < nc; ++i)
-    if (dims_any(atm, i)) sf_cw_emit(w, "    v%d += rho%d * dt;\n", i, i);
+    if (sf_emit_sky_dims_any(atm, i)) sf_cw_emit(w, "    v%d += rho%d * dt;\n", i, i);
   sf_cw_emit(w, "  }\n");
-  for (int k = 0; k < nk; ++k) sf_cw_emit(w, "  l%d *= dt * %F;\n", k, atm->sun_irradiance[k]);
-  sf_cw_emit(w, "  }\n  }\n  return %C", nk);
-  for (int k = 0; k < nk; ++k) sf_cw_emit(w, k ? ", l%d" : "l%d", k);
-  sf_cw_emit(w, ");\n}\n\n");
-  sf_cw_need(w, SF_HELPER_RAY_ENTER | SF_HELPER_AIR_CLIP | SF_HELPER_ALTITUDE_AT | SF_HELPER_SPHERE_HITS |
-                    SF_HELPER_CLAMP_NU);
+  sf_emit_sky_close(w, atm, "dt * ");
+  sf_cw_need(w, SF_HELPER_ALTITUDE_AT | SF_HELPER_SPHERE_HITS);
 }

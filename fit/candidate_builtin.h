@@ -46,6 +46,10 @@ int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out,
  * SF_SKY_NAIVE_VIEW_STEPS x SF_SKY_NAIVE_SUN_STEPS, the sky-radiance
  * baseline for every viewer (fit/candidate_sky_naive.c). */
 int sf_candidate_sky_naive(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
+/* Leenman's raymarched sky (models/sky_raymarched.h): 5 closed-form steps
+ * with the flat model's depths, for every viewer
+ * (fit/candidate_sky_raymarched.c). */
+int sf_candidate_sky_raymarched(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
 /* An analytic transmittance baseline; steps is used by SF_TB_NAIVE only
  * (name "naive<steps>"). SF_ERR_INPUT when the model does not apply (no
  * exponential constituent for Chapman/Taylor/flat/spline). */

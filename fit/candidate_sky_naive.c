@@ -23,7 +23,7 @@ static void eval_f32(const void *ctx, size_t n, const float *in, float *out) {
   const sky_naive_ctx *c = ctx;
   for (size_t p = 0; p < n; ++p)
     sf_sky_naive_radiance_f(&c->model_f, in[4 * p], in[4 * p + 1], in[4 * p + 2], in[4 * p + 3],
-                            out + (size_t)c->model_f.n_channels * p);
+                            out + (size_t)c->model_f.sky.n_channels * p);
 }
 
 static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sky_naive(w, model); }

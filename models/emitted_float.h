@@ -25,6 +25,34 @@ void sf_emitted_sphere_hits_f(float r, float mu, float R, float R_minus_r, float
  * the air, *b <= *a when empty. */
 void sf_emitted_air_clip_f(float bottom, float thickness, float h, float mu, float *a, float *b);
 
+/* skyfit_air_clip: [t0, t1] of the ray within the air and before the
+ * ground, seg = (a, b, altitude at a, altitude at b); empty: b <= a. */
+void sf_emitted_air_clip_between_f(float bottom, float thickness, float h, float mu, float t0, float t1,
+                                   float seg[4]);
+
+/* skyfit_shell_chord: the length of [t0, t1] between altitudes lo < hi. */
+float sf_emitted_shell_chord_f(float bottom, float lo, float hi, float h, float mu, float t0, float t1);
+
+/* skyfit_expm1: e^x - 1, a degree-6 Taylor polynomial below |x| = 0.1. */
+float sf_emitted_expm1_f(float x);
+
+/* skyfit_flat_up_diff: the flat model's column (seed 000 eq. 51) of
+ * exp(-h/H) from point a minus from b = a + (dh, dh, ds), both rising. */
+float sf_emitted_flat_up_diff_f(float H, float h_a, float r_a, float s_a, float dh, float ds);
+
+/* What an emitted sky holds of its atmosphere, rounded to float32 once:
+ * the radii (bottom and thickness), per constituent its scattering and
+ * extinction per channel and its phase function, the sun per channel. */
+typedef struct sf_sky_constants_f {
+  int n_constituents, n_channels;
+  float bottom, thickness;
+  float scattering[SF_MAX_CONSTITUENTS][4], extinction[SF_MAX_CONSTITUENTS][4], sun[4];
+  sf_phase phase[SF_MAX_CONSTITUENTS];
+} sf_sky_constants_f;
+
+/* 0, or -1 when the atmosphere has more than 4 channels. */
+int sf_sky_constants_f_make(const sf_atmosphere *atm, sf_sky_constants_f *out);
+
 /* A constituent's density profile rounded to float32 once. */
 typedef struct sf_density_f {
   int n_layers;

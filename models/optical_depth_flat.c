@@ -132,13 +132,12 @@ void sf_flat_model_make(const sf_atmosphere *atm, sf_flat_descent descent,
   }
 }
 
-int sf_optical_depth_flat_segment(const sf_atmosphere *atm, double r, double mu,
-                                  double t0, double t1, const sf_flat_model *model,
-                                  double *out) {
+/* clip_radius: the ground's radius, or 0 to take the line through it. */
+static int flat_columns(const sf_atmosphere *atm, double clip_radius, double r, double mu, double t0,
+                        double t1, const sf_flat_model *model, double *out) {
   int n = atm->n_constituents;
   sf_air_segment seg;
-  int inside = sf_air_segment_make(atm->bottom_radius_km, atm->top_radius_km, r, mu,
-                                   t0, t1, &seg);
+  int inside = sf_air_segment_make(clip_radius, atm->top_radius_km, r, mu, t0, t1, &seg);
   for (int i = 0; i < n; ++i) {
     out[i] = 0.0;
     if (!inside) continue;
@@ -154,4 +153,15 @@ int sf_optical_depth_flat_segment(const sf_atmosphere *atm, double r, double mu,
     out[i] = tau > 0.0 ? d0 * tau : 0.0;
   }
   return n;
+}
+
+int sf_optical_depth_flat_segment(const sf_atmosphere *atm, double r, double mu,
+                                  double t0, double t1, const sf_flat_model *model,
+                                  double *out) {
+  return flat_columns(atm, atm->bottom_radius_km, r, mu, t0, t1, model, out);
+}
+
+int sf_optical_depth_flat_line_segment(const sf_atmosphere *atm, double r, double mu, double t0, double t1,
+                                       const sf_flat_model *model, double *out) {
+  return flat_columns(atm, 0.0, r, mu, t0, t1, model, out);
 }

@@ -84,4 +84,12 @@ int sf_optical_depth_flat_segment(const sf_atmosphere *atm, double r, double mu,
                                   double t0, double t1, const sf_flat_model *model,
                                   double *out);
 
+/* The same along the ray's line, the planet ignored: [t0, t1] clipped to
+ * the top sphere only, so a line grazing or just crossing the ground gets
+ * the column through its closest approach, continuous in mu across the
+ * horizon (models/sky_raymarched.h: the sun's column at the shadow's
+ * edge). A rising or through-P segment only (from a point to the top). */
+int sf_optical_depth_flat_line_segment(const sf_atmosphere *atm, double r, double mu, double t0, double t1,
+                                       const sf_flat_model *model, double *out);
+
 #endif

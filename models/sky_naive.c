@@ -69,41 +69,28 @@ void sf_sky_naive_radiance(const sf_sky_naive *m, double h_km, double mu, double
 int sf_sky_naive_f_make(const sf_sky_naive *m, sf_sky_naive_f *out) {
   const sf_atmosphere *atm = m->atm;
   memset(out, 0, sizeof *out);
-  if (atm->n_channels > 4) return -1;
+  if (sf_sky_constants_f_make(atm, &out->sky) != 0) return -1;
   out->view_steps = m->view_steps;
   out->sun_steps = m->sun_steps;
-  out->n_constituents = atm->n_constituents;
-  out->n_channels = atm->n_channels;
-  out->bottom = (float)atm->bottom_radius_km;
-  out->thickness = (float)(atm->top_radius_km - atm->bottom_radius_km);
-  for (int i = 0; i < atm->n_constituents; ++i) {
-    const sf_constituent *c = &atm->constituents[i];
-    sf_density_f_make(c, &out->density[i]);
-    for (int k = 0; k < atm->n_channels; ++k) {
-      out->scattering[i][k] = (float)c->scattering[k];
-      out->extinction[i][k] = (float)sf_extinction(atm, i, k);
-    }
-    out->phase[i] = c->phase;
-  }
-  for (int k = 0; k < atm->n_channels; ++k) out->sun[k] = (float)atm->sun_irradiance[k];
+  for (int i = 0; i < atm->n_constituents; ++i) sf_density_f_make(&atm->constituents[i], &out->density[i]);
   return 0;
 }
 
 void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, float mu_s, float nu, float *L) {
-  const int nc = m->n_constituents, nk = m->n_channels;
+  const int nc = m->sky.n_constituents, nk = m->sky.n_channels;
   for (int k = 0; k < nk; ++k) L[k] = 0.0f;
   float spread = sqrtf(fmaxf(0.0f, (1.0f - mu * mu) * (1.0f - mu_s * mu_s)));
   nu = fminf(fmaxf(nu, mu * mu_s - spread), mu * mu_s + spread);
-  float R = m->bottom, Rt = m->bottom + m->thickness;
+  float R = m->sky.bottom, Rt = m->sky.bottom + m->sky.thickness;
   float h = fmaxf(h_km, 0.0f), t0, t1;
-  if (!sf_emitted_ray_enter_f(R, m->thickness, &h, &mu, &mu_s, nu)) return;   /* a viewer above the top */
+  if (!sf_emitted_ray_enter_f(R, m->sky.thickness, &h, &mu, &mu_s, nu)) return;   /* a viewer above the top */
   float r = R + h;
-  sf_emitted_air_clip_f(R, m->thickness, h, mu, &t0, &t1);
+  sf_emitted_air_clip_f(R, m->sky.thickness, h, mu, &t0, &t1);
   if (!(t1 > t0)) return;
   /* the phase functions once per ray, in double rounded to float, as the
    * networks' float32 evaluation takes them (models/mlp_sky.h) */
   float phase[SF_MAX_CONSTITUENTS], view[SF_MAX_CONSTITUENTS] = {0};
-  for (int i = 0; i < nc; ++i) phase[i] = (float)sf_phase_value(&m->phase[i], (double)nu);
+  for (int i = 0; i < nc; ++i) phase[i] = (float)sf_phase_value(&m->sky.phase[i], (double)nu);
   float dt = (t1 - t0) / (float)m->view_steps;
   for (int s = 0; s < m->view_steps; ++s) {
     float t = t0 + ((float)s + 0.5f) * dt;
@@ -114,7 +101,7 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
     float rp = R + hp, g0, g1, t_near, t_far;
     sf_emitted_sphere_hits_f(rp, mu_s_p, R, -hp, &g0, &g1);
     if (!(mu_s_p < 0.0f && g0 <= g1)) {   /* else the planet hides the sun */
-      sf_emitted_sphere_hits_f(rp, mu_s_p, Rt, m->thickness - hp, &t_near, &t_far);
+      sf_emitted_sphere_hits_f(rp, mu_s_p, Rt, m->sky.thickness - hp, &t_near, &t_far);
       float ds = fmaxf(t_far, 0.0f) / (float)m->sun_steps;
       for (int j = 0; j < m->sun_steps; ++j) {
         float hj = sf_ray_altitude_at_f(R, hp, mu_s_p, ((float)j + 0.5f) * ds);
@@ -123,13 +110,13 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
       for (int k = 0; k < nk; ++k) {
         float tau = 0.0f, scatter = 0.0f;
         for (int i = 0; i < nc; ++i) {
-          tau += m->extinction[i][k] * (view[i] + 0.5f * rho[i] * dt + sun[i] * ds);
-          scatter += m->scattering[i][k] * rho[i] * phase[i];
+          tau += m->sky.extinction[i][k] * (view[i] + 0.5f * rho[i] * dt + sun[i] * ds);
+          scatter += m->sky.scattering[i][k] * rho[i] * phase[i];
         }
         L[k] += expf(-tau) * scatter;
       }
     }
     for (int i = 0; i < nc; ++i) view[i] += rho[i] * dt;
   }
-  for (int k = 0; k < nk; ++k) L[k] *= dt * m->sun[k];
+  for (int k = 0; k < nk; ++k) L[k] *= dt * m->sky.sun[k];
 }

@@ -35,11 +35,9 @@ void sf_sky_naive_radiance(const sf_sky_naive *m, double h_km, double mu, double
  * times this): the atmosphere's numbers rounded once by
  * sf_sky_naive_f_make, at most 4 channels. */
 typedef struct sf_sky_naive_f {
-  int view_steps, sun_steps, n_constituents, n_channels;
-  float bottom, thickness;
+  int view_steps, sun_steps;
+  sf_sky_constants_f sky;
   sf_density_f density[SF_MAX_CONSTITUENTS];
-  float scattering[SF_MAX_CONSTITUENTS][4], extinction[SF_MAX_CONSTITUENTS][4], sun[4];
-  sf_phase phase[SF_MAX_CONSTITUENTS];
 } sf_sky_naive_f;
 
 /* 0, or -1 when the atmosphere has more than 4 channels. */

@@ -44,6 +44,50 @@ fi
 "$SKYFIT_BIN" codegen --baselines naive-sky,naive-sky --lang c --out "$tmp/sky" --name twice 2>"$tmp/err.txt"
 check "naive-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/sky/twice.h ] && grep -q 'given twice' $tmp/err.txt"
 
+# Leenman's raymarched sky beside the flat transmittance (they share the
+# flat model's helpers, behind one guard) and the naive sky: one header that
+# compiles as -Werror C99 and as GLSL; the two skies agree to within the
+# raymarched model's own error (tests/test_sky_raymarched.c checks its
+# values against the reference single scattering)
+mkdir -p "$tmp/rm"
+"$SKYFIT_BIN" codegen --baselines flat,raymarched-sky,naive-sky --lang both --out "$tmp/rm" --quiet
+check "flat,raymarched-sky,naive-sky: exits 0, the header says where its error is" \
+  "[ $? -eq 0 ] && grep -q 'skyfit_raymarched_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/rm/skyfit.h && grep -q \"skyfit report's raymarched-sky row\" $tmp/rm/skyfit.h"
+printf '#include "skyfit.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 L = skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 N = skyfit_naive_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 T = skyfit_flat_transmittance(0.0f, 0.5f);\n  printf("%%.9g %%.9g %%.9g %%.9g %%.9g\\n", L.x, L.y, L.z, N.z, T.x);\n  return 0;\n}\n' >"$tmp/rm/use.c"
+check "flat,raymarched-sky,naive-sky: the C compiles with -Werror and runs" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/rm -o $tmp/rm/use $tmp/rm/use.c -lm && $tmp/rm/use > $tmp/rm/out.txt"
+check "raymarched-sky: bluer than red, within 10 % of the naive sky in blue, a transmittance in (0, 1)" \
+  "awk '{ exit !(\$1 > 0 && \$3 > \$1 && \$3 > 0.9 * \$4 && \$3 < 1.1 * \$4 && \$5 > 0 && \$5 < 1) }' $tmp/rm/out.txt"
+if command -v glslangValidator >/dev/null; then
+  { echo '#version 330'; cat "$tmp/rm/skyfit.glsl"
+    echo 'out vec4 c; void main() { c = vec4(skyfit_raymarched_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/rm/use.frag"
+  check "flat,raymarched-sky: the GLSL compiles" "glslangValidator $tmp/rm/use.frag > $tmp/rm/glsl.log 2>&1"
+fi
+"$SKYFIT_BIN" codegen --baselines raymarched-sky,raymarched-sky --lang c --out "$tmp/rm" --name twice 2>"$tmp/err.txt"
+check "raymarched-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/rm/twice.h ] && grep -q 'given twice' $tmp/err.txt"
+
+# An atmosphere with no exponential constituent (one scattering tent):
+# the Chapman, Taylor, flat and spline approximations need one and are
+# refused (their emitted code had failed -Werror on unread variables);
+# the naive raymarch and the skies compile
+mkdir -p "$tmp/tent"
+cat >"$tmp/tent/atm.json" <<'JSON'
+{"name": "tent-only", "bottom_radius_km": 6360, "top_radius_km": 6460, "channels": "rgb",
+ "constituents": [{"name": "haze", "scattering": [1e-3, 1e-3, 1e-3], "absorption": [0, 0, 0],
+  "phase": {"kind": "isotropic"},
+  "density": [{"width_km": 25, "linear_per_km": 0.0666666, "constant": -0.6666667},
+              {"width_km": 0, "linear_per_km": -0.0666666, "constant": 2.6666667}]}]}
+JSON
+for b in chapman taylor flat spline; do
+  "$SKYFIT_BIN" codegen --baselines "$b" --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --name "$b" 2>"$tmp/err.txt"
+  check "no exponential constituent: $b exits 2 and says why, nothing written" \
+    "[ $? -eq 2 ] && [ ! -e $tmp/tent/$b.h ] && grep -q 'need an exponential constituent' $tmp/err.txt"
+done
+"$SKYFIT_BIN" codegen --baselines naive,naive-sky,raymarched-sky --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --quiet
+printf '#include "skyfit.h"\nint main(void) { return skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f ? 0 : 1; }\n' >"$tmp/tent/use.c"
+check "no exponential constituent: naive, naive-sky, raymarched-sky compile with -Werror, a sky" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/tent -o $tmp/tent/use $tmp/tent/use.c -lm && $tmp/tent/use"
+
 mkdir -p "$tmp/c"
 "$SKYFIT_BIN" codegen --baselines chapman --lang c --out "$tmp/c" --quiet
 check "only chapman asked: no naive/taylor functions or helpers" \

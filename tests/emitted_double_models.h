@@ -9,6 +9,7 @@
  *               ray geometry, the whole ray from the ray's end on;
  *   hosek, preetham: sf_sky_radiance_clamped (codegen/emit_sky.h);
  *   mlp:        models/mlp_sky.h in double;
+ *   naive and raymarched skies: models/sky_naive.h, models/sky_raymarched.h;
  *   spectral4:  the 3x4 matrices and constants of the weights file.
  * Shared by tests/test_float32_sweep.c and tests/test_codegen_headers.c. */
 #ifndef SKYFIT_TESTS_EMITTED_DOUBLE_MODELS_H
@@ -20,6 +21,8 @@
 #include "codegen/baselines.h"
 #include "codegen/fitted_part.h"
 #include "models/ray_geometry.h"
+#include "models/sky_naive.h"
+#include "models/sky_raymarched.h"
 
 typedef void (*emitted_double_fn)(const void *ctx, const float *p, double *out);
 
@@ -98,6 +101,14 @@ static inline void emitted_mlp_s(const void *ctx, const float *p, double *out) {
 static inline void emitted_mlp_s_segment(const void *ctx, const float *p, double *out) {
   const sf_fitted_model *m = ctx;
   sf_mlp_scattering_segment(&m->mlp, m->transmittance, p[0], p[1], p[2], p[3], p[4], out);
+}
+
+/* ---- the sky-radiance baselines: ctx = the model ---- */
+static inline void emitted_naive_sky(const void *ctx, const float *p, double *out) {
+  sf_sky_naive_radiance(ctx, p[0], p[1], p[2], p[3], out);
+}
+static inline void emitted_raymarched_sky(const void *ctx, const float *p, double *out) {
+  sf_sky_raymarched_radiance(ctx, p[0], p[1], p[2], p[3], out);
 }
 
 /* ---- spectral4: ctx = const sf_spectral4_emit *, p = the vec4 or the index ---- */

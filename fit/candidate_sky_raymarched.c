@@ -1,0 +1,65 @@
+/* Leenman's raymarched sky (models/sky_raymarched.h) as a sky-radiance
+ * baseline of the report (SPEC §7.6 "Leenman's raymarched model", §12):
+ * the seed's analytic single-scattering model, 5 steps each integrated in
+ * closed form with the flat model's optical depths, valid for every viewer
+ * and sun; the report's counterpart of seed 000 App. B's "Raymarched"
+ * column. Emitted by codegen/emit_sky_raymarched.h and timed in float32
+ * as emitted. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "codegen/emit_sky_raymarched.h"
+#include "fit/candidate_builtin.h"
+#include "models/sky_raymarched.h"
+
+typedef struct sky_raymarched_ctx {
+  sf_sky_raymarched model;
+  sf_sky_raymarched_f model_f;
+} sky_raymarched_ctx;
+
+static void emit(struct sf_code_writer *w, const void *model) { sf_emit_sky_raymarched(w, model); }
+
+static void eval(const void *ctx, const double *in, double *out) {
+  sf_sky_raymarched_radiance(&((const sky_raymarched_ctx *)ctx)->model, in[0], in[1], in[2], in[3], out);
+}
+
+static void eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const sky_raymarched_ctx *c = ctx;
+  for (size_t p = 0; p < n; ++p)
+    sf_sky_raymarched_radiance_f(&c->model_f, in[4 * p], in[4 * p + 1], in[4 * p + 2], in[4 * p + 3],
+                                 out + (size_t)c->model_f.sky.n_channels * p);
+}
+
+/* What the model holds: per constituent its profile (scale height and
+ * density, or the shell's two radii), its scattering and extinction per
+ * channel and up to 3 phase parameters; the sun per channel; the radii. */
+static long constants(const sf_atmosphere *atm) {
+  return 2 + atm->n_channels + (long)atm->n_constituents * (2 + 2L * atm->n_channels + 3);
+}
+
+int sf_candidate_sky_raymarched(const sf_atmosphere *atm, sf_candidate *out, sf_error *err) {
+  sky_raymarched_ctx *c = calloc(1, sizeof *c);
+  if (!c) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  sf_sky_raymarched *m = &c->model;
+  sf_sky_raymarched_make(atm, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, m);
+  sf_candidate_init(out, SF_CANDIDATE_SKY_RADIANCE, SF_ROLE_BASELINE, "raymarched-sky", "Raymarched (Leenman)");
+  snprintf(out->description, sizeof out->description,
+           "Leenman's raymarched single scattering: %d steps of the view ray, each integrated in closed form "
+           "(seed 000 eq. 55) with the flat model's optical depths (seed 000 §10.1-10.5), the planet's shadow "
+           "split off; no multiple scattering (seed 000 §11.2.10).",
+           SF_SKY_RAYMARCHED_STEPS);
+  out->n_channels = atm->n_channels;
+  out->n_params = constants(atm);
+  out->constant_bytes = 4 * out->n_params;
+  snprintf(out->emit_name, sizeof out->emit_name, "raymarched");
+  const char *why = NULL;
+  if (sf_sky_raymarched_emittable(m, &why) && sf_sky_raymarched_f_make(m, &c->model_f) == 0) {
+    out->emit = emit;
+    out->emit_model = m;
+    out->eval_f32 = eval_f32;
+  }
+  out->eval = eval;
+  out->ctx = c;
+  out->free_ctx = free;
+  return SF_OK;
+}
