@@ -7,6 +7,7 @@
 
 #include "codegen/baselines.h"
 #include "data/table.h"
+#include "models/baseline_float.h"
 #include "models/optical_depth.h"
 #include "models/optical_depth_chapman.h"
 #include "models/optical_depth_flat.h"
@@ -108,6 +109,8 @@ typedef struct baseline_ctx {
   float layer_top_f[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS];
   float layer_f[SF_MAX_CONSTITUENTS][SF_MAX_LAYERS][4];   /* exp_term, exp_scale, linear, constant */
   float extinction_f[SF_MAX_CONSTITUENTS][4];
+  /* Chapman, Taylor, flat: their emitted code in float32 (what is timed) */
+  sf_baseline_f analytic_f;
 } baseline_ctx;
 
 static void baseline_depth(const baseline_ctx *b, const sf_view_ray *ray, double *depth) {
@@ -190,6 +193,13 @@ static void naive_eval_f32(const void *ctx, size_t n, const float *in, float *ou
       out[(size_t)nc * p + (size_t)ch] = expf(-tau);
     }
   }
+}
+
+/* Chapman, Taylor and flat in float32 as emitted (models/baseline_float.h). */
+static void analytic_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
+  const baseline_ctx *b = ctx;
+  for (size_t p = 0; p < n; ++p)
+    sf_baseline_transmittance_f(&b->analytic_f, in[2 * p], in[2 * p + 1], out + (size_t)b->n_channels * p);
 }
 
 static void fill_float_copy(baseline_ctx *b) {
@@ -307,7 +317,12 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   out->n_params = baseline_constants(atm, b);
   out->constant_bytes = 4 * out->n_params;
   out->eval = baseline_eval;
-  out->eval_f32 = (kind == SF_TB_NAIVE && atm->n_channels <= 4) ? naive_eval_f32 : NULL;
+  out->eval_f32 = NULL;   /* the spline: timed in double */
+  if (atm->n_channels <= 4 && kind == SF_TB_NAIVE) out->eval_f32 = naive_eval_f32;
+  static const int analytic_kind[] = {-1, SF_BASELINE_F_CHAPMAN, SF_BASELINE_F_TAYLOR, SF_BASELINE_F_FLAT, -1};
+  if (analytic_kind[kind] >= 0 &&
+      sf_baseline_f_make(atm, (sf_baseline_f_kind)analytic_kind[kind], &b->analytic_f) == 0)
+    out->eval_f32 = analytic_eval_f32;
   out->ctx = b;
   out->free_ctx = free_baseline;
   return SF_OK;

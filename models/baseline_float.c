@@ -1,0 +1,188 @@
+#include "models/baseline_float.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "models/emitted_float.h"
+#include "models/optical_depth_flat.h"
+#include "models/optical_depth_taylor.h"
+
+int sf_baseline_f_make(const sf_atmosphere *atm, sf_baseline_f_kind kind, sf_baseline_f *out) {
+  memset(out, 0, sizeof *out);
+  if (atm->n_channels > 4) return -1;
+  out->kind = kind;
+  out->n_constituents = atm->n_constituents;
+  out->n_channels = atm->n_channels;
+  out->bottom = (float)atm->bottom_radius_km;
+  out->thickness = (float)(atm->top_radius_km - atm->bottom_radius_km);
+  out->top = (float)atm->top_radius_km;
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    if (sf_constituent_exponential(&atm->constituents[i], &H, &d0)) {
+      out->scale_height[i] = (float)H;
+      out->factor[i] = (float)(kind == SF_BASELINE_F_CHAPMAN ? H * d0 : d0);
+    } else {
+      double lo, hi;
+      sf_flat_shell_of(atm, i, &lo, &hi);
+      out->is_shell[i] = 1;
+      out->shell_lo[i] = (float)lo;
+      out->shell_hi[i] = (float)hi;
+    }
+    for (int k = 0; k < atm->n_channels; ++k) out->extinction[i][k] = (float)sf_extinction(atm, i, k);
+  }
+  return 0;
+}
+
+/* skyfit_chapman_diff */
+static float chapman_diff(float H, float h_a, float r_a, float c_a, float dh, float dc) {
+  float C_a = sqrtf(r_a / H), C_b = sqrtf((r_a + dh) / H);
+  float den_a = 1.0f + C_a * c_a, den_b = 1.0f + C_b * (c_a + dc);
+  float dg = (C_a * C_b * dc - dh / (H * (C_a + C_b))) / (den_a * den_b);
+  return expf(-h_a / H) * (dg - C_b / den_b * sf_emitted_expm1_f(-dh / H));
+}
+
+/* skyfit_taylor_piece; line = (tau_b, h(tau_b), h'(tau_b), a h''(tau_b) / 2) */
+static float taylor_piece(const float line[4], float d, float bottom, float H, float u_lo, float u_hi, float len) {
+  if (!(len > 0.0f)) return 0.0f;
+  if (!(line[2] > 0.0f)) return len * expf(-line[1] / H);
+  float x = u_lo - line[0];
+  float h_lo = (line[3] * x + line[2]) * x + line[1];
+  float rise = len * (line[2] + line[3] * (u_lo + u_hi - 2.0f * line[0]));
+  float ratio = H / line[2], f = -sf_emitted_expm1_f(-rise / H);
+  float e = -h_lo / H;
+  if (e > 80.0f) {
+    float log_first = e + logf(ratio), log_piece = log_first + logf(f);
+    if (log_first > 709.78f || log_piece > 709.78f) {
+      float h_true = ((d - bottom) * (d + bottom) + u_lo * u_lo) / (sqrtf(d * d + u_lo * u_lo) + bottom);
+      return len * expf(-h_true / H);
+    }
+    if (log_piece > 88.0f) return 3.4e38f;
+    return expf(log_piece);
+  }
+  float piece = ratio * expf(e) * f;
+  return piece > 0.0f ? piece : 0.0f;
+}
+
+/* skyfit_flat_horizontal_diff */
+static float flat_horizontal_diff(float H, float h_a, float r_a, float dh) {
+  float R_a = sqrtf(H * (2.0f * r_a + H)), R_b = sqrtf(H * (2.0f * (r_a + dh) + H));
+  return 2.0f * expf(-h_a / H) * (-2.0f * H * dh / (R_a + R_b) - R_b * sf_emitted_expm1_f(-dh / H));
+}
+
+/* skyfit_flat_horizontal_minus_up */
+static float flat_horizontal_minus_up(float H, float h, float r, float s) {
+  float A = H * (2.0f * r + H), q = sqrtf(A + s * s), RA = sqrtf(A);
+  return expf(-h / H) * s * (q + RA - s) / (q + RA);
+}
+
+/* The ends of the piece seg of the ray (h, mu) (codegen/baselines.c
+ * emit_segment_ends and the depths' own preambles). */
+typedef struct piece_ends {
+  float r, s0, s1, d, dd_bb, h0, h1, r0, r1, ds, dh01;
+  int shape;
+} piece_ends;
+
+static piece_ends ends_of(const sf_baseline_f *b, float h, float mu, const float seg[4]) {
+  const float R = b->bottom;
+  piece_ends e;
+  e.r = R + h;
+  e.s0 = seg[0] + e.r * mu;
+  e.s1 = seg[1] + e.r * mu;
+  e.d = e.r * sqrtf((1.0f - mu) * (1.0f + mu));
+  e.dd_bb = h * (e.r + R) - (e.r * mu) * (e.r * mu);
+  e.shape = e.s0 >= 0.0f ? 0 : (e.s1 <= 0.0f ? 1 : 2);
+  e.h0 = seg[2];
+  e.h1 = seg[3];
+  e.r0 = R + e.h0;
+  e.r1 = R + e.h1;
+  e.ds = seg[1] - seg[0];
+  e.dh01 = e.ds * (e.s1 + e.s0) / (e.r1 + e.r0);
+  return e;
+}
+
+static float chapman_column(const sf_baseline_f *b, const piece_ends *e, float H) {
+  float c0 = fminf(fmaxf(e->s0 / e->r0, -1.0f), 1.0f), c1 = fminf(fmaxf(e->s1 / e->r1, -1.0f), 1.0f);
+  float hc = e->dd_bb / (e->d + b->bottom);
+  float dc01 = (e->ds * e->r0 - e->s0 * e->dh01) / (e->r0 * e->r1);
+  if (e->shape == 0) return chapman_diff(H, e->h0, e->r0, c0, e->dh01, dc01);
+  if (e->shape == 1) return chapman_diff(H, e->h1, e->r1, -c1, -e->dh01, dc01);
+  return chapman_diff(H, hc, e->d, 0.0f, e->s0 * e->s0 / (e->r0 + e->d), -e->s0 / e->r0) +
+         chapman_diff(H, hc, e->d, 0.0f, e->s1 * e->s1 / (e->r1 + e->d), e->s1 / e->r1);
+}
+
+/* seed 002 eq. 12 and its expansion point (the emitted taylor depths) */
+static void taylor_line(const sf_baseline_f *b, float h, float mu, const piece_ends *e, float line[4], float *t_min,
+                        float *t_max) {
+  const float R = b->bottom;
+  *t_min = e->dd_bb < 0.0f ? sqrtf(-e->dd_bb) : 0.0f;
+  float tt = (b->thickness - h) * (b->top + e->r) + (e->r * mu) * (e->r * mu);
+  *t_max = tt > 0.0f ? sqrtf(tt) : 0.0f;
+  if (*t_max < *t_min) *t_max = *t_min;
+  float tau = *t_min + (float)SF_TAYLOR_B * (*t_max - *t_min);
+  float rho = sqrtf(e->d * e->d + tau * tau);
+  line[0] = tau;
+  line[1] = (e->dd_bb + tau * tau) / (rho + R);
+  line[2] = rho > 0.0f ? tau / rho : 0.0f;
+  line[3] = rho > 0.0f ? (float)(0.5 * SF_TAYLOR_A) * e->d * e->d / (rho * rho * rho) : 0.0f;
+}
+
+static float taylor_column(const sf_baseline_f *b, const piece_ends *e, const float line[4], float t_min,
+                           float t_max, float H) {
+  const float R = b->bottom;
+  float u0 = fminf(fmaxf(fabsf(e->s0), t_min), t_max), u1 = fminf(fmaxf(fabsf(e->s1), t_min), t_max);
+  float len = e->ds;
+  if (e->shape == 0) return taylor_piece(line, e->d, R, H, u0, u1, len);
+  if (e->shape == 1) return taylor_piece(line, e->d, R, H, u1, u0, len);
+  return taylor_piece(line, e->d, R, H, t_min, u0, u0 - t_min) + taylor_piece(line, e->d, R, H, t_min, u1, u1 - t_min);
+}
+
+/* eq. 51 and eq. 53 at the viewer (models/optical_depth_flat.c, descent
+ * VIEWER), as the emitted flat depths regroup them */
+static float flat_column(const piece_ends *e, float H) {
+  int ground = e->dd_bb <= 0.0f ? 1 : 0;
+  if (e->shape == 0) return sf_emitted_flat_up_diff_f(H, e->h0, e->r0, e->s0, e->dh01, e->ds);
+  if (e->shape == 1 && ground != 0) return sf_emitted_flat_up_diff_f(H, e->h1, e->r1, -e->s1, -e->dh01, e->ds);
+  if (e->shape == 1)
+    return sf_emitted_flat_up_diff_f(H, e->h1, e->r1, -e->s1, -e->dh01, e->ds) -
+           flat_horizontal_diff(H, e->h1, e->r1, -e->dh01);
+  return flat_horizontal_minus_up(H, e->h0, e->r0, -e->s0) + flat_horizontal_minus_up(H, e->h1, e->r1, e->s1) +
+         (e->dh01 >= 0.0f ? 0.5f * flat_horizontal_diff(H, e->h0, e->r0, e->dh01)
+                          : -0.5f * flat_horizontal_diff(H, e->h1, e->r1, -e->dh01));
+}
+
+void sf_baseline_transmittance_f(const sf_baseline_f *b, float h_km, float mu, float *T) {
+  const float R = b->bottom;
+  float depth[SF_MAX_CONSTITUENTS] = {0}, seg[4];
+  float h = h_km;
+  if (sf_emitted_ray_enter_f(R, b->thickness, &h, &mu, NULL, 0.0f)) {
+    sf_emitted_air_clip_between_f(R, b->thickness, h, mu, 0.0f, 3.4e38f, seg);
+    if (seg[1] > seg[0]) {
+      piece_ends e = ends_of(b, h, mu, seg);
+      float line[4], t_min = 0.0f, t_max = 0.0f;
+      if (b->kind == SF_BASELINE_F_TAYLOR) taylor_line(b, h, mu, &e, line, &t_min, &t_max);
+      for (int i = 0; i < b->n_constituents; ++i) {
+        if (b->is_shell[i]) {
+          depth[i] = sf_emitted_shell_chord_f(R, b->shell_lo[i], b->shell_hi[i], h, mu, seg[0], seg[1]);
+          continue;
+        }
+        float H = b->scale_height[i];
+        if (b->kind == SF_BASELINE_F_TAYLOR) {
+          depth[i] = fminf(b->factor[i] * taylor_column(b, &e, line, t_min, t_max, H), 3.4e38f);
+        } else {
+          float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(&e, H);
+          depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
+        }
+      }
+    }
+  }
+  for (int k = 0; k < b->n_channels; ++k) {
+    float tau = 0.0f;
+    int terms = 0;
+    for (int i = 0; i < b->n_constituents; ++i) {
+      if (b->extinction[i][k] == 0.0f) continue;
+      tau = terms ? tau + b->extinction[i][k] * depth[i] : b->extinction[i][k] * depth[i];
+      ++terms;
+    }
+    T[k] = terms ? expf(-tau) : 1.0f;
+  }
+}
