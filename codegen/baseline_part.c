@@ -32,6 +32,28 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
   return SF_OK;
 }
 
+/* A sky-radiance baseline's part: its error against the reference sky
+ * radiance needs the tables, so part->error points to the report's row. */
+static int sky_part(const sf_atmosphere *atm, const char *name, const char *row, const sf_scene_domain *domain,
+                    void (*emit)(sf_code_writer *w, const void *model), const void *model, sf_codegen_part *part,
+                    sf_error *err) {
+  if (sf_atmosphere_scattering_count(atm) == 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: no constituent of %s scatters light: its sky is black", row, atm->name);
+  memset(part, 0, sizeof *part);
+  snprintf(part->name, sizeof part->name, "%s", name);
+  snprintf(part->quantity, sizeof part->quantity, "sky_radiance");
+  snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", atm->name);
+  sf_atmosphere_hash_hex(atm, part->atmosphere_hash);
+  part->domain = *domain;
+  snprintf(part->error, sizeof part->error,
+           "not measured here: its error against the reference sky radiance (which the tables give) is in "
+           "skyfit report's %s row",
+           row);
+  part->emit = emit;
+  part->model = model;
+  return SF_OK;
+}
+
 static void emit_sky_naive(sf_code_writer *w, const void *model) { sf_emit_sky_naive(w, (const sf_sky_naive *)model); }
 
 int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err) {
@@ -39,24 +61,11 @@ int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_c
   if (atm->n_channels > 4)
     return sf_fail(err, SF_ERR_INPUT, "naive-sky: emitted code returns vec1-vec4, the atmosphere has %d channels",
                    atm->n_channels);
-  if (sf_atmosphere_scattering_count(atm) == 0)
-    return sf_fail(err, SF_ERR_INPUT, "naive-sky: no constituent of %s scatters light: its sky is black",
-                   atm->name);
-  memset(part, 0, sizeof *part);
-  snprintf(part->name, sizeof part->name, "naive");
-  snprintf(part->quantity, sizeof part->quantity, "sky_radiance");
+  if (sky_part(atm, "naive", "naive-sky", domain, emit_sky_naive, m, part, err) != SF_OK) return err->status;
   snprintf(part->summary, sizeof part->summary,
            "naive sky: single scattering by a %d-step midpoint raymarch of the view ray and another of %d steps "
            "toward the sun at each step, no multiple scattering (seed 000 §11.2.6)",
            m->view_steps, m->sun_steps);
-  snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", atm->name);
-  sf_atmosphere_hash_hex(atm, part->atmosphere_hash);
-  part->domain = *domain;
-  snprintf(part->error, sizeof part->error,
-           "not measured here: its error against the reference sky radiance (which the tables give) is in "
-           "skyfit report's naive-sky row");
-  part->emit = emit_sky_naive;
-  part->model = m;
   return SF_OK;
 }
 
@@ -66,27 +75,14 @@ static void emit_sky_raymarched(sf_code_writer *w, const void *model) {
 
 int sf_sky_raymarched_part(const sf_sky_raymarched *m, const sf_scene_domain *domain, sf_codegen_part *part,
                            sf_error *err) {
-  const sf_atmosphere *atm = m->atm;
   const char *why = NULL;
   if (!sf_sky_raymarched_emittable(m, &why)) return sf_fail(err, SF_ERR_INPUT, "raymarched-sky: %s", why);
-  if (sf_atmosphere_scattering_count(atm) == 0)
-    return sf_fail(err, SF_ERR_INPUT, "raymarched-sky: no constituent of %s scatters light: its sky is black",
-                   atm->name);
-  memset(part, 0, sizeof *part);
-  snprintf(part->name, sizeof part->name, "raymarched");
-  snprintf(part->quantity, sizeof part->quantity, "sky_radiance");
+  if (sky_part(m->atm, "raymarched", "raymarched-sky", domain, emit_sky_raymarched, m, part, err) != SF_OK)
+    return err->status;
   snprintf(part->summary, sizeof part->summary,
            "raymarched sky: single scattering in %d steps of the view ray, each integrated in closed form with "
            "the flat model's optical depths, the planet's shadow split off; no multiple scattering (seed 000 "
            "§10.4, §11.2.10)",
            m->steps);
-  snprintf(part->atmosphere_name, sizeof part->atmosphere_name, "%s", atm->name);
-  sf_atmosphere_hash_hex(atm, part->atmosphere_hash);
-  part->domain = *domain;
-  snprintf(part->error, sizeof part->error,
-           "not measured here: its error against the reference sky radiance (which the tables give) is in "
-           "skyfit report's raymarched-sky row");
-  part->emit = emit_sky_raymarched;
-  part->model = m;
   return SF_OK;
 }

@@ -63,7 +63,7 @@ int sf_baseline_check(const sf_baseline *b, sf_error *err) {
                    sf_baseline_kind_name(b->kind), atm->n_channels);
   if (b->kind == SF_BASELINE_NAIVE && b->steps < 1)
     return sf_fail(err, SF_ERR_INPUT, "baseline naive: steps must be >= 1, got %d", b->steps);
-  if (b->kind != SF_BASELINE_NAIVE && !sf_atmosphere_has_exponential(atm))
+  if (b->kind != SF_BASELINE_NAIVE && sf_atmosphere_exponential_count(atm) == 0)
     return sf_fail(err, SF_ERR_INPUT,
                    "baseline %s: the analytic optical depths need an exponential constituent; %s has none",
                    sf_baseline_kind_name(b->kind), atm->name);
@@ -396,16 +396,8 @@ static void emit_flat_depths(sf_code_writer *w, const sf_baseline *b) {
   emit_shells(w, atm);
 }
 
-int sf_atmosphere_has_exponential(const sf_atmosphere *atm) {
-  for (int i = 0; i < atm->n_constituents; ++i) {
-    double H, d0;
-    if (is_exponential(&atm->constituents[i], &H, &d0)) return 1;
-  }
-  return 0;
-}
-
 void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm) {
-  if (!sf_atmosphere_has_exponential(atm)) {   /* shells only: nothing reads the ends' geometry */
+  if (sf_atmosphere_exponential_count(atm) == 0) {   /* shells only: nothing reads the ends' geometry */
     emit_shells(w, atm);
     return;
   }

@@ -89,10 +89,6 @@ void sf_emit_constituent_density(sf_code_writer *w, const sf_constituent *c);
  * columns; emitted with the flat baseline and the raymarched sky. */
 void sf_emit_flat_helpers(sf_code_writer *w);
 
-/* Whether some constituent of atm is exponential (what Chapman, Taylor,
- * flat and spline approximate; the others are shells). */
-int sf_atmosphere_has_exponential(const sf_atmosphere *atm);
-
 /* Statements setting float d<i> (declared 0 by the caller) to the flat
  * model's column (km) of every constituent over the piece seg = (t0, t1,
  * altitude at t0, altitude at t1), seg.y > seg.x, of the line (h_km, mu):

@@ -271,12 +271,7 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
                                         int steps, sf_candidate *out, sf_error *err) {
   memset(out, 0, sizeof *out);
   if (kind == SF_TB_NAIVE && steps < 1) return sf_fail(err, SF_ERR_INPUT, "naive raymarch: steps must be >= 1");
-  int n_exp = 0;
-  for (int c = 0; c < atm->n_constituents; ++c) {
-    double H, d0;
-    n_exp += sf_constituent_exponential(&atm->constituents[c], &H, &d0);
-  }
-  if (kind != SF_TB_NAIVE && n_exp == 0)
+  if (kind != SF_TB_NAIVE && sf_atmosphere_exponential_count(atm) == 0)
     return sf_fail(err, SF_ERR_INPUT, "%s (%s): the analytic optical depths need an exponential constituent; %s has none",
                    baseline_texts[kind][0], baseline_texts[kind][1], atm->name);
   baseline_ctx *b = calloc(1, sizeof *b);

@@ -59,6 +59,15 @@ int sf_constituent_exponential(const sf_constituent *c, double *scale_height_km,
   return 1;
 }
 
+int sf_atmosphere_exponential_count(const sf_atmosphere *atm) {
+  int n = 0;
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    n += sf_constituent_exponential(&atm->constituents[i], &H, &d0);
+  }
+  return n;
+}
+
 /* ---- kinks: where a density profile has a corner ---------------------- */
 
 static void add_kink(double *k, int *n, double h, double thickness) {

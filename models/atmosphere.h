@@ -91,6 +91,9 @@ int sf_atmosphere_find(const sf_atmosphere *atm, const char *name);
  * approximations (Chapman, Taylor, flat) exist only for such constituents. */
 int sf_constituent_exponential(const sf_constituent *c, double *scale_height_km,
                                double *surface_density);
+/* The number of such exponential constituents: 0 for an atmosphere the
+ * analytic approximations cannot take. */
+int sf_atmosphere_exponential_count(const sf_atmosphere *atm);
 
 /* Computes the derived fields (kinks). Call after filling or changing the
  * description; the loaders do. */

@@ -85,11 +85,7 @@ int sf_spline_model_make(const sf_atmosphere *atm, int height_points, int distan
       distance_points > 100000)
     return -1;
   double r = atm->bottom_radius_km, R = atm->top_radius_km;
-  int n_exp = 0;
-  for (int i = 0; i < atm->n_constituents; ++i) {
-    double H, d0;
-    if (sf_constituent_exponential(&atm->constituents[i], &H, &d0)) ++n_exp;
-  }
+  int n_exp = sf_atmosphere_exponential_count(atm);
   size_t per_grid = 4 * (size_t)height_points * (size_t)distance_points;
   double *storage = NULL;
   if (n_exp > 0) {
