@@ -170,13 +170,18 @@ int sf_cmd_sample(int argc, char **argv) {
     return 2;
   }
   sf_error err = {0};
-  if (sf_table_set_check(&atm, &o.set, &err) != SF_OK || prepare_folder(out_dir, &err) != SF_OK) {
+  if (sf_table_set_check(&atm, &o.set, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", COMMAND, err.message);
     return err.status;
   }
   /* Ctrl-C, SIGTERM or SIGHUP leave no table half written
-   * (cli/interrupt_cleanup.h): a SIGTERM had left one. */
+   * (cli/interrupt_cleanup.h): a SIGTERM had left one. Supervised before
+   * the folder's write probe, whose temporary a SIGTERM had left too. */
   sf_cli_supervise(remove_stale_tables, (void *)out_dir);
+  if (prepare_folder(out_dir, &err) != SF_OK) {
+    fprintf(stderr, "%s: %s\n", COMMAND, err.message);
+    return err.status;
+  }
 
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !o.quiet);
