@@ -26,7 +26,8 @@ typedef struct codegen_options {
 static void codegen_usage(FILE *out) {
   fprintf(out,
           "usage: skyfit codegen [--weights W.json ...]\n"
-          "                      [--baselines naive,chapman,taylor,flat,spline,naive-sky,raymarched-sky]\n"
+          "                      [--baselines naive,chapman,taylor,flat,spline,naive-sky,raymarched-sky,\n"
+          "                                   flat-sky]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -47,7 +48,9 @@ static void codegen_usage(FILE *out) {
           "                     skyfit_naive_sky_radiance) and raymarched-sky (Leenman's\n"
           "                     raymarched model, seed 000 11.2.10: 5 steps integrated in\n"
           "                     closed form with the flat model's optical depths:\n"
-          "                     skyfit_raymarched_sky_radiance; at most 4 constituents).\n"
+          "                     skyfit_raymarched_sky_radiance; at most 4 constituents) and\n"
+          "                     flat-sky (Leenman's flat model, seed 000 11.2.9: the same in one\n"
+          "                     step, eq. 52 and 55: skyfit_flat_sky_radiance).\n"
           "                     Every baseline: at most 4 channels\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
@@ -187,12 +190,12 @@ typedef struct codegen_job {
   sf_spline_model spline;          /* the spline baseline's meshes, if asked */
   sf_sky_naive sky;                /* --baselines naive-sky */
   int has_sky;
-  sf_sky_raymarched raymarched;    /* --baselines raymarched-sky */
-  int has_raymarched;
+  sf_sky_raymarched raymarched[2];   /* --baselines raymarched-sky, flat-sky */
+  int has_raymarched[2];
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
-  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 2];
+  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 3];
   int n_parts;
 } codegen_job;
 
@@ -221,12 +224,14 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
       ++job->n_parts;
       continue;
     }
-    if (strcmp(item, "raymarched-sky") == 0) {   /* Leenman's (models/sky_raymarched.h) */
-      if (job->has_raymarched) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
-      sf_sky_raymarched_make(&job->scene.atmosphere, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT,
-                             &job->raymarched);
-      job->has_raymarched = 1;
-      if (sf_sky_raymarched_part(&job->raymarched, &job->domain, &job->parts[job->n_parts], err) != SF_OK)
+    int flat = strcmp(item, "flat-sky") == 0;
+    if (flat || strcmp(item, "raymarched-sky") == 0) {   /* Leenman's (models/sky_raymarched.h) */
+      if (job->has_raymarched[flat]) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
+      sf_sky_raymarched_make(&job->scene.atmosphere, flat ? SF_SKY_FLAT_STEPS : SF_SKY_RAYMARCHED_STEPS,
+                             SF_RAYMARCHED_DEPTHS_FLAT, &job->raymarched[flat]);
+      job->has_raymarched[flat] = 1;
+      if (sf_sky_raymarched_part(&job->raymarched[flat], flat, &job->domain, &job->parts[job->n_parts], err) !=
+          SF_OK)
         return err->status;
       ++job->n_parts;
       continue;
@@ -235,7 +240,7 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
                      "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline, naive-sky, "
-                     "raymarched-sky)",
+                     "raymarched-sky, flat-sky)",
                      item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)

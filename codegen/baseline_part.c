@@ -70,19 +70,30 @@ int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_c
 }
 
 static void emit_sky_raymarched(sf_code_writer *w, const void *model) {
-  sf_emit_sky_raymarched(w, (const sf_sky_raymarched *)model);
+  sf_emit_sky_raymarched(w, (const sf_sky_raymarched *)model, "raymarched");
 }
 
-int sf_sky_raymarched_part(const sf_sky_raymarched *m, const sf_scene_domain *domain, sf_codegen_part *part,
-                           sf_error *err) {
-  const char *why = NULL;
-  if (!sf_sky_raymarched_emittable(m, &why)) return sf_fail(err, SF_ERR_INPUT, "raymarched-sky: %s", why);
-  if (sky_part(m->atm, "raymarched", "raymarched-sky", domain, emit_sky_raymarched, m, part, err) != SF_OK)
+static void emit_sky_flat(sf_code_writer *w, const void *model) {
+  sf_emit_sky_raymarched(w, (const sf_sky_raymarched *)model, "flat");
+}
+
+int sf_sky_raymarched_part(const sf_sky_raymarched *m, int flat, const sf_scene_domain *domain,
+                           sf_codegen_part *part, sf_error *err) {
+  const char *why = NULL, *row = flat ? "flat-sky" : "raymarched-sky";
+  if (!sf_sky_raymarched_emittable(m, &why)) return sf_fail(err, SF_ERR_INPUT, "%s: %s", row, why);
+  if (sky_part(m->atm, flat ? "flat" : "raymarched", row, domain, flat ? emit_sky_flat : emit_sky_raymarched, m,
+               part, err) != SF_OK)
     return err->status;
-  snprintf(part->summary, sizeof part->summary,
-           "raymarched sky: single scattering in %d steps of the view ray, each integrated in closed form with "
-           "the flat model's optical depths, the planet's shadow split off; no multiple scattering (seed 000 "
-           "§10.4, §11.2.10)",
-           m->steps);
+  if (flat)
+    snprintf(part->summary, sizeof part->summary,
+             "flat sky: single scattering as one closed-form segment of the view ray (seed 000 eq. 52 looking "
+             "up, eq. 55 toward the ground) with the flat model's optical depths, the planet's shadow split off; "
+             "no multiple scattering (seed 000 §10.1-10.4, §11.2.9)");
+  else
+    snprintf(part->summary, sizeof part->summary,
+             "raymarched sky: single scattering in %d steps of the view ray, each integrated in closed form with "
+             "the flat model's optical depths, the planet's shadow split off; no multiple scattering (seed 000 "
+             "§10.4, §11.2.10)",
+             m->steps);
   return SF_OK;
 }

@@ -22,9 +22,11 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
 int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err);
 
 /* The same for Leenman's raymarched sky m (models/sky_raymarched.h):
- * `skyfit codegen --baselines raymarched-sky`. SF_ERR_INPUT where it
- * cannot be emitted (sf_sky_raymarched_emittable, nothing that scatters). */
-int sf_sky_raymarched_part(const sf_sky_raymarched *m, const sf_scene_domain *domain, sf_codegen_part *part,
-                           sf_error *err);
+ * `skyfit codegen --baselines raymarched-sky`; with flat set, his flat sky
+ * (m made with SF_SKY_FLAT_STEPS), `--baselines flat-sky`. SF_ERR_INPUT
+ * where it cannot be emitted (sf_sky_raymarched_emittable, nothing that
+ * scatters). */
+int sf_sky_raymarched_part(const sf_sky_raymarched *m, int flat, const sf_scene_domain *domain,
+                           sf_codegen_part *part, sf_error *err);
 
 #endif

@@ -26,7 +26,9 @@ int sf_sky_raymarched_emittable(const sf_sky_raymarched *m, const char **why) {
  * across the shadow's edge: models/sky_raymarched.c). */
 static void emit_columns(sf_code_writer *w, const sf_atmosphere *atm) {
   const double R = atm->bottom_radius_km, H = atm->top_radius_km - atm->bottom_radius_km;
-  sf_cw_emit(w, "@fn @vec4 skyfit_raymarched_line_columns(float h_km, float mu, @vec4 seg) {\n");
+  /* guarded: the flat and the raymarched sky share them (one atmosphere a file) */
+  sf_cw_emit(w, "#ifndef SKYFIT_HELPER_RAYMARCHED_COLUMNS\n#define SKYFIT_HELPER_RAYMARCHED_COLUMNS\n"
+                "@fn @vec4 skyfit_raymarched_line_columns(float h_km, float mu, @vec4 seg) {\n");
   for (int i = 0; i < atm->n_constituents; ++i)
     sf_cw_emit(w, "  float d%d = 0.0f;  /* %s, km */\n", i, atm->constituents[i].name);
   sf_cw_emit(w, "  if (seg.y > seg.x) {\n");
@@ -46,7 +48,7 @@ static void emit_columns(sf_code_writer *w, const sf_atmosphere *atm) {
              "  c = @max(c, -@sqrt(@max(h, 0.0f) * (rp + %F)) / rp);\n"
              "  float t_top = @max(skyfit_sphere_hits(rp, c, %F, %F - h).y, 0.0f);\n"
              "  return skyfit_raymarched_line_columns(h, c, @vec4(0.0f, t_top, h, %F));\n"
-             "}\n\n",
+             "}\n#endif\n\n",
              R, H, R, R, R + H, H, H);
   sf_cw_need(w, SF_HELPER_AIR_CLIP | SF_HELPER_SPHERE_HITS);
 }
@@ -76,7 +78,7 @@ static void emit_depths(sf_code_writer *w, const sf_atmosphere *atm, const char 
   }
 }
 
-void sf_emit_sky_raymarched(sf_code_writer *w, const sf_sky_raymarched *m) {
+void sf_emit_sky_raymarched(sf_code_writer *w, const sf_sky_raymarched *m, const char *name) {
   const sf_atmosphere *atm = m->atm;
   const int nc = atm->n_constituents, nk = atm->n_channels;
   const double R = atm->bottom_radius_km;
@@ -84,12 +86,12 @@ void sf_emit_sky_raymarched(sf_code_writer *w, const sf_sky_raymarched *m) {
   emit_exp_mean(w);
   emit_columns(w, atm);
   sf_cw_emit(w,
-             "/* raymarched sky: single scattering in %d equal steps of the view ray, split where the\n"
+             "/* %s sky: single scattering in %d equal step(s) of the view ray, split where the\n"
              " * sun ray grazes the ground or passes closest to it, each integrated in closed form with\n"
-             " * the flat model's optical depths; no multiple scattering (seed 000 §10.4, §11.2.10,\n"
-             " * eq. 55). */\n",
-             m->steps);
-  sf_emit_sky_open(w, atm, "raymarched");
+             " * the flat model's optical depths; no multiple scattering (seed 000 §10.1-10.4, §11.2.9-10,\n"
+             " * eq. 52, 55). */\n",
+             name, m->steps);
+  sf_emit_sky_open(w, atm, name);
   /* models/sun_shadow.h: the sun ray from distance t passes the centre at
    * d, d^2 - R^2 = qa t^2 + qb t + qc, ahead of the point where rms + t nu < 0 */
   sf_cw_emit(w,

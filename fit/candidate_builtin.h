@@ -50,6 +50,8 @@ int sf_candidate_sky_naive(const sf_atmosphere *atm, sf_candidate *out, sf_error
  * with the flat model's depths, for every viewer
  * (fit/candidate_sky_raymarched.c). */
 int sf_candidate_sky_raymarched(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
+/* Leenman's flat sky: the same model in one step (SF_SKY_FLAT_STEPS). */
+int sf_candidate_sky_flat(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
 /* An analytic transmittance baseline; steps is used by SF_TB_NAIVE only
  * (name "naive<steps>"). SF_ERR_INPUT when the model does not apply (no
  * exponential constituent for Chapman/Taylor/flat/spline). */

@@ -36,6 +36,16 @@
 /* seed 000 §11.2.10: "set to 5, as this provides a good tradeoff". */
 #define SF_SKY_RAYMARCHED_STEPS 5
 
+/* Leenman's flat sky (seed 000 §10.1-10.3, §11.2.9) is this model in one
+ * step: looking up, the one piece from the viewer to the top is eq. 52 (A
+ * the sun's depth at the viewer, B the view ray's; the columns end at the
+ * top where eq. 51's run on, which differs by about e^-(top - h)/H of
+ * them: tests/test_sky_raymarched.c); toward the ground it is eq. 55's one
+ * segment, as §11.2.9 says. The seed's flat sky has no shadow (its
+ * planet-shadow-orbit figure in App. B is 1.40, a mean squared error);
+ * here the splits above are kept, so a shadowed ray takes up to 4 pieces. */
+#define SF_SKY_FLAT_STEPS 1
+
 typedef enum sf_raymarched_depths {
   SF_RAYMARCHED_DEPTHS_FLAT = 0,   /* the model: seed 000 §10.1-10.3 */
   SF_RAYMARCHED_DEPTHS_EXACT       /* the reference's (models/optical_depth.h): the integrator alone */

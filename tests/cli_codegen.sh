@@ -44,24 +44,27 @@ fi
 "$SKYFIT_BIN" codegen --baselines naive-sky,naive-sky --lang c --out "$tmp/sky" --name twice 2>"$tmp/err.txt"
 check "naive-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/sky/twice.h ] && grep -q 'given twice' $tmp/err.txt"
 
-# Leenman's raymarched sky beside the flat transmittance (they share the
-# flat model's helpers, behind one guard) and the naive sky: one header that
-# compiles as -Werror C99 and as GLSL; the two skies agree to within the
-# raymarched model's own error (tests/test_sky_raymarched.c checks its
-# values against the reference single scattering)
+# Leenman's raymarched and flat skies beside the flat transmittance (they
+# share the flat model's helpers and the skies their columns, behind
+# guards) and the naive sky: one header that compiles as -Werror C99 and
+# as GLSL; the skies agree to within the raymarched and flat models' own
+# error (tests/test_sky_raymarched.c checks their values against the
+# reference single scattering and seed 000 eq. 52)
 mkdir -p "$tmp/rm"
-"$SKYFIT_BIN" codegen --baselines flat,raymarched-sky,naive-sky --lang both --out "$tmp/rm" --quiet
-check "flat,raymarched-sky,naive-sky: exits 0, the header says where its error is" \
-  "[ $? -eq 0 ] && grep -q 'skyfit_raymarched_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/rm/skyfit.h && grep -q \"skyfit report's raymarched-sky row\" $tmp/rm/skyfit.h"
-printf '#include "skyfit.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 L = skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 N = skyfit_naive_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 T = skyfit_flat_transmittance(0.0f, 0.5f);\n  printf("%%.9g %%.9g %%.9g %%.9g %%.9g\\n", L.x, L.y, L.z, N.z, T.x);\n  return 0;\n}\n' >"$tmp/rm/use.c"
-check "flat,raymarched-sky,naive-sky: the C compiles with -Werror and runs" \
+"$SKYFIT_BIN" codegen --baselines flat,raymarched-sky,naive-sky,flat-sky --lang both --out "$tmp/rm" --quiet
+check "flat,raymarched-sky,naive-sky,flat-sky: exits 0, the header says where their errors are" \
+  "[ $? -eq 0 ] && grep -q 'skyfit_raymarched_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/rm/skyfit.h && grep -q \"skyfit report's raymarched-sky row\" $tmp/rm/skyfit.h && grep -q 'skyfit_flat_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/rm/skyfit.h && grep -q \"skyfit report's flat-sky row\" $tmp/rm/skyfit.h"
+printf '#include "skyfit.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 L = skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 N = skyfit_naive_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 T = skyfit_flat_transmittance(0.0f, 0.5f);\n  skyfit_vec3 F = skyfit_flat_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  printf("%%.9g %%.9g %%.9g %%.9g %%.9g %%.9g %%.9g\\n", L.x, L.y, L.z, N.z, T.x, F.x, F.z);\n  return 0;\n}\n' >"$tmp/rm/use.c"
+check "flat,raymarched-sky,naive-sky,flat-sky: the C compiles with -Werror and runs" \
   "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/rm -o $tmp/rm/use $tmp/rm/use.c -lm && $tmp/rm/use > $tmp/rm/out.txt"
 check "raymarched-sky: bluer than red, within 10 % of the naive sky in blue, a transmittance in (0, 1)" \
   "awk '{ exit !(\$1 > 0 && \$3 > \$1 && \$3 > 0.9 * \$4 && \$3 < 1.1 * \$4 && \$5 > 0 && \$5 < 1) }' $tmp/rm/out.txt"
+check "flat-sky: bluer than red, within 10 % of the naive sky in blue" \
+  "awk '{ exit !(\$6 > 0 && \$7 > \$6 && \$7 > 0.9 * \$4 && \$7 < 1.1 * \$4) }' $tmp/rm/out.txt"
 if command -v glslangValidator >/dev/null; then
   { echo '#version 330'; cat "$tmp/rm/skyfit.glsl"
-    echo 'out vec4 c; void main() { c = vec4(skyfit_raymarched_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/rm/use.frag"
-  check "flat,raymarched-sky: the GLSL compiles" "glslangValidator $tmp/rm/use.frag > $tmp/rm/glsl.log 2>&1"
+    echo 'out vec4 c; void main() { c = vec4(skyfit_raymarched_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/rm/use.frag"
+  check "flat,raymarched-sky,flat-sky: the GLSL compiles" "glslangValidator $tmp/rm/use.frag > $tmp/rm/glsl.log 2>&1"
 fi
 "$SKYFIT_BIN" codegen --baselines raymarched-sky,raymarched-sky --lang c --out "$tmp/rm" --name twice 2>"$tmp/err.txt"
 check "raymarched-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/rm/twice.h ] && grep -q 'given twice' $tmp/err.txt"
@@ -83,9 +86,9 @@ for b in chapman taylor flat spline; do
   check "no exponential constituent: $b exits 2 and says why, nothing written" \
     "[ $? -eq 2 ] && [ ! -e $tmp/tent/$b.h ] && grep -q 'need an exponential constituent' $tmp/err.txt"
 done
-"$SKYFIT_BIN" codegen --baselines naive,naive-sky,raymarched-sky --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --quiet
-printf '#include "skyfit.h"\nint main(void) { return skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f ? 0 : 1; }\n' >"$tmp/tent/use.c"
-check "no exponential constituent: naive, naive-sky, raymarched-sky compile with -Werror, a sky" \
+"$SKYFIT_BIN" codegen --baselines naive,naive-sky,raymarched-sky,flat-sky --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --quiet
+printf '#include "skyfit.h"\nint main(void) { return skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f && skyfit_flat_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f ? 0 : 1; }\n' >"$tmp/tent/use.c"
+check "no exponential constituent: naive, naive-sky, raymarched-sky, flat-sky compile with -Werror, a sky" \
   "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/tent -o $tmp/tent/use $tmp/tent/use.c -lm && $tmp/tent/use"
 
 mkdir -p "$tmp/c"

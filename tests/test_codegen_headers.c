@@ -1,14 +1,16 @@
 /* Emitted headers, verified rather than assumed (SPEC §9-10):
  *  1. for several atmospheres (Earth; scale heights x0.01 and x10; every
  *     coefficient x1e-3 and x1e3) the analytic baselines (naive, chapman,
- *     taylor, flat, spline), and for Earth
+ *     taylor, flat, spline; the naive, raymarched and flat skies), and for
+ *     Earth
  *     every fitted model's emitter (sigmoid, hosek, preetham,
  *     mlp-transmittance, mlp-scattering, spectral4; weights files written
  *     here in the documented formats), the C header is compiled as C99 and
  *     as C++ with -Wall -Wextra -Werror -pedantic and run at >= 10,000
  *     points per function, the SPEC §10 hard cases included; its float32
  *     results are compared with the same models evaluated in double through
- *     models/ (per-function bounds below);
+ *     models/ (per-function bounds below; the skies' printed only, as
+ *     test_float32_sweep.c bounds them);
  *  2. the GLSL is compiled by glslangValidator as a vertex, fragment and
  *     compute shader;
  *  3. the GLSL runs as a compute shader on Mesa's llvmpipe (headless EGL,
@@ -80,6 +82,8 @@ typedef struct test_case {
   sf_baseline baselines[SF_BASELINE_COUNT];
   double bound[SF_BASELINE_COUNT];  /* naive, chapman, taylor, flat, spline: |T_float - T_double| */
   sf_spline_model spline;           /* the spline baseline's meshes */
+  sf_sky_naive naive_sky;           /* the sky-radiance baselines */
+  sf_sky_raymarched raymarched_sky, flat_sky;
   int with_fitted;
   int n_fitted;
   sf_weights weights[8];
@@ -839,6 +843,26 @@ static void check_case(test_case *tc) {
     add_fn(fs, &n_fs, "skyfit_spectral4_wavelengths_nm", "", 4, 5, emitted_spectral_wavelengths, &sp->spectral4, 1.0,
            1e-7);
   }
+  /* the sky-radiance baselines, last (the functions before them keep
+   * their points), for their GLSL on Mesa against their C. Their C against
+   * the double is printed, not bounded here: at the hard case of a ray
+   * grazing the top of the atmosphere (viewers 10 km above it to 5 planet
+   * radii out) the float32 chord, a difference of squares ~(r mu)^2, moves
+   * the result by up to 0.2 of itself, a non-integer shift of mu that the
+   * 4-ulp neighbours above do not match. tests/test_float32_sweep.c bounds it at
+   * 1e6 points modulo that ill-conditioning (rows naive-sky, raymarched-sky,
+   * flat-sky). */
+  tc->naive_sky = (sf_sky_naive){&tc->atm, SF_SKY_NAIVE_VIEW_STEPS, SF_SKY_NAIVE_SUN_STEPS};
+  sf_sky_raymarched_make(&tc->atm, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &tc->raymarched_sky);
+  sf_sky_raymarched_make(&tc->atm, SF_SKY_FLAT_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &tc->flat_sky);
+  CHECK(sf_sky_naive_part(&tc->naive_sky, &domain, &parts[n_parts++], &err) == SF_OK);
+  CHECK(sf_sky_raymarched_part(&tc->raymarched_sky, 0, &domain, &parts[n_parts++], &err) == SF_OK);
+  CHECK(sf_sky_raymarched_part(&tc->flat_sky, 1, &domain, &parts[n_parts++], &err) == SF_OK);
+  add_fn(fs, &n_fs, "skyfit_naive_sky_radiance", "ffff", 3, 1, emitted_naive_sky, &tc->naive_sky, 1e-6, INFINITY);
+  add_fn(fs, &n_fs, "skyfit_raymarched_sky_radiance", "ffff", 3, 1, emitted_raymarched_sky, &tc->raymarched_sky,
+         1e-6, INFINITY);
+  add_fn(fs, &n_fs, "skyfit_flat_sky_radiance", "ffff", 3, 1, emitted_raymarched_sky, &tc->flat_sky, 1e-6,
+         INFINITY);
   char base[64], path[512], cmd[4096];
   snprintf(base, sizeof base, "sky_%s", tc->name);
   if (!CHECK(sf_codegen_write(parts, n_parts, 1, 1, tmp_dir, base, NULL, &err) == SF_OK)) {

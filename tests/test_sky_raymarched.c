@@ -8,12 +8,15 @@
  *     planet's shadow; at second order, the shadow's edges included;
  *   - with the flat model's depths it is exact where the flat model is:
  *     looking straight up with the sun overhead, whatever the steps;
+ *   - in one step (Leenman's flat sky) looking up it is seed 000 eq. 52,
+ *     transcribed here with eq. 51's columns and eq. 59's shell;
  *   - it does not jump where the planet's shadow appears on a ray;
  *   - a viewer far outside sees what a viewer where its ray enters sees;
- *   - the candidate the build measures is that model, and its emitted C
+ *   - the candidates the build measures (raymarched-sky, flat-sky) are
+ *     that model, and their emitted C
  *     (codegen/emit_sky_raymarched.h, compiled here through the build's
- *     stable name skyfit_sky_radiance) and its float32 evaluation (what the
- *     report times) agree with it, the emitted C also for far viewers;
+ *     stable name skyfit_sky_radiance) and their float32 evaluation (what
+ *     the report times) agree with it, the emitted C also for far viewers;
  *     the GLSL compiles; an atmosphere with an absorber and one with no
  *     exponential constituent compile with -Wall -Wextra -Werror, one
  *     with 5 constituents is not emitted (its columns travel in a vec4). */
@@ -43,6 +46,103 @@ static void check_exp_mean(void) {
   }
   printf("(e^-a - e^-b) / (b - a): worst rel %.2e (bound 4e-16)\n", worst);
   CHECK(worst <= 4e-16);
+}
+
+/* seed 000 eq. 51: the column (km) of d0 exp(-h/H) from altitude h along
+ * the zenith cosine c >= 0, through the homogeneous sphere one scale height
+ * above the point. */
+static double eq51_column(double R, double H, double d0, double h, double c) {
+  double r = R + h;
+  return d0 * exp(-h / H) * (sqrt((r + H) * (r + H) - r * r + r * r * c * c) - r * c);
+}
+
+/* eq. 59: the length of the upward ray (h, c >= 0) inside the shell lo..hi. */
+static double eq59_chord(double R, double lo, double hi, double h, double c) {
+  double r = R + h;
+  if (h >= hi) return 0.0;
+  double from = fmax(lo, h);
+  double t_hi = -r * c + sqrt(r * r * c * c + (R + hi) * (R + hi) - r * r);
+  double t_from = -r * c + sqrt(r * r * c * c + (R + from) * (R + from) - r * r);
+  return t_hi - t_from;
+}
+
+/* The column of every constituent from (h, c) up to infinity: eq. 51 or 59. */
+static void seed_columns(const sf_atmosphere *atm, double h, double c, double *col) {
+  double R = atm->bottom_radius_km;
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0, lo, hi;
+    if (sf_constituent_exponential(&atm->constituents[i], &H, &d0)) {
+      col[i] = eq51_column(R, H, d0, h, c);
+    } else {
+      sf_flat_shell_of(atm, i, &lo, &hi);
+      col[i] = eq59_chord(R, lo, hi, h, c);
+    }
+  }
+}
+
+/* Where the upward ray (h, c) leaves the top: its zenith cosine there. */
+static double cosine_at_top(double R, double top, double h, double c) {
+  double r = R + h, t = -r * c + sqrt(r * r * c * c + (R + top) * (R + top) - r * r);
+  return (r * c + t) / (R + top);
+}
+
+/* eq. 52, summed over constituents: E sum_i beta_s,i P_i col_i times the
+ * mean of e^-x between the sun's depth at the viewer and the view ray's
+ * (the sun's at the ray's end, on the top, is 0). With to_top set the
+ * columns end at the top, as the model's do: less eq. 51's column above
+ * where the view ray and the sun ray leave it. */
+static void seed_flat_sky(const sf_atmosphere *atm, const double *p, int to_top, double *L) {
+  double R = atm->bottom_radius_km, top = atm->top_radius_km - R, h = p[0], mu = p[1], mu_s = p[2], nu = p[3];
+  double view[SF_MAX_CONSTITUENTS], sun[SF_MAX_CONSTITUENTS], view_above[SF_MAX_CONSTITUENTS] = {0},
+         sun_above[SF_MAX_CONSTITUENTS] = {0};
+  seed_columns(atm, h, mu, view);
+  seed_columns(atm, h, mu_s, sun);
+  if (to_top) {
+    seed_columns(atm, top, cosine_at_top(R, top, h, mu), view_above);
+    seed_columns(atm, top, cosine_at_top(R, top, h, mu_s), sun_above);
+  }
+  for (int k = 0; k < atm->n_channels; ++k) {
+    double tau_view = 0.0, tau_light = 0.0, scatter = 0.0;
+    for (int i = 0; i < atm->n_constituents; ++i) {
+      double col = view[i] - view_above[i];
+      tau_view += sf_extinction(atm, i, k) * col;
+      tau_light += sf_extinction(atm, i, k) * (sun[i] - sun_above[i]);
+      scatter += atm->constituents[i].scattering[k] * sf_phase_value(&atm->constituents[i].phase, nu) * col;
+    }
+    L[k] = atm->sun_irradiance[k] * scatter * (exp(-tau_view) - exp(-tau_light)) / (tau_light - tau_view);
+  }
+}
+
+/* Looking up with the sun up, and the sun line's closest approach behind
+ * the viewer (mu >= mu_s nu): one piece, the seed's flat sky. */
+static void check_flat_is_eq52(const sf_atmosphere *atm) {
+  static const double up[][4] = {{0.0, 0.3, 0.5, 0.2}, {0.0, 0.05, 0.1, 0.3}, {0.0, 0.9, 0.7, 0.8},
+                                 {5.0, 0.2, 0.02, 0.4}, {20.0, 0.6, 0.3, -0.2}, {50.0, 0.1, 0.9, 0.05}};
+  sf_sky_raymarched flat;
+  sf_sky_raymarched_make(atm, SF_SKY_FLAT_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &flat);
+  double H_max = 0.0, worst_top = 0.0, worst_seed = 0.0, worst_seed_bound = 0.0;
+  for (int i = 0; i < atm->n_constituents; ++i) {
+    double H, d0;
+    if (sf_constituent_exponential(&atm->constituents[i], &H, &d0)) H_max = fmax(H_max, H);
+  }
+  for (size_t p = 0; p < sizeof up / sizeof up[0]; ++p) {
+    CHECK(up[p][1] >= up[p][2] * up[p][3] && up[p][1] > 0.0 && up[p][2] > 0.0);
+    double got[SF_MAX_CHANNELS], to_top[SF_MAX_CHANNELS], seed[SF_MAX_CHANNELS];
+    sf_sky_raymarched_radiance(&flat, up[p][0], up[p][1], up[p][2], up[p][3], got);
+    seed_flat_sky(atm, up[p], 1, to_top);
+    seed_flat_sky(atm, up[p], 0, seed);
+    worst_top = fmax(worst_top, sky_worst_rel(got, to_top, atm->n_channels));
+    /* eq. 51 to infinity counts the columns above the top too: of the
+     * viewer's, about e^-(top - h)/H each, the view's and the sun's */
+    double e = sky_worst_rel(got, seed, atm->n_channels);
+    double bound = 2.0 * exp(-(atm->top_radius_km - atm->bottom_radius_km - up[p][0]) / H_max);
+    CHECK(e <= bound);
+    worst_seed = fmax(worst_seed, e);
+    worst_seed_bound = fmax(worst_seed_bound, e / bound);
+  }
+  printf("flat sky looking up vs eq. 52 ended at the top: worst rel %.2e (bound 1e-12); vs eq. 52 to infinity: "
+         "%.2e, at most %.2f of 2 e^-(top - h)/H\n", worst_top, worst_seed, worst_seed_bound);
+  CHECK(worst_top <= 1e-12);
 }
 
 static void check_integrator(const sf_atmosphere *atm) {
@@ -212,15 +312,16 @@ static void check_emitted_values(const sf_candidate *c, const sf_atmosphere *atm
   CHECK(worst_far <= 1e-3);
 }
 
-static void check_candidate(const sf_atmosphere *atm, const char *dir, const char *base, int values) {
+/* flat: the flat sky's candidate (one step), else the raymarched sky's. */
+static void check_candidate(const sf_atmosphere *atm, int flat, const char *dir, const char *base, int values) {
   sf_candidate c;
   sf_error err = {0};
-  printf("-- %s\n", atm->name);
-  if (!CHECK(sf_candidate_sky_raymarched(atm, &c, &err) == SF_OK)) return;
+  printf("-- %s, %s\n", atm->name, flat ? "flat sky" : "raymarched sky");
+  if (!CHECK((flat ? sf_candidate_sky_flat : sf_candidate_sky_raymarched)(atm, &c, &err) == SF_OK)) return;
   CHECK(c.quantity == SF_CANDIDATE_SKY_RADIANCE && c.role == SF_ROLE_BASELINE && c.emit && c.eval_f32);
-  CHECK(strcmp(c.name, "raymarched-sky") == 0);
+  CHECK(strcmp(c.name, flat ? "flat-sky" : "raymarched-sky") == 0);
   sf_sky_raymarched m;
-  sf_sky_raymarched_make(atm, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &m);
+  sf_sky_raymarched_make(atm, flat ? SF_SKY_FLAT_STEPS : SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &m);
   int same = 1;
   for (int p = 0; p < SKY_POINTS; ++p) {
     double want[SF_MAX_CHANNELS], got[SF_MAX_CHANNELS];
@@ -245,11 +346,13 @@ int main(void) {
   check_integrator(&atm);
   check_vertical_exact(&atm);
   check_seed_steps(&atm);
+  check_flat_is_eq52(&atm);
   check_shadow_continuity(&atm);
   check_far_viewers(&atm);
   char dir[] = "/tmp/skyfit-sky-raymarched-XXXXXX";
   if (!mkdtemp(dir)) return 1;
-  check_candidate(&atm, dir, "raymarched_sky", 1);
+  check_candidate(&atm, 0, dir, "raymarched_sky", 1);
+  check_candidate(&atm, 1, dir, "flat_sky", 1);
   /* a constituent that absorbs only (but names a phase function): no
    * variable emitted that nothing reads (-Wall -Werror) */
   sf_atmosphere odd = atm;
@@ -259,7 +362,8 @@ int main(void) {
   snprintf(absorber->name, sizeof absorber->name, "soot");
   for (int k = 0; k < odd.n_channels; ++k) absorber->scattering[k] = 0.0, absorber->absorption[k] = 2e-4 * (k + 1);
   sf_atmosphere_finalize(&odd);
-  check_candidate(&odd, dir, "raymarched_sky_odd", 0);
+  check_candidate(&odd, 0, dir, "raymarched_sky_odd", 0);
+  check_candidate(&odd, 1, dir, "flat_sky_odd", 0);
   /* no exponential constituent: a scattering tent, the flat model's shell
    * alone (the ends' geometry had been emitted unread: -Werror) */
   sf_atmosphere tent = atm;
@@ -270,7 +374,8 @@ int main(void) {
   tent.constituents[0].phase.kind = SF_PHASE_ISOTROPIC;
   for (int k = 0; k < tent.n_channels; ++k) tent.constituents[0].scattering[k] = 1e-3;
   sf_atmosphere_finalize(&tent);
-  check_candidate(&tent, dir, "raymarched_sky_tent", 0);
+  check_candidate(&tent, 0, dir, "raymarched_sky_tent", 0);
+  check_candidate(&tent, 1, dir, "flat_sky_tent", 0);
   /* a fifth constituent: measured, not emitted */
   sf_atmosphere five = odd;
   five.constituents[five.n_constituents++] = atm.constituents[0];
