@@ -27,7 +27,7 @@ static void codegen_usage(FILE *out) {
   fprintf(out,
           "usage: skyfit codegen [--weights W.json ...]\n"
           "                      [--baselines naive,chapman,taylor,flat,spline,naive-sky,raymarched-sky,\n"
-          "                                   flat-sky]\n"
+          "                                   flat-sky,schuler-sky]\n"
           "                      --lang glsl|c|both --out DIR [options]\n"
           "\n"
           "Writes DIR/NAME.h (C99/C++) and/or DIR/NAME.glsl holding, for every model asked\n"
@@ -50,7 +50,10 @@ static void codegen_usage(FILE *out) {
           "                     closed form with the flat model's optical depths:\n"
           "                     skyfit_raymarched_sky_radiance; at most 4 constituents) and\n"
           "                     flat-sky (Leenman's flat model, seed 000 11.2.9: the same in one\n"
-          "                     step, eq. 52 and 55: skyfit_flat_sky_radiance).\n"
+          "                     step, eq. 52 and 55: skyfit_flat_sky_radiance) and schuler-sky\n"
+          "                     (seed 000 11.2.7: 24 view steps, the sun's depths by the Chapman\n"
+          "                     approximation: skyfit_schuler_sky_radiance; at most 4\n"
+          "                     constituents, one exponential).\n"
           "                     Every baseline: at most 4 channels\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"
@@ -188,14 +191,14 @@ typedef struct codegen_job {
   sf_baseline baselines[SF_BASELINE_COUNT];
   int n_baselines;
   sf_spline_model spline;          /* the spline baseline's meshes, if asked */
-  sf_sky_naive sky;                /* --baselines naive-sky */
-  int has_sky;
+  sf_sky_naive sky[2];             /* --baselines naive-sky, schuler-sky */
+  int has_sky[2];
   sf_sky_raymarched raymarched[2];   /* --baselines raymarched-sky, flat-sky */
   int has_raymarched[2];
   sf_weights weights[MAX_INPUTS];
   sf_fitted_model *fitted[MAX_INPUTS];
   int n_weights;
-  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 3];
+  sf_codegen_part parts[MAX_INPUTS + SF_BASELINE_COUNT + 4];
   int n_parts;
 } codegen_job;
 
@@ -216,11 +219,15 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
   snprintf(list, sizeof list, "%s", o->baselines);
   for (char *save = NULL, *item = strtok_r(list, ",", &save); item;
        item = strtok_r(NULL, ",", &save)) {
-    if (strcmp(item, "naive-sky") == 0) {   /* the sky-radiance baseline (models/sky_naive.h) */
-      if (job->has_sky) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
-      job->sky = (sf_sky_naive){&job->scene.atmosphere, SF_SKY_NAIVE_VIEW_STEPS, SF_SKY_NAIVE_SUN_STEPS};
-      job->has_sky = 1;
-      if (sf_sky_naive_part(&job->sky, &job->domain, &job->parts[job->n_parts], err) != SF_OK) return err->status;
+    int schuler = strcmp(item, "schuler-sky") == 0;
+    if (schuler || strcmp(item, "naive-sky") == 0) {   /* models/sky_naive.h */
+      if (job->has_sky[schuler]) return sf_fail(err, SF_ERR_INPUT, "--baselines: '%s' given twice", item);
+      if (schuler) sf_sky_schuler_make(&job->scene.atmosphere, &job->sky[1]);
+      else job->sky[0] = (sf_sky_naive){.atm = &job->scene.atmosphere, .view_steps = SF_SKY_NAIVE_VIEW_STEPS,
+                                         .sun_steps = SF_SKY_NAIVE_SUN_STEPS};
+      job->has_sky[schuler] = 1;
+      if (sf_sky_naive_part(&job->sky[schuler], &job->domain, &job->parts[job->n_parts], err) != SF_OK)
+        return err->status;
       ++job->n_parts;
       continue;
     }
@@ -240,7 +247,7 @@ static int add_baselines(const codegen_options *o, codegen_job *job, sf_error *e
     if (kind < 0)
       return sf_fail(err, SF_ERR_INPUT,
                      "--baselines: unknown baseline '%s' (expected naive, chapman, taylor, flat, spline, naive-sky, "
-                     "raymarched-sky, flat-sky)",
+                     "raymarched-sky, flat-sky, schuler-sky)",
                      item);
     for (int k = 0; k < job->n_baselines; ++k)
       if ((int)job->baselines[k].kind == kind)

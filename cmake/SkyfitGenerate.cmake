@@ -18,8 +18,8 @@
 # default resolution; BUILD_OPTIONS are passed on to `skyfit build` (e.g.
 # --resolution or --quick for a smaller, faster sky). With BASELINES the
 # step only writes those analytic baselines (naive, chapman, taylor, flat,
-# spline, naive-sky, raymarched-sky, flat-sky: `skyfit codegen
-# --baselines`), in seconds.
+# spline, naive-sky, raymarched-sky, flat-sky, schuler-sky: `skyfit
+# codegen --baselines`), in seconds.
 #
 # The step runs again when the scene file, the atmosphere file it names, or
 # the skyfit tool changes, and not otherwise. Editing which atmosphere the
@@ -72,13 +72,14 @@ function(skyfit_generate)
       endif()
     endforeach()
   endforeach()
-  set(known_baselines naive chapman taylor flat spline naive-sky raymarched-sky flat-sky)   # skyfit codegen --baselines
+  set(known_baselines naive chapman taylor flat spline naive-sky raymarched-sky flat-sky
+                       schuler-sky)   # skyfit codegen --baselines
   string(REPLACE "," ";" baseline_names "${SG_BASELINES}")
   list(REMOVE_ITEM baseline_names "")   # "naive,chapman,": codegen skips the empty name too
   foreach(baseline IN LISTS baseline_names)
     if(NOT baseline IN_LIST known_baselines)
       message(FATAL_ERROR "skyfit_generate: BASELINES: unknown baseline '${baseline}' (naive, chapman, taylor, "
-                          "flat, spline, naive-sky, raymarched-sky, flat-sky)")
+                          "flat, spline, naive-sky, raymarched-sky, flat-sky, schuler-sky)")
     endif()
   endforeach()
   # (BUILD_OPTIONS ${empty_variable} is fine; an empty BASELINES had run

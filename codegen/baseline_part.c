@@ -57,15 +57,22 @@ static int sky_part(const sf_atmosphere *atm, const char *name, const char *row,
 static void emit_sky_naive(sf_code_writer *w, const void *model) { sf_emit_sky_naive(w, (const sf_sky_naive *)model); }
 
 int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err) {
-  const sf_atmosphere *atm = m->atm;
-  if (atm->n_channels > 4)
-    return sf_fail(err, SF_ERR_INPUT, "naive-sky: emitted code returns vec1-vec4, the atmosphere has %d channels",
-                   atm->n_channels);
-  if (sky_part(atm, "naive", "naive-sky", domain, emit_sky_naive, m, part, err) != SF_OK) return err->status;
-  snprintf(part->summary, sizeof part->summary,
-           "naive sky: single scattering by a %d-step midpoint raymarch of the view ray and another of %d steps "
-           "toward the sun at each step, no multiple scattering (seed 000 §11.2.6)",
-           m->view_steps, m->sun_steps);
+  const int schuler = m->sun == SF_SKY_SUN_CHAPMAN;
+  const char *why = NULL, *row = schuler ? "schuler-sky" : "naive-sky";
+  if (!sf_sky_naive_emittable(m, &why)) return sf_fail(err, SF_ERR_INPUT, "%s: %s", row, why);
+  if (sky_part(m->atm, schuler ? "schuler" : "naive", row, domain, emit_sky_naive, m, part, err) != SF_OK)
+    return err->status;
+  if (schuler)
+    snprintf(part->summary, sizeof part->summary,
+             "schuler sky: single scattering by a %d-step midpoint raymarch of the view ray, the sun's optical "
+             "depth at each step by Schuler's Chapman approximation (seed 000 eq. 22-25, eq. 59 shells), no "
+             "multiple scattering (seed 000 §11.2.7)",
+             m->view_steps);
+  else
+    snprintf(part->summary, sizeof part->summary,
+             "naive sky: single scattering by a %d-step midpoint raymarch of the view ray and another of %d steps "
+             "toward the sun at each step, no multiple scattering (seed 000 §11.2.6)",
+             m->view_steps, m->sun_steps);
   return SF_OK;
 }
 

@@ -16,9 +16,10 @@ int sf_baseline_part(const sf_baseline *b, const sf_scene_domain *domain, sf_cod
 /* Fills part for the naive sky m (models/sky_naive.h; must outlive part)
  * over domain: the sky-radiance baseline `skyfit codegen --baselines
  * naive-sky` emits. Its error against the reference sky radiance needs
- * the tables (skyfit report measures it); part->error says so.
- * SF_ERR_INPUT where it cannot be emitted (more than 4 channels, nothing
- * that scatters). */
+ * the tables (skyfit report measures it); part->error says so. Schuler's
+ * sky (sf_sky_schuler_make) likewise: `--baselines schuler-sky`.
+ * SF_ERR_INPUT where it cannot be emitted (sf_sky_naive_emittable,
+ * nothing that scatters). */
 int sf_sky_naive_part(const sf_sky_naive *m, const sf_scene_domain *domain, sf_codegen_part *part, sf_error *err);
 
 /* The same for Leenman's raymarched sky m (models/sky_raymarched.h):

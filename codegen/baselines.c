@@ -237,8 +237,7 @@ static void emit_shells(sf_code_writer *w, const sf_atmosphere *atm) {
   }
 }
 
-static void emit_chapman_depths(sf_code_writer *w, const sf_baseline *b) {
-  const sf_atmosphere *atm = b->atmosphere;
+void sf_emit_chapman_columns(sf_code_writer *w, const sf_atmosphere *atm) {
   emit_segment_ends(w, atm, 1);
   sf_cw_emit(w,
              "    float h0 = seg.z, h1 = seg.w;\n"
@@ -475,7 +474,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
     sf_cw_emit(w, "  float d%d = 0.0f;  /* %s, km */\n", i, atm->constituents[i].name);
   sf_cw_emit(w, "  if (seg.y > seg.x) {\n");
   if (b->kind == SF_BASELINE_NAIVE) emit_naive_depths(w, b);
-  else if (b->kind == SF_BASELINE_CHAPMAN) emit_chapman_depths(w, b);
+  else if (b->kind == SF_BASELINE_CHAPMAN) sf_emit_chapman_columns(w, atm);
   else if (b->kind == SF_BASELINE_FLAT) emit_flat_depths(w, b);
   else if (b->kind == SF_BASELINE_SPLINE) emit_spline_depths(w, b);
   else emit_taylor_depths(w, b);

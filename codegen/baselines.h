@@ -99,6 +99,11 @@ void sf_emit_flat_helpers(sf_code_writer *w);
  * sf_emit_flat_helpers. For the raymarched sky (codegen/emit_sky_raymarched.h). */
 void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm);
 
+/* The same with Schuler's Chapman approximation (seed 000 eq. 22-25), the
+ * Chapman baseline's depths; atm must have an exponential constituent.
+ * For Schuler's sky's sun columns (codegen/emit_sky_naive.h). */
+void sf_emit_chapman_columns(sf_code_writer *w, const sf_atmosphere *atm);
+
 /* The same model in double precision through models/ (what the emitted
  * float code approximates): density integral (km) of every constituent
  * over [t0, t1] along the ray from radius r, and the transmittance per

@@ -322,3 +322,20 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   out->free_ctx = free_baseline;
   return SF_OK;
 }
+
+void sf_candidate_sky_baseline_set(sf_candidate *out, const sf_atmosphere *atm, long n_params, const char *emit_name,
+                                   void (*emit)(struct sf_code_writer *w, const void *model), const void *emit_model,
+                                   sf_candidate_eval_fn eval, sf_candidate_eval_f32_fn eval_f32, void *ctx) {
+  out->n_channels = atm->n_channels;
+  out->n_params = n_params;
+  out->constant_bytes = 4 * n_params;
+  snprintf(out->emit_name, sizeof out->emit_name, "%s", emit_name);
+  if (emit) {
+    out->emit = emit;
+    out->emit_model = emit_model;
+    out->eval_f32 = eval_f32;
+  }
+  out->eval = eval;
+  out->ctx = ctx;
+  out->free_ctx = free;
+}

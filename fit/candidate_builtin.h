@@ -42,10 +42,21 @@ int sf_candidate_reference_transmittance(const sf_atmosphere *atm, sf_candidate 
 int sf_candidate_table_transmittance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
 /* Sky radiance from the tables: the reference of the sky-radiance models. */
 int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out, sf_error *err);
+/* What a sky-radiance baseline's candidate sets after sf_candidate_init
+ * (fit/candidate_sky_*.c): n_params float32 constants, its double
+ * evaluation over ctx (owned: freed with free), and where emit is not NULL
+ * the emitted code (skyfit_<emit_name>_sky_radiance), its model and its
+ * float32 port, which the report times. */
+void sf_candidate_sky_baseline_set(sf_candidate *out, const sf_atmosphere *atm, long n_params, const char *emit_name,
+                                   void (*emit)(struct sf_code_writer *w, const void *model), const void *emit_model,
+                                   sf_candidate_eval_fn eval, sf_candidate_eval_f32_fn eval_f32, void *ctx);
 /* The naive sky (models/sky_naive.h): single scattering raymarched,
  * SF_SKY_NAIVE_VIEW_STEPS x SF_SKY_NAIVE_SUN_STEPS, the sky-radiance
  * baseline for every viewer (fit/candidate_sky_naive.c). */
 int sf_candidate_sky_naive(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
+/* Schuler's sky (models/sky_naive.h sf_sky_schuler_make): the naive sky's
+ * view ray, the sun's depths by the Chapman approximation. */
+int sf_candidate_sky_schuler(const sf_atmosphere *atm, sf_candidate *out, sf_error *err);
 /* Leenman's raymarched sky (models/sky_raymarched.h): 5 closed-form steps
  * with the flat model's depths, for every viewer
  * (fit/candidate_sky_raymarched.c). */

@@ -137,7 +137,8 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
     if (sf_atmosphere_scattering_count(in->atm) > 0 &&
         (sf_candidate_sky_naive(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
          sf_candidate_sky_raymarched(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
-         sf_candidate_sky_flat(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK))
+         sf_candidate_sky_flat(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
+         sf_candidate_sky_schuler(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK))
       return err->status;
   }
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {

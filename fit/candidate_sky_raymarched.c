@@ -62,19 +62,10 @@ static int make(const sf_atmosphere *atm, int flat, sf_candidate *out, sf_error 
              "split off; no multiple scattering (seed 000 §11.2.10).",
              SF_SKY_RAYMARCHED_STEPS);
   }
-  out->n_channels = atm->n_channels;
-  out->n_params = constants(atm);
-  out->constant_bytes = 4 * out->n_params;
-  snprintf(out->emit_name, sizeof out->emit_name, flat ? "flat" : "raymarched");
   const char *why = NULL;
-  if (sf_sky_raymarched_emittable(m, &why) && sf_sky_raymarched_f_make(m, &c->model_f) == 0) {
-    out->emit = flat ? emit_flat : emit_raymarched;
-    out->emit_model = m;
-    out->eval_f32 = eval_f32;
-  }
-  out->eval = eval;
-  out->ctx = c;
-  out->free_ctx = free;
+  int emittable = sf_sky_raymarched_emittable(m, &why) && sf_sky_raymarched_f_make(m, &c->model_f) == 0;
+  sf_candidate_sky_baseline_set(out, atm, constants(atm), flat ? "flat" : "raymarched",
+                                !emittable ? NULL : flat ? emit_flat : emit_raymarched, m, eval, eval_f32, c);
   return SF_OK;
 }
 

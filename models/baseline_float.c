@@ -150,30 +150,35 @@ static float flat_column(const piece_ends *e, float H) {
                           : -0.5f * flat_horizontal_diff(H, e->h1, e->r1, -e->dh01));
 }
 
+void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const float seg[4], float *depth) {
+  const float R = b->bottom;
+  for (int i = 0; i < b->n_constituents; ++i) depth[i] = 0.0f;
+  if (!(seg[1] > seg[0])) return;
+  piece_ends e = ends_of(b, h, mu, seg);
+  float line[4], t_min = 0.0f, t_max = 0.0f;
+  if (b->kind == SF_BASELINE_F_TAYLOR) taylor_line(b, h, mu, &e, line, &t_min, &t_max);
+  for (int i = 0; i < b->n_constituents; ++i) {
+    if (b->is_shell[i]) {
+      depth[i] = sf_emitted_shell_chord_f(R, b->shell_lo[i], b->shell_hi[i], h, mu, seg[0], seg[1]);
+      continue;
+    }
+    float H = b->scale_height[i];
+    if (b->kind == SF_BASELINE_F_TAYLOR) {
+      depth[i] = fminf(b->factor[i] * taylor_column(b, &e, line, t_min, t_max, H), 3.4e38f);
+    } else {
+      float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(&e, H);
+      depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
+    }
+  }
+}
+
 void sf_baseline_transmittance_f(const sf_baseline_f *b, float h_km, float mu, float *T) {
   const float R = b->bottom;
   float depth[SF_MAX_CONSTITUENTS] = {0}, seg[4];
   float h = h_km;
   if (sf_emitted_ray_enter_f(R, b->thickness, &h, &mu, NULL, 0.0f)) {
     sf_emitted_air_clip_between_f(R, b->thickness, h, mu, 0.0f, 3.4e38f, seg);
-    if (seg[1] > seg[0]) {
-      piece_ends e = ends_of(b, h, mu, seg);
-      float line[4], t_min = 0.0f, t_max = 0.0f;
-      if (b->kind == SF_BASELINE_F_TAYLOR) taylor_line(b, h, mu, &e, line, &t_min, &t_max);
-      for (int i = 0; i < b->n_constituents; ++i) {
-        if (b->is_shell[i]) {
-          depth[i] = sf_emitted_shell_chord_f(R, b->shell_lo[i], b->shell_hi[i], h, mu, seg[0], seg[1]);
-          continue;
-        }
-        float H = b->scale_height[i];
-        if (b->kind == SF_BASELINE_F_TAYLOR) {
-          depth[i] = fminf(b->factor[i] * taylor_column(b, &e, line, t_min, t_max, H), 3.4e38f);
-        } else {
-          float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(&e, H);
-          depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
-        }
-      }
-    }
+    sf_baseline_columns_f(b, h, mu, seg, depth);
   }
   for (int k = 0; k < b->n_channels; ++k) {
     float tau = 0.0f;

@@ -33,6 +33,12 @@ typedef struct sf_baseline_f {
 /* 0, or -1 when the atmosphere has more than 4 channels. */
 int sf_baseline_f_make(const sf_atmosphere *atm, sf_baseline_f_kind kind, sf_baseline_f *out);
 
+/* depth[n_constituents]: the columns (km) over the piece seg of the ray
+ * (h, mu), as skyfit_air_clip gives it (a, b, altitude at a, at b): the
+ * depths inside the emitted skyfit_<name>_transmittance_between; 0 where
+ * the piece is empty. */
+void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const float seg[4], float *depth);
+
 /* T[n_channels] of the ray from (h_km, mu) to the ground or out of the
  * atmosphere, a viewer above the top from where its ray enters: the
  * emitted skyfit_<name>_transmittance(h_km, mu). */

@@ -44,6 +44,23 @@ fi
 "$SKYFIT_BIN" codegen --baselines naive-sky,naive-sky --lang c --out "$tmp/sky" --name twice 2>"$tmp/err.txt"
 check "naive-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/sky/twice.h ] && grep -q 'given twice' $tmp/err.txt"
 
+# Schuler's sky beside the naive sky and the Chapman transmittance (whose
+# columns its sun columns are): one header, -Werror C99 and GLSL; within
+# 10 % of the naive sky in blue looking up at noon (the approximation is
+# 3.4 % low straight up, tests/test_sky_naive.c checks it against eq. 24)
+mkdir -p "$tmp/schuler"
+"$SKYFIT_BIN" codegen --baselines chapman,naive-sky,schuler-sky --lang both --out "$tmp/schuler" --quiet
+check "chapman,naive-sky,schuler-sky: exits 0, the header says where its error is" \
+  "[ $? -eq 0 ] && grep -q 'skyfit_schuler_sky_radiance(float h_km, float mu, float mu_s, float nu)' $tmp/schuler/skyfit.h && grep -q \"skyfit report's schuler-sky row\" $tmp/schuler/skyfit.h"
+printf '#include "skyfit.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 S = skyfit_schuler_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  skyfit_vec3 N = skyfit_naive_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  printf("%%.9g %%.9g %%.9g\\n", S.x, S.z, N.z);\n  return 0;\n}\n' >"$tmp/schuler/use.c"
+check "schuler-sky: the C compiles with -Werror, bluer than red, within 10 % of the naive sky in blue" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/schuler -o $tmp/schuler/use $tmp/schuler/use.c -lm && $tmp/schuler/use > $tmp/schuler/out.txt && awk '{ exit !(\$1 > 0 && \$2 > \$1 && \$2 > 0.9 * \$3 && \$2 < 1.1 * \$3) }' $tmp/schuler/out.txt"
+if command -v glslangValidator >/dev/null; then
+  { echo '#version 330'; cat "$tmp/schuler/skyfit.glsl"
+    echo 'out vec4 c; void main() { c = vec4(skyfit_schuler_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_chapman_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/schuler/use.frag"
+  check "chapman,schuler-sky: the GLSL compiles" "glslangValidator $tmp/schuler/use.frag > $tmp/schuler/glsl.log 2>&1"
+fi
+
 # Leenman's raymarched and flat skies beside the flat transmittance (they
 # share the flat model's helpers and the skies their columns, behind
 # guards) and the naive sky: one header that compiles as -Werror C99 and
@@ -70,8 +87,8 @@ fi
 check "raymarched-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/rm/twice.h ] && grep -q 'given twice' $tmp/err.txt"
 
 # An atmosphere with no exponential constituent (one scattering tent):
-# the Chapman, Taylor, flat and spline approximations need one and are
-# refused (their emitted code had failed -Werror on unread variables);
+# the Chapman, Taylor, flat and spline approximations (and Schuler's sky)
+# need one and are refused (their emitted code had failed -Werror on unread variables);
 # the naive raymarch and the skies compile
 mkdir -p "$tmp/tent"
 cat >"$tmp/tent/atm.json" <<'JSON'
@@ -81,10 +98,10 @@ cat >"$tmp/tent/atm.json" <<'JSON'
   "density": [{"width_km": 25, "linear_per_km": 0.0666666, "constant": -0.6666667},
               {"width_km": 0, "linear_per_km": -0.0666666, "constant": 2.6666667}]}]}
 JSON
-for b in chapman taylor flat spline; do
+for b in chapman taylor flat spline schuler-sky; do
   "$SKYFIT_BIN" codegen --baselines "$b" --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --name "$b" 2>"$tmp/err.txt"
   check "no exponential constituent: $b exits 2 and says why, nothing written" \
-    "[ $? -eq 2 ] && [ ! -e $tmp/tent/$b.h ] && grep -q 'need an exponential constituent' $tmp/err.txt"
+    "[ $? -eq 2 ] && [ ! -e $tmp/tent/$b.h ] && grep -q 'needs\\? an exponential constituent' $tmp/err.txt"
 done
 "$SKYFIT_BIN" codegen --baselines naive,naive-sky,raymarched-sky,flat-sky --atmosphere "$tmp/tent/atm.json" --lang c --out "$tmp/tent" --quiet
 printf '#include "skyfit.h"\nint main(void) { return skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f && skyfit_flat_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f ? 0 : 1; }\n' >"$tmp/tent/use.c"

@@ -1,6 +1,7 @@
 /* What the tests of the single-scattering sky baselines share
  * (tests/test_sky_naive.c, test_sky_raymarched.c): the reference they
- * converge to, the error measure, the candidate's header written and
+ * converge to, seed 000 eq. 59's shell chord, the error measure, the
+ * candidate's header written and
  * compiled as the build writes it (with the stable name
  * skyfit_sky_radiance), its GLSL compiled, and the far viewers whose
  * values must be those at their ray's entry. */
@@ -54,6 +55,17 @@ static inline void sky_reference(const sf_atmosphere *atm, const double *p, doub
   for (int i = 0; i < atm->n_constituents; ++i)
     for (int k = 0; k < atm->n_channels; ++k)
       L[k] += sf_phase_value(&atm->constituents[i].phase, nu) * single[i * atm->n_channels + k];
+}
+
+/* seed 000 eq. 59: the length of the upward ray from altitude h along the
+ * zenith cosine c >= 0 inside the shell lo..hi (km above the ground R). */
+static inline double sky_eq59_chord_up(double R, double lo, double hi, double h, double c) {
+  double r = R + h;
+  if (h >= hi) return 0.0;
+  double from = fmax(lo, h);
+  double t_hi = -r * c + sqrt(r * r * c * c + (R + hi) * (R + hi) - r * r);
+  double t_from = -r * c + sqrt(r * r * c * c + (R + from) * (R + from) - r * r);
+  return t_hi - t_from;
 }
 
 /* The largest |a - b| over the channels, relative to b's largest channel. */

@@ -1,8 +1,8 @@
 /* Emitted headers, verified rather than assumed (SPEC §9-10):
  *  1. for several atmospheres (Earth; scale heights x0.01 and x10; every
  *     coefficient x1e-3 and x1e3) the analytic baselines (naive, chapman,
- *     taylor, flat, spline; the naive, raymarched and flat skies), and for
- *     Earth
+ *     taylor, flat, spline; the naive, raymarched, flat and Schuler skies),
+ *     and for Earth
  *     every fitted model's emitter (sigmoid, hosek, preetham,
  *     mlp-transmittance, mlp-scattering, spectral4; weights files written
  *     here in the documented formats), the C header is compiled as C99 and
@@ -84,6 +84,7 @@ typedef struct test_case {
   sf_spline_model spline;           /* the spline baseline's meshes */
   sf_sky_naive naive_sky;           /* the sky-radiance baselines */
   sf_sky_raymarched raymarched_sky, flat_sky;
+  sf_sky_naive schuler_sky;
   int with_fitted;
   int n_fitted;
   sf_weights weights[8];
@@ -851,17 +852,22 @@ static void check_case(test_case *tc) {
    * the result by up to 0.2 of itself, a non-integer shift of mu that the
    * 4-ulp neighbours above do not match. tests/test_float32_sweep.c bounds it at
    * 1e6 points modulo that ill-conditioning (rows naive-sky, raymarched-sky,
-   * flat-sky). */
-  tc->naive_sky = (sf_sky_naive){&tc->atm, SF_SKY_NAIVE_VIEW_STEPS, SF_SKY_NAIVE_SUN_STEPS};
+   * flat-sky, schuler-sky). */
+  tc->naive_sky =
+      (sf_sky_naive){.atm = &tc->atm, .view_steps = SF_SKY_NAIVE_VIEW_STEPS, .sun_steps = SF_SKY_NAIVE_SUN_STEPS};
   sf_sky_raymarched_make(&tc->atm, SF_SKY_RAYMARCHED_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &tc->raymarched_sky);
   sf_sky_raymarched_make(&tc->atm, SF_SKY_FLAT_STEPS, SF_RAYMARCHED_DEPTHS_FLAT, &tc->flat_sky);
   CHECK(sf_sky_naive_part(&tc->naive_sky, &domain, &parts[n_parts++], &err) == SF_OK);
   CHECK(sf_sky_raymarched_part(&tc->raymarched_sky, 0, &domain, &parts[n_parts++], &err) == SF_OK);
   CHECK(sf_sky_raymarched_part(&tc->flat_sky, 1, &domain, &parts[n_parts++], &err) == SF_OK);
+  sf_sky_schuler_make(&tc->atm, &tc->schuler_sky);
+  CHECK(sf_sky_naive_part(&tc->schuler_sky, &domain, &parts[n_parts++], &err) == SF_OK);
   add_fn(fs, &n_fs, "skyfit_naive_sky_radiance", "ffff", 3, 1, emitted_naive_sky, &tc->naive_sky, 1e-6, INFINITY);
   add_fn(fs, &n_fs, "skyfit_raymarched_sky_radiance", "ffff", 3, 1, emitted_raymarched_sky, &tc->raymarched_sky,
          1e-6, INFINITY);
   add_fn(fs, &n_fs, "skyfit_flat_sky_radiance", "ffff", 3, 1, emitted_raymarched_sky, &tc->flat_sky, 1e-6,
+         INFINITY);
+  add_fn(fs, &n_fs, "skyfit_schuler_sky_radiance", "ffff", 3, 1, emitted_naive_sky, &tc->schuler_sky, 1e-6,
          INFINITY);
   char base[64], path[512], cmd[4096];
   snprintf(base, sizeof base, "sky_%s", tc->name);

@@ -56,16 +56,6 @@ static double eq51_column(double R, double H, double d0, double h, double c) {
   return d0 * exp(-h / H) * (sqrt((r + H) * (r + H) - r * r + r * r * c * c) - r * c);
 }
 
-/* eq. 59: the length of the upward ray (h, c >= 0) inside the shell lo..hi. */
-static double eq59_chord(double R, double lo, double hi, double h, double c) {
-  double r = R + h;
-  if (h >= hi) return 0.0;
-  double from = fmax(lo, h);
-  double t_hi = -r * c + sqrt(r * r * c * c + (R + hi) * (R + hi) - r * r);
-  double t_from = -r * c + sqrt(r * r * c * c + (R + from) * (R + from) - r * r);
-  return t_hi - t_from;
-}
-
 /* The column of every constituent from (h, c) up to infinity: eq. 51 or 59. */
 static void seed_columns(const sf_atmosphere *atm, double h, double c, double *col) {
   double R = atm->bottom_radius_km;
@@ -75,7 +65,7 @@ static void seed_columns(const sf_atmosphere *atm, double h, double c, double *c
       col[i] = eq51_column(R, H, d0, h, c);
     } else {
       sf_flat_shell_of(atm, i, &lo, &hi);
-      col[i] = eq59_chord(R, lo, hi, h, c);
+      col[i] = sky_eq59_chord_up(R, lo, hi, h, c);
     }
   }
 }
