@@ -24,6 +24,7 @@ typedef struct eval_options {
   quantity what;
   const char *atmosphere_path;
   const char *model_path;   /* --model: a fitted model instead of the reference */
+  const char *transmittance_path;   /* --transmittance-model: mlp-scattering's segments */
   int phase;
   sf_ray_end end;
   double distance;      /* < 0: none */
@@ -65,8 +66,12 @@ static void eval_usage(FILE *out) {
           "  --to nearest|top   ray end: the ground or the top, whichever comes first\n"
           "                     (default), or the top (rays that hit the ground are an error)\n"
           "  --to-distance D    the segment from the viewer to distance D km along the ray\n"
-          "                     (--to top and --to-distance: the reference, sigmoid or\n"
-          "                     mlp-transmittance)\n"
+          "                     (--to top: the reference, sigmoid or mlp-transmittance;\n"
+          "                     --to-distance: these and mlp-scattering with\n"
+          "                     --transmittance-model)\n"
+          "  --transmittance-model T.json\n"
+          "                     the mlp-transmittance network (the same atmosphere) that an\n"
+          "                     mlp-scattering model's segments take (seed 000 eq. 44)\n"
           "  --quiet            no notes on stderr (errors are still reported)\n"
           "  --help             this text\n");
 }
@@ -86,6 +91,8 @@ static int parse_options(int argc, char **argv, eval_options *o) {
       o->atmosphere_path = argv[++i];
     } else if (sf_cli_valued(a, "--model", v, &missing)) {
       o->model_path = argv[++i];
+    } else if (sf_cli_valued(a, "--transmittance-model", v, &missing)) {
+      o->transmittance_path = argv[++i];
     } else if (strcmp(a, "--phase") == 0) {
       o->phase = 1;
     } else if (strcmp(a, "--quiet") == 0) {
@@ -151,6 +158,11 @@ static int parse_options(int argc, char **argv, eval_options *o) {
   }
   if (o->model_path && o->what != Q_TRANSMITTANCE && o->what != Q_SKY_RADIANCE) {
     fprintf(stderr, "skyfit eval: --model: fitted models give transmittance or sky_radiance, not %s\n", q);
+    return 2;
+  }
+  if (o->transmittance_path && !(o->model_path && o->what == Q_SKY_RADIANCE && distance_given)) {
+    fprintf(stderr, "skyfit eval: --transmittance-model: for sky_radiance --model (mlp-scattering) with "
+                    "--to-distance only\n");
     return 2;
   }
   if (o->model_path && o->atmosphere_path) {
@@ -296,6 +308,7 @@ int sf_cmd_eval(int argc, char **argv) {
       return 1;
     }
     if (sf_eval_model_load(o.model_path, o.what == Q_SKY_RADIANCE ? "sky_radiance" : "transmittance", fitted, &err) ||
+        (o.transmittance_path && sf_eval_model_load_transmittance(fitted, o.transmittance_path, &err)) ||
         sf_eval_model_check_ray(fitted, o.end, o.distance, &err)) {
       fprintf(stderr, "skyfit eval: %s\n", err.message);
       free_model(fitted);

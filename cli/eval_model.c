@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "codegen/emit_sky.h"
+#include "models/atmosphere_file.h"
 #include "models/weights_file.h"
 
 /* The models eval takes (the quantity each gives is its weights file's,
@@ -68,14 +69,48 @@ int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m,
   return status;
 }
 
+int sf_eval_model_load_transmittance(sf_eval_model *m, const char *path, sf_error *err) {
+  if (m->kind != SF_EVAL_MODEL_MLP_SCATTERING)
+    return sf_fail(err, SF_ERR_INPUT,
+                   "%s: --transmittance-model joins an mlp-scattering model to its transmittance network; \"%s\" "
+                   "is not one",
+                   m->path, m->name);
+  sf_weights w;
+  if (sf_weights_load_file(path, NULL, &w, err) != SF_OK) return err->status;
+  char hash[17];
+  sf_atmosphere_hash_hex(&m->atmosphere, hash);
+  int status = SF_OK;
+  if (strcmp(w.model, "mlp-transmittance") != 0)
+    status = sf_fail(err, SF_ERR_INPUT,
+                     "%s: model: --transmittance-model takes an mlp-transmittance network, got \"%s\"", path, w.model);
+  else if (strcmp(w.atmosphere_hash, hash) != 0)
+    status = sf_fail(err, SF_ERR_INPUT,
+                     "%s: atmosphere_hash: %s, fitted for another atmosphere than %s's (%s); eq. 44 takes the "
+                     "transmittance of the scattering network's own air",
+                     path, w.atmosphere_hash, m->path, hash);
+  else if (sf_mlp_sky_from_weights(&w, &m->transmittance, err) == SF_OK)
+    m->has_transmittance = 1;
+  else
+    status = err->status;
+  sf_weights_free(&w);
+  return status;
+}
+
 int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double distance, sf_error *err) {
   if ((end == SF_RAY_END_NEAREST && distance < 0.0) || m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE ||
       m->kind == SF_EVAL_MODEL_SIGMOID)
     return SF_OK;
+  if (m->kind == SF_EVAL_MODEL_MLP_SCATTERING && end == SF_RAY_END_NEAREST) {
+    if (m->has_transmittance) return SF_OK;
+    return sf_fail(err, SF_ERR_INPUT,
+                   "%s: --to-distance: a segment of the mlp-scattering model (seed 000 eq. 44) takes its "
+                   "transmittance network: add --transmittance-model T.json (mlp-transmittance, the same atmosphere)",
+                   m->path);
+  }
   return sf_fail(err, SF_ERR_INPUT,
-                 "%s: model \"%s\" evaluates the full ray (to the ground or the top, whichever comes first); "
-                 "--to top and --to-distance take a transmittance model (sigmoid, mlp-transmittance)",
-                 m->path, m->name);
+                 "%s: model \"%s\" evaluates the full ray (to the ground or the top, whichever comes first)%s; "
+                 "--to top takes a transmittance model (sigmoid, mlp-transmittance)",
+                 m->path, m->name, m->kind == SF_EVAL_MODEL_MLP_SCATTERING ? " and segments (--to-distance)" : "");
 }
 
 void sf_eval_model_values(const sf_eval_model *m, const double *v, double distance, double *out) {
@@ -85,7 +120,10 @@ void sf_eval_model_values(const sf_eval_model *m, const double *v, double distan
       else sf_sigmoid_model_eval(&m->sigmoid, v[0], v[1], out);
       return;
     case SF_EVAL_MODEL_SKY_FORM: sf_sky_radiance_clamped(&m->sky, v[1], v[2], v[3], out); return;
-    case SF_EVAL_MODEL_MLP_SCATTERING: sf_mlp_scattering(&m->mlp, v[0], v[1], v[2], v[3], out); return;
+    case SF_EVAL_MODEL_MLP_SCATTERING:
+      if (distance >= 0.0) sf_mlp_scattering_segment(&m->mlp, &m->transmittance, v[0], v[1], v[2], v[3], distance, out);
+      else sf_mlp_scattering(&m->mlp, v[0], v[1], v[2], v[3], out);
+      return;
     case SF_EVAL_MODEL_MLP_TRANSMITTANCE:
       if (distance >= 0.0) sf_mlp_transmittance_segment(&m->mlp, v[0], v[1], distance, out);
       else sf_mlp_transmittance(&m->mlp, v[0], v[1], out);
@@ -101,5 +139,8 @@ int sf_eval_model_outside(const sf_eval_model *m, const double *v) {
 
 void sf_eval_model_free(sf_eval_model *m) {
   if (m->kind == SF_EVAL_MODEL_MLP_TRANSMITTANCE || m->kind == SF_EVAL_MODEL_MLP_SCATTERING) sf_mlp_sky_free(&m->mlp);
+  if (m->has_transmittance) sf_mlp_sky_free(&m->transmittance);
   memset(&m->mlp, 0, sizeof m->mlp);
+  memset(&m->transmittance, 0, sizeof m->transmittance);
+  m->has_transmittance = 0;
 }

@@ -3,7 +3,8 @@
  * evaluation (what its emitted function computes in float32):
  *   transmittance  sigmoid            sf_sigmoid_model_eval, _segment (eq. 43)
  *                  mlp-transmittance  sf_mlp_transmittance, _segment (eq. 43)
- *   sky_radiance   mlp-scattering     sf_mlp_scattering (full ray)
+ *   sky_radiance   mlp-scattering     sf_mlp_scattering (full ray), _segment
+ *                                     (eq. 44, with its transmittance network)
  *                  preetham, hosek    sf_sky_radiance_clamped (a viewer on the
  *                                     ground: h is not an input)
  * The atmosphere is the one the model was fitted for (its weights file).
@@ -38,6 +39,10 @@ typedef struct sf_eval_model {
   sf_sigmoid_model sigmoid;
   sf_elevation_sky_model sky;
   sf_mlp_sky mlp;
+  /* mlp-scattering: the transmittance network its segments (eq. 44)
+   * take (sf_eval_model_load_transmittance), or none */
+  int has_transmittance;
+  sf_mlp_sky transmittance;
 } sf_eval_model;
 
 /* Loads the weights file at path for quantity ("transmittance" or
@@ -45,10 +50,18 @@ typedef struct sf_eval_model {
  * model's own loader), or a model that does not give the quantity. */
 int sf_eval_model_load(const char *path, const char *quantity, sf_eval_model *m, sf_error *err);
 
+/* For an mlp-scattering model m: the mlp-transmittance weights file at
+ * path, fitted for the same atmosphere (its hash), which eq. 44 takes for
+ * segments; codegen joins the two networks by the same rule
+ * (codegen/fitted_part.h sf_fitted_link). SF_ERR_INPUT naming the file
+ * otherwise. */
+int sf_eval_model_load_transmittance(sf_eval_model *m, const char *path, sf_error *err);
+
 /* Whether the model evaluates the stretch asked for (end, distance >= 0: a
  * segment): every model the full ray; the transmittance models (sigmoid,
- * mlp-transmittance) also the top and segments. SF_ERR_INPUT saying what
- * the model evaluates. */
+ * mlp-transmittance) also the top and segments, mlp-scattering segments
+ * with its transmittance network. SF_ERR_INPUT saying what the model
+ * evaluates. */
 int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double distance, sf_error *err);
 
 /* out[m->n_channels] at v = (h_km, mu) or (h_km, mu, mu_s, nu), whose

@@ -357,7 +357,10 @@ else fail "--quiet: '$c' against '$b'; stderr $(cat "$TMP/err_quiet")"; fi
 # km): eval --model's doubles within 1e-4 of them,
 # relative to max(|value|, 1e-3 of the model's largest value), which float32
 # rounding keeps (tests/test_codegen_headers.c states the tighter
-# per-function bounds) and any mix-up of inputs or models breaks.
+# per-function bounds) and any mix-up of inputs or models breaks. The sky
+# network's segments (eq. 44, S(v) - T S(p)) relative to the un-cancelled
+# whole ray's value too, as that test takes them: a 30 km segment from 83 km
+# toward the limb had 3e-5 of the ray's 0.076, a float32 difference.
 mkdir -p "$TMP/gen"
 "$BIN" codegen --weights "$W/mlp-scattering.json" --weights "$W/preetham.json" --weights "$W/hosek.json" \
   --weights "$W/mlp-transmittance.json" --weights "$W/sigmoid.json" --lang c --out "$TMP/gen" 2>/dev/null
@@ -386,6 +389,7 @@ int main(int argc, char **argv) {
       case 'h': v = skyfit_hosek_sky_radiance((float)mu, (float)mu_s, (float)nu); break;
       case 't': v = skyfit_mlp_transmittance((float)h, (float)mu); break;
       case 'T': v = skyfit_mlp_transmittance_segment((float)h, (float)mu, SEGMENT_KM); break;
+      case 'M': v = skyfit_mlp_sky_radiance_segment((float)h, (float)mu, (float)mu_s, (float)nu, SEGMENT_KM); break;
       case 'S': v = skyfit_sigmoid_transmittance_segment((float)h, (float)mu, SEGMENT_KM); break;
       default: v = skyfit_sigmoid_transmittance((float)h, (float)mu); break;
     }
@@ -396,10 +400,11 @@ int main(int argc, char **argv) {
 C
 cut -d, -f1,2 "$TMP/sky.csv" >"$TMP/ray.csv"
 # the rays whose 30 km segment ends above the ground (eval refuses the
-# others), those toward the ground included: 2000 of them
+# others), those toward the ground included: 2000 of them, with a sun for
+# the sky network's segments (the transmittance drivers ignore it)
 python3 - "$TMP/segment.csv" "$TMP/segment4.csv" <<'PY'
 import math, random, sys
-r, R, n = random.Random(11), 6360.0, 0
+r, sun, R, n = random.Random(11), random.Random(12), 6360.0, 0
 with open(sys.argv[1], "w") as f, open(sys.argv[2], "w") as f4:   # f4: the driver's 4 columns
     f.write("h_km,mu\n")
     f4.write("h_km,mu,mu_s,nu\n")
@@ -410,17 +415,20 @@ with open(sys.argv[1], "w") as f, open(sys.argv[2], "w") as f4:   # f4: the driv
         if mu < 0 and disc >= 0 and -rad * mu - math.sqrt(disc) < 30.5:
             continue
         f.write("%.17g,%.17g\n" % (h, mu))
-        f4.write("%.17g,%.17g,0,0\n" % (h, mu))
+        f4.write("%.17g,%.17g,%.17g,%.17g\n" % (h, mu, sun.uniform(-0.17, 1), sun.uniform(-1, 1)))
         n += 1
 PY
 if cc -std=c99 -O2 -I"$TMP/gen" -o "$TMP/drive" "$TMP/drive.c" -lm; then
-  for m in mlp-scattering preetham hosek mlp-transmittance sigmoid mlp-transmittance-segment sigmoid-segment; do
+  for m in mlp-scattering preetham hosek mlp-transmittance sigmoid mlp-transmittance-segment sigmoid-segment \
+           mlp-scattering-segment; do
     segment=() drive_in=sky.csv
     case $m in
       mlp-transmittance) q=transmittance key=t points=ray.csv ;;
       sigmoid) q=transmittance key=s points=ray.csv ;;
       mlp-transmittance-segment) q=transmittance key=T points=segment.csv drive_in=segment4.csv segment=(--to-distance 30) ;;
       sigmoid-segment) q=transmittance key=S points=segment.csv drive_in=segment4.csv segment=(--to-distance 30) ;;
+      mlp-scattering-segment) q=sky_radiance key=M points=segment4.csv drive_in=segment4.csv
+        segment=(--to-distance 30 --transmittance-model "$W/mlp-transmittance.json") ;;
       *) q=sky_radiance key=$m points=sky.csv ;;
     esac
     # the values only: the columns after the inputs
@@ -428,13 +436,20 @@ if cc -std=c99 -O2 -I"$TMP/gen" -o "$TMP/drive" "$TMP/drive.c" -lm; then
       awk -F, -v skip=$([[ $q == transmittance ]] && echo 2 || echo 4) 'NR > 1 {
         s = $(skip + 1); for (i = skip + 2; i <= NF; ++i) s = s "," $i; print s }' >"$TMP/eval_$m"
     "$TMP/drive" "$key" <"$TMP/$drive_in" >"$TMP/c_$m"
-    line=$(python3 - "$TMP/eval_$m" "$TMP/c_$m" <<'PY'
+    : >"$TMP/whole_$m"   # the un-cancelled scale: the whole ray's values (sky segments), else none
+    if [[ $m == mlp-scattering-segment ]]; then
+      "$BIN" eval sky_radiance --model "$W/mlp-scattering.json" <"$TMP/$points" 2>/dev/null |
+        awk -F, 'NR > 1 { print $5 "," $6 "," $7 }' >"$TMP/whole_$m"
+    fi
+    line=$(python3 - "$TMP/eval_$m" "$TMP/c_$m" "$TMP/whole_$m" <<'PY'
 import sys
 d = [[float(x) for x in l.split(",")] for l in open(sys.argv[1])]
 c = [[float(x) for x in l.split(",")] for l in open(sys.argv[2])]
-assert len(d) == len(c) == 2000, (len(d), len(c))
+w = [[float(x) for x in l.split(",")] for l in open(sys.argv[3])] or [[0.0] * len(row) for row in d]
+assert len(d) == len(c) == len(w) == 2000, (len(d), len(c), len(w))
 scale = max(abs(x) for row in d for x in row)
-worst = max(abs(a - b) / max(abs(a), 1e-3 * scale) for rd, rc in zip(d, c) for a, b in zip(rd, rc))
+worst = max(abs(a - b) / max(abs(a), abs(s), 1e-3 * scale)
+            for rd, rc, rw in zip(d, c, w) for a, b, s in zip(rd, rc, rw))
 print("%s worst %.3g (bound 1e-4) over %d values" % ("ok" if worst <= 1e-4 else "FAIL", worst, 3 * len(d)))
 PY
 )
@@ -517,8 +532,45 @@ expect_error "a layer past a gap" "$(cat "$TMP/all.csv")" \
   't_gap.json: params.W4: not a parameter' transmittance --model "$TMP/t_gap.json"
 expect_error "a layer of 2000 units" "$(cat "$TMP/all.csv")" \
   't_wide.json: params.W0: 2000 rows \(units\), expected 1 to 256' transmittance --model "$TMP/t_wide.json"
-expect_error "a segment of the sky network" "$(cat "$TMP/ground.csv")" "--to top and --to-distance take a transmittance model" \
-  sky_radiance --model "$W/mlp-scattering.json" --to-distance 5
+# The sky network's segments (seed 000 eq. 44) take its transmittance
+# network: without it, with another model, one fitted for another
+# atmosphere (mars's, its hash as codegen states it) are refused; with it
+# a segment of length 0 is dark and one past the top is the whole ray.
+expect_error "a segment of the sky network without its transmittance" "$(cat "$TMP/ground.csv")" \
+  "add --transmittance-model T.json" sky_radiance --model "$W/mlp-scattering.json" --to-distance 5
+expect_error "the sky network's segments with a sigmoid" "$(cat "$TMP/ground.csv")" \
+  'sigmoid.json: model: --transmittance-model takes an mlp-transmittance network, got "sigmoid"' \
+  sky_radiance --model "$W/mlp-scattering.json" --to-distance 5 --transmittance-model "$W/sigmoid.json"
+expect_error "--transmittance-model for hosek" "$(cat "$TMP/ground.csv")" \
+  'hosek.json: --transmittance-model joins an mlp-scattering model' \
+  sky_radiance --model "$W/hosek.json" --to-distance 5 --transmittance-model "$W/mlp-transmittance.json"
+expect_error "--transmittance-model without --to-distance" "$(cat "$TMP/ground.csv")" \
+  '--transmittance-model: for sky_radiance --model \(mlp-scattering\) with --to-distance only' \
+  sky_radiance --model "$W/mlp-scattering.json" --transmittance-model "$W/mlp-transmittance.json"
+mkdir -p "$TMP/mars_hash"
+"$BIN" codegen --baselines naive --atmosphere "$SRC/examples/atmospheres/mars_dusty.json" --lang c --out "$TMP/mars_hash" \
+  --quiet
+mars_hash=$(sed -n 's/.*atmosphere: mars-dusty, hash \([0-9a-f]\{16\}\).*/\1/p' "$TMP/mars_hash/skyfit.h" | head -1)
+python3 - "$W/mlp-transmittance.json" "$SRC/examples/atmospheres/mars_dusty.json" "$mars_hash" "$TMP/t_mars.json" <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))
+t["atmosphere"], t["atmosphere_hash"] = json.load(open(sys.argv[2])), sys.argv[3]
+json.dump(t, open(sys.argv[4], "w"))
+PY
+expect_error "a transmittance network of another atmosphere" "$(cat "$TMP/ground.csv")" \
+  "t_mars.json: atmosphere_hash: $mars_hash, fitted for another atmosphere" \
+  sky_radiance --model "$W/mlp-scattering.json" --to-distance 5 --transmittance-model "$TMP/t_mars.json"
+printf 'h_km,mu,mu_s,nu\n0,0.3,0.5,0.2\n5,0.8,-0.1,0.4\n60,0.05,0.9,0.1\n' >"$TMP/sky_up.csv"
+"$BIN" eval sky_radiance --model "$W/mlp-scattering.json" <"$TMP/sky_up.csv" >"$TMP/sky_full.csv"
+"$BIN" eval sky_radiance --model "$W/mlp-scattering.json" --transmittance-model "$W/mlp-transmittance.json" \
+  --to-distance 1e5 <"$TMP/sky_up.csv" >"$TMP/sky_past_top.csv"
+"$BIN" eval sky_radiance --model "$W/mlp-scattering.json" --transmittance-model "$W/mlp-transmittance.json" \
+  --to-distance 0 <"$TMP/sky_up.csv" >"$TMP/sky_zero.csv"
+if [[ -s $TMP/sky_full.csv ]] && cmp -s "$TMP/sky_full.csv" "$TMP/sky_past_top.csv" &&
+   [[ $(awk -F, 'NR > 1 && ($5 != 0 || $6 != 0 || $7 != 0)' "$TMP/sky_zero.csv" | wc -l) -eq 0 ]] &&
+   [[ $(wc -l < "$TMP/sky_zero.csv") -eq 4 ]]; then
+  pass "the sky network's segments: past the top the whole ray (same bytes), of length 0 dark"
+else fail "the sky network's segments: $(paste -d'|' "$TMP/sky_full.csv" "$TMP/sky_past_top.csv" "$TMP/sky_zero.csv")"; fi
 expect_error "--to top through the ground" "$(cat "$TMP/all.csv")" "row [0-9]+: the ray hits the ground" \
   transmittance --model "$W/mlp-transmittance.json" --to top
 expect_error "sky radiance without mu_s" "$(cat "$TMP/all.csv")" "missing column 'mu_s'" \
