@@ -53,7 +53,7 @@ static void codegen_usage(FILE *out) {
           "                     step, eq. 52 and 55: skyfit_flat_sky_radiance) and schuler-sky\n"
           "                     (seed 000 11.2.7: 24 view steps, the sun's depths by the Chapman\n"
           "                     approximation: skyfit_schuler_sky_radiance; at most 4\n"
-          "                     constituents, one exponential).\n"
+          "                     constituents, at least one exponential).\n"
           "                     Every baseline: at most 4 channels\n"
           "  --naive-steps N    raymarch steps of the naive baseline (default %d)\n"
           "  --atmosphere FILE  atmosphere of the baselines (default: the scene's, else the\n"

@@ -6,7 +6,7 @@
  * Schuler's sky (m->sun SF_SKY_SUN_CHAPMAN) is skyfit_schuler_sky_radiance,
  * the inner loop replaced by skyfit_schuler_sun_columns (the Chapman
  * baseline's columns from a point to the top, in a vec4): 1 to 4
- * constituents, one of them exponential (sf_sky_naive_emittable). */
+ * constituents, at least one of them exponential (sf_sky_naive_emittable). */
 #ifndef SKYFIT_CODEGEN_EMIT_SKY_NAIVE_H
 #define SKYFIT_CODEGEN_EMIT_SKY_NAIVE_H
 

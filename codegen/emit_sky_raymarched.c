@@ -4,6 +4,7 @@
 
 #include "codegen/baselines.h"
 #include "codegen/emit_sky_frame.h"
+#include "models/atmosphere_file.h"
 
 static const char *const component[4] = {"x", "y", "z", "w"};
 
@@ -26,9 +27,16 @@ int sf_sky_raymarched_emittable(const sf_sky_raymarched *m, const char **why) {
  * across the shadow's edge: models/sky_raymarched.c). */
 static void emit_columns(sf_code_writer *w, const sf_atmosphere *atm) {
   const double R = atm->bottom_radius_km, H = atm->top_radius_km - atm->bottom_radius_km;
-  /* guarded: the flat and the raymarched sky share them (one atmosphere a file) */
-  sf_cw_emit(w, "#ifndef SKYFIT_HELPER_RAYMARCHED_COLUMNS\n#define SKYFIT_HELPER_RAYMARCHED_COLUMNS\n"
-                "@fn @vec4 skyfit_raymarched_line_columns(float h_km, float mu, @vec4 seg) {\n");
+  /* Guarded so the flat and the raymarched sky of one atmosphere share
+   * them; the guard names the atmosphere (its hash), these functions
+   * holding its numbers: two headers of two atmospheres (one prefix) fail
+   * to compile on the names, as other clashing headers do, where one
+   * guard had left the second's sky on the first's air, silently. */
+  char hash[17];
+  sf_atmosphere_hash_hex(atm, hash);
+  sf_cw_emit(w, "#ifndef SKYFIT_HELPER_RAYMARCHED_COLUMNS_%s\n#define SKYFIT_HELPER_RAYMARCHED_COLUMNS_%s\n"
+                "@fn @vec4 skyfit_raymarched_line_columns(float h_km, float mu, @vec4 seg) {\n",
+             hash, hash);
   for (int i = 0; i < atm->n_constituents; ++i)
     sf_cw_emit(w, "  float d%d = 0.0f;  /* %s, km */\n", i, atm->constituents[i].name);
   sf_cw_emit(w, "  if (seg.y > seg.x) {\n");
@@ -88,9 +96,8 @@ void sf_emit_sky_raymarched(sf_code_writer *w, const sf_sky_raymarched *m, const
   sf_cw_emit(w,
              "/* %s sky: single scattering in %d equal step(s) of the view ray, split where the\n"
              " * sun ray grazes the ground or passes closest to it, each integrated in closed form with\n"
-             " * the flat model's optical depths; no multiple scattering (seed 000 §10.1-10.4, §11.2.9-10,\n"
-             " * eq. 52, 55). */\n",
-             name, m->steps);
+             " * the flat model's optical depths; no multiple scattering (seed 000 %s). */\n",
+             name, m->steps, m->steps == 1 ? "§10.1-10.4, §11.2.9, eq. 52, 55" : "§10.4, §11.2.10, eq. 55");
   sf_emit_sky_open(w, atm, name);
   /* models/sun_shadow.h: the sun ray from distance t passes the centre at
    * d, d^2 - R^2 = qa t^2 + qb t + qc, ahead of the point where rms + t nu < 0 */

@@ -83,6 +83,21 @@ if command -v glslangValidator >/dev/null; then
     echo 'out vec4 c; void main() { c = vec4(skyfit_raymarched_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_sky_radiance(0.0, 0.3, 0.5, 0.2) + skyfit_flat_transmittance(0.0, 0.5), 1.0); }'; } >"$tmp/rm/use.frag"
   check "flat,raymarched-sky,flat-sky: the GLSL compiles" "glslangValidator $tmp/rm/use.frag > $tmp/rm/glsl.log 2>&1"
 fi
+# Their shared column helpers hold the atmosphere's numbers, so their guard
+# names it: two headers of one atmosphere share them, two of two
+# atmospheres (one prefix) fail to compile on the names. One guard had
+# compiled Earth's raymarched sky with Mars's flat sky, which then ran on
+# Earth's air.
+"$SKYFIT_BIN" codegen --baselines raymarched-sky --lang c --out "$tmp/rm" --name earth_raymarched --quiet
+"$SKYFIT_BIN" codegen --baselines flat-sky --lang c --out "$tmp/rm" --name earth_flat --quiet
+"$SKYFIT_BIN" codegen --baselines flat-sky --atmosphere "$SKYFIT_SOURCE_DIR/examples/atmospheres/mars_dusty.json" \
+  --lang c --out "$tmp/rm" --name mars_flat --quiet
+printf '#include "earth_raymarched.h"\n#include "%s.h"\n#include <stdio.h>\nint main(void) {\n  skyfit_vec3 F = skyfit_flat_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f);\n  printf("%%.9g\\n", F.z);\n  return 0;\n}\n' earth_flat >"$tmp/rm/same.c"
+sed 's/earth_flat/mars_flat/' "$tmp/rm/same.c" >"$tmp/rm/other.c"
+check "raymarched-sky and flat-sky headers of one atmosphere share their columns: compiles, the same sky" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/rm -o $tmp/rm/same $tmp/rm/same.c -lm && [ \"\$($tmp/rm/same)\" = \"\$(awk '{ print \$7 }' $tmp/rm/out.txt)\" ]"
+check "raymarched-sky and flat-sky headers of two atmospheres, one prefix: the C does not compile" \
+  "! cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/rm -o $tmp/rm/other $tmp/rm/other.c -lm 2>/dev/null"
 "$SKYFIT_BIN" codegen --baselines raymarched-sky,raymarched-sky --lang c --out "$tmp/rm" --name twice 2>"$tmp/err.txt"
 check "raymarched-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/rm/twice.h ] && grep -q 'given twice' $tmp/err.txt"
 
@@ -107,6 +122,22 @@ done
 printf '#include "skyfit.h"\nint main(void) { return skyfit_raymarched_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f && skyfit_flat_sky_radiance(0.0f, 0.3f, 0.5f, 0.2f).x > 0.0f ? 0 : 1; }\n' >"$tmp/tent/use.c"
 check "no exponential constituent: naive, naive-sky, raymarched-sky, flat-sky compile with -Werror, a sky" \
   "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/tent -o $tmp/tent/use $tmp/tent/use.c -lm && $tmp/tent/use"
+
+# An exponential constituent that neither scatters nor absorbs: its column
+# is in no channel's sum, and the analytic transmittances' headers had
+# failed -Werror on it (set but unused); with every baseline, C and C++
+mkdir -p "$tmp/clear"
+cat >"$tmp/clear/atm.json" <<'JSON'
+{"base": "default", "constituents": [{"name": "rayleigh"}, {"name": "mie"}, {"name": "ozone"},
+ {"name": "nothing", "scattering": [0, 0, 0], "absorption": [0, 0, 0], "phase": {"kind": "isotropic"},
+  "density": [{"width_km": 0, "exp_term": 1, "exp_scale_per_km": -0.125, "linear_per_km": 0, "constant": 0}]}]}
+JSON
+"$SKYFIT_BIN" codegen --baselines naive,chapman,taylor,flat,spline,naive-sky,raymarched-sky,flat-sky,schuler-sky \
+  --atmosphere "$tmp/clear/atm.json" --lang c --out "$tmp/clear" --quiet
+printf '#include "skyfit.h"\nint main(void) { return skyfit_chapman_transmittance(0.0f, 0.5f).x > 0.0f ? 0 : 1; }\n' \
+  >"$tmp/clear/use.c"
+check "a transparent constituent: every baseline compiles with -Werror as C99 and C++" \
+  "cc -std=c99 -Wall -Wextra -Werror -pedantic -I$tmp/clear -o $tmp/clear/use $tmp/clear/use.c -lm && $tmp/clear/use && c++ -x c++ -std=c++11 -Wall -Wextra -Werror -pedantic -I$tmp/clear -o $tmp/clear/use_cpp $tmp/clear/use.c"
 
 mkdir -p "$tmp/c"
 "$SKYFIT_BIN" codegen --baselines chapman --lang c --out "$tmp/c" --quiet

@@ -54,7 +54,8 @@
 #include "models/weights_file.h"
 
 #define POINTS_PER_FUNCTION 10000
-#define MAX_FUNCTIONS 28
+#define MAX_FUNCTIONS 32
+#define MAX_PARTS 20
 #define GL_REL_BOUND 1e-5
 #define GL_ABS_FLOOR 1e-9
 #define HORIZON_ULP 4
@@ -769,6 +770,10 @@ static int run_variants(const tested_function *fs, const point_set *pts, const f
 
 static tested_function *add_fn(tested_function *fs, int *n, const char *name, const char *args, int n_out, int kind,
                                double_fn eval, const void *ctx, double norm, double bound) {
+  if (*n >= MAX_FUNCTIONS) {   /* a new function past the array: say so, not overrun it */
+    printf("add_fn: more than MAX_FUNCTIONS (%d) functions; raise it\n", MAX_FUNCTIONS);
+    exit(1);
+  }
   tested_function *f = &fs[(*n)++];
   memset(f, 0, sizeof *f);
   snprintf(f->name, sizeof f->name, "%s", name);
@@ -788,7 +793,7 @@ static void check_case(test_case *tc) {
   sf_error err;
   sf_error_clear(&err);
   sf_scene_domain domain = {0.0, tc->atm.top_radius_km - tc->atm.bottom_radius_km, -1, 1, -0.2, 1};
-  sf_codegen_part parts[16];
+  sf_codegen_part parts[MAX_PARTS];
   int n_parts = 0;
   tested_function fs[MAX_FUNCTIONS];
   int n_fs = 0;

@@ -304,6 +304,10 @@ static int load_fitted(sweep_atmosphere *sa, const char *path, sf_codegen_part *
 static swept_function *add_fn(swept_function *fs, int *n, const char *name, const char *args, int n_out,
                               hard_case_input input, emitted_double_fn eval, const void *ctx, double norm, int row,
                               int physical) {
+  if (*n >= MAX_FUNCTIONS) {   /* a new function past the array: say so, not overrun it */
+    printf("add_fn: more than MAX_FUNCTIONS (%d) functions; raise it\n", MAX_FUNCTIONS);
+    exit(1);
+  }
   swept_function *f = &fs[(*n)++];
   memset(f, 0, sizeof *f);
   snprintf(f->name, sizeof f->name, "%s", name);
@@ -706,7 +710,7 @@ static void sweep_atmosphere_run(sweep_atmosphere *sa, int index, int with_fitte
   sf_error_clear(&err);
   sf_atmosphere *atm = &sa->atm;
   sf_scene_domain domain = {0.0, atm->top_radius_km - atm->bottom_radius_km, -1, 1, -0.2, 1};
-  sf_codegen_part parts[16];
+  sf_codegen_part parts[20];   /* 15 for Earth */
   int n_parts = 0, n_fs = 0;
   swept_function fs[MAX_FUNCTIONS];
   if (!CHECK(sf_spline_model_make(atm, SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS, &sa->spline) == 0)) return;
