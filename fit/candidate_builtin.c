@@ -195,7 +195,7 @@ static void naive_eval_f32(const void *ctx, size_t n, const float *in, float *ou
   }
 }
 
-/* Chapman, Taylor and flat in float32 as emitted (models/baseline_float.h). */
+/* Chapman, Taylor, flat and the spline in float32 as emitted (models/baseline_float.h). */
 static void analytic_eval_f32(const void *ctx, size_t n, const float *in, float *out) {
   const baseline_ctx *b = ctx;
   for (size_t p = 0; p < n; ++p)
@@ -264,6 +264,7 @@ static long baseline_constants(const sf_atmosphere *atm, const baseline_ctx *b) 
 static void free_baseline(void *ctx) {
   baseline_ctx *b = ctx;
   sf_spline_model_free(&b->spline);
+  sf_baseline_f_free(&b->analytic_f);
   free(b);
 }
 
@@ -312,12 +313,14 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   out->n_params = baseline_constants(atm, b);
   out->constant_bytes = 4 * out->n_params;
   out->eval = baseline_eval;
-  out->eval_f32 = NULL;   /* the spline: timed in double */
+  out->eval_f32 = NULL;
   if (atm->n_channels <= 4 && kind == SF_TB_NAIVE) out->eval_f32 = naive_eval_f32;
   static const int analytic_kind[] = {-1, SF_BASELINE_F_CHAPMAN, SF_BASELINE_F_TAYLOR, SF_BASELINE_F_FLAT, -1};
   if (analytic_kind[kind] >= 0 &&
       sf_baseline_f_make(atm, (sf_baseline_f_kind)analytic_kind[kind], &b->analytic_f) == 0)
     out->eval_f32 = analytic_eval_f32;
+  if (kind == SF_TB_SPLINE && sf_baseline_f_make_spline(atm, &b->spline, &b->analytic_f) == 0)
+    out->eval_f32 = analytic_eval_f32;   /* its meshes as the emitted float arrays */
   out->ctx = b;
   out->free_ctx = free_baseline;
   return SF_OK;

@@ -1,6 +1,7 @@
 #include "models/baseline_float.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "models/emitted_float.h"
@@ -31,6 +32,109 @@ int sf_baseline_f_make(const sf_atmosphere *atm, sf_baseline_f_kind kind, sf_bas
     for (int k = 0; k < atm->n_channels; ++k) out->extinction[i][k] = (float)sf_extinction(atm, i, k);
   }
   return 0;
+}
+
+static void grid_f(const sf_spline_grid *g, float (*storage)[4], sf_spline_grid_f *out) {
+  out->n_x = g->n_x;
+  out->n_d = g->n_d;
+  out->x_step = (float)g->x_step;
+  out->x_end = (float)(g->x_step * (g->n_x - 1));
+  out->d_first = (float)g->d_first;
+  out->d_step = (float)g->d_step;
+  for (int k = 0; k < g->n_x * g->n_d; ++k) {
+    storage[k][0] = (float)g->value[k];
+    storage[k][1] = (float)g->d_dx[k];
+    storage[k][2] = (float)g->d_dd[k];
+    storage[k][3] = (float)g->d_dxdd[k];
+  }
+  out->node = (const float (*)[4])storage;
+}
+
+int sf_baseline_f_make_spline(const sf_atmosphere *atm, const sf_spline_model *model, sf_baseline_f *out) {
+  if (sf_baseline_f_make(atm, SF_BASELINE_F_SPLINE, out) != 0) return -1;
+  size_t nodes = 0;
+  for (int i = 0; i < model->n_constituents; ++i)
+    if (model->is_exponential[i])
+      nodes += (size_t)model->miss[i].n_x * model->miss[i].n_d + (size_t)model->hit[i].n_x * model->hit[i].n_d;
+  out->storage = malloc(sizeof *out->storage * (nodes ? nodes : 1));
+  if (!out->storage) return -1;
+  float(*next)[4] = out->storage;
+  for (int i = 0; i < model->n_constituents; ++i) {
+    if (!model->is_exponential[i]) continue;
+    out->factor[i] = (float)model->surface_density[i];
+    grid_f(&model->miss[i], next, &out->miss[i]);
+    next += model->miss[i].n_x * model->miss[i].n_d;
+    grid_f(&model->hit[i], next, &out->hit[i]);
+    next += model->hit[i].n_x * model->hit[i].n_d;
+  }
+  return 0;
+}
+
+void sf_baseline_f_free(sf_baseline_f *b) {
+  free(b->storage);
+  b->storage = NULL;
+}
+
+/* skyfit_hermite */
+static float hermite_f(float u, float p0, float m0, float p1, float m1) {
+  float u2 = u * u, u3 = u2 * u;
+  return (2.0f * u3 - 3.0f * u2 + 1.0f) * p0 + (u3 - 2.0f * u2 + u) * m0 + (3.0f * u2 - 2.0f * u3) * p1 +
+         (u3 - u2) * m1;
+}
+
+/* skyfit_spline_miss_<i> (hit 0) and skyfit_spline_hit_<i> (hit 1): the
+ * d cell's 1-D spline integrated over [a, b] cell by cell up to b's cell,
+ * each node formed once, region I by 2-point Gauss-Legendre, region II in
+ * q = sqrt(h + delta) by 4-point (codegen/baseline_spline.c) */
+static float spline_integral_f(const sf_spline_grid_f *g, float d, float a, float b, int hit, float delta) {
+  float x = (d - g->d_first) / g->d_step;
+  int j = 0;
+  float fj = 0.0f, fk = 0.0f;
+  for (int k = 0; k < g->n_d - 1; ++k) {
+    if (x >= fk) {
+      j = k;
+      fj = fk;
+    }
+    fk += 1.0f;
+  }
+  float v = fminf(fmaxf(x - fj, 0.0f), 1.0f), v2 = v * v, v3 = v2 * v;   /* skyfit_hermite_weights */
+  float wd[4] = {2.0f * v3 - 3.0f * v2 + 1.0f, v3 - 2.0f * v2 + v, 3.0f * v2 - 2.0f * v3, v3 - v2};
+  float ds = g->d_step, xs = g->x_step;
+  a = fmaxf(a, 0.0f);
+  b = fminf(b, g->x_end);
+  float sum = 0.0f, x0 = 0.0f;
+  const float *n0 = g->node[j * g->n_x], *n1 = g->node[j * g->n_x + g->n_x];
+  float p0 = wd[0] * n0[0] + wd[1] * ds * n0[2] + wd[2] * n1[0] + wd[3] * ds * n1[2];
+  float m0 = xs * (wd[0] * n0[1] + wd[1] * ds * n0[3] + wd[2] * n1[1] + wd[3] * ds * n1[3]);
+  for (int i = 0; i < g->n_x - 1; ++i) {
+    float x1 = x0 + xs;
+    n0 += 4;
+    n1 += 4;
+    float p1 = wd[0] * n0[0] + wd[1] * ds * n0[2] + wd[2] * n1[0] + wd[3] * ds * n1[2];
+    float m1 = xs * (wd[0] * n0[1] + wd[1] * ds * n0[3] + wd[2] * n1[1] + wd[3] * ds * n1[3]);
+    float lo = fmaxf(a, x0), hi = i == g->n_x - 2 ? b : fminf(b, x1);
+    if (hi > lo) {
+      if (!hit) {
+        float hw = 0.5f * (hi - lo), mid = 0.5f * (hi + lo), gl = hw * 0.57735026918962576f;
+        sum += hw * (hermite_f((mid - gl - x0) / xs, p0, m0, p1, m1) + hermite_f((mid + gl - x0) / xs, p0, m0, p1, m1));
+      } else {
+        float qa = sqrtf(lo + delta), qb = sqrtf(hi + delta), qc = sqrtf(x0 + delta);
+        float hw = 0.5f * (hi - lo) / (qa + qb), mid = 0.5f * (qa + qb);
+        float q1 = mid - hw * 0.86113631159405258f, q2 = mid - hw * 0.33998104358485626f;
+        float q3 = mid + hw * 0.33998104358485626f, q4 = mid + hw * 0.86113631159405258f;
+        sum += 2.0f * hw *
+               (0.34785484513745386f * (hermite_f((q1 - qc) * (q1 + qc) / xs, p0, m0, p1, m1) +
+                                        hermite_f((q4 - qc) * (q4 + qc) / xs, p0, m0, p1, m1)) +
+                0.65214515486254614f * (hermite_f((q2 - qc) * (q2 + qc) / xs, p0, m0, p1, m1) +
+                                        hermite_f((q3 - qc) * (q3 + qc) / xs, p0, m0, p1, m1)));
+      }
+    }
+    if (b <= x1) break;
+    p0 = p1;
+    m0 = m1;
+    x0 = x1;
+  }
+  return sum;
 }
 
 /* skyfit_chapman_diff */
@@ -150,6 +254,23 @@ static float flat_column(const piece_ends *e, float H) {
                           : -0.5f * flat_horizontal_diff(H, e->h1, e->r1, -e->dh01));
 }
 
+/* the emitted spline depths (codegen/baseline_spline.c sf_emit_spline_depths):
+ * region I in |s| from the closest approach, region II in the altitude;
+ * through the closest approach always region I */
+static float spline_column(const sf_baseline_f *b, int i, const piece_ends *e) {
+  float u0 = fabsf(e->s0), u1 = fabsf(e->s1);
+  float delta = -e->dd_bb / (e->d + b->bottom);   /* r - d */
+  const sf_spline_grid_f *miss = &b->miss[i], *hit = &b->hit[i];
+  if (e->dd_bb >= 0.0f || e->shape == 2) {
+    if (e->shape == 2)
+      return spline_integral_f(miss, e->d, 0.0f, u0, 0, 0.0f) + spline_integral_f(miss, e->d, 0.0f, u1, 0, 0.0f);
+    return spline_integral_f(miss, e->d, fminf(u0, u1), fmaxf(u0, u1), 0, 0.0f);
+  }
+  if (e->shape == 2)
+    return spline_integral_f(hit, e->d, 0.0f, e->h0, 1, delta) + spline_integral_f(hit, e->d, 0.0f, e->h1, 1, delta);
+  return spline_integral_f(hit, e->d, fminf(e->h0, e->h1), fmaxf(e->h0, e->h1), 1, delta);
+}
+
 void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const float seg[4], float *depth) {
   const float R = b->bottom;
   for (int i = 0; i < b->n_constituents; ++i) depth[i] = 0.0f;
@@ -165,6 +286,9 @@ void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const floa
     float H = b->scale_height[i];
     if (b->kind == SF_BASELINE_F_TAYLOR) {
       depth[i] = fminf(b->factor[i] * taylor_column(b, &e, line, t_min, t_max, H), 3.4e38f);
+    } else if (b->kind == SF_BASELINE_F_SPLINE) {
+      float tau = spline_column(b, i, &e);
+      depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
     } else {
       float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(&e, H);
       depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
