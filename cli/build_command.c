@@ -15,6 +15,7 @@
 #include "fit/build_pipeline.h"
 #include "fit/build_staging.h"
 #include "fit/candidate_fitted.h"
+#include "fit/candidate_registry.h"
 #include "fit/output_norm.h"
 #include "codegen/codegen_file.h"
 #include "models/scene_file.h"
@@ -59,6 +60,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       (named mlp-*-2, -3, ...), measured and the selection made again;\n"
           "                       by default only while the networks miss it by %gx at most (the\n"
           "                       seeds' spread), given explicitly whatever the miss\n"
+          "  --exclude LIST       models left out, comma-separated: not fitted, measured or selected\n"
+          "                       (e.g. flat-sky,naive-sky: the single-scattering skies; hosek to skip\n"
+          "                       its fit); any fitted model or analytic baseline but naive16\n"
           "  --quick              smaller fits (for tests)\n"
           "  --threads N          worker threads (default: all cores)\n"
           "  --cache-limit N      after a successful run, keep DIR/cache under N MiB (default %lld),\n"
@@ -274,6 +278,13 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         fprintf(stderr, "%s: --mlp-normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
         return 2;
       }
+    } else if (sf_cli_valued(a, "--exclude", v, &missing)) {
+      char why[1024];
+      if (sf_candidate_exclude_check(argv[++i], why, sizeof why) != 0) {
+        fprintf(stderr, "%s: --exclude: %s\n", command, why);
+        return 2;
+      }
+      o.exclude = argv[i];
     } else if (sf_cli_valued(a, "--cache-limit", v, &missing)) {
       if (sf_cli_parse_cache_limit(command, argv[++i], &o.cache_limit_bytes)) return 2;
     } else if (sf_cli_valued(a, "--threads", v, &missing)) {

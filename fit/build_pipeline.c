@@ -398,6 +398,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
                             .mlp_scattering_samples = o->mlp_scattering_samples,
                             .mlp_scattering_normalise = o->mlp_scattering_normalise,
                             .mlp_scattering_normalise_cap = o->mlp_scattering_normalise_cap, .run = o->report.run,
+                            .exclude = o->exclude,
                             .note = log_note, .note_ctx = notes};
   sf_candidate_list list;
   sf_candidate_list_init(&list);

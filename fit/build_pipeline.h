@@ -34,6 +34,8 @@ typedef struct sf_build_options {
                                         the budget, the seed's next restart (0: SF_BUILD_MLP_RESTARTS,
                                         1 with quick, and none where the networks miss the budget by
                                         more than SF_BUILD_RESTART_MAX_MISS; > 0: whatever the miss) */
+  const char *exclude;               /* candidates left out (fit/candidate_registry.h
+                                        sf_candidate_exclude_check); NULL: none */
   int emit;                          /* write the headers (default 1) */
   const char *header_c, *header_glsl;   /* where to write them, over the scene's outputs
                                            (NULL: the scene's, or OUT/sky.h, OUT/sky.glsl) */

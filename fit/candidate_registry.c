@@ -32,6 +32,7 @@ static int add(sf_candidate_list *list, sf_candidate *c, sf_error *err) {
   return SF_OK;
 }
 
+
 static void say(sf_candidate_note_fn note, void *ctx, const char *fmt, const char *a, const char *b) {
   if (!note) return;
   char text[1200];
@@ -63,6 +64,10 @@ static int make_fitted(const sf_candidate_inputs *in, sf_candidate_quantity q, i
   int n = sf_candidate_factories(&f);
   for (int i = 0; i < n; ++i) {
     if (f[i].quantity != q || (restartable_only && !f[i].restartable)) continue;
+    if (sf_candidate_excluded(in->exclude, f[i].name)) {
+      if (!restartable_only) say(note, note_ctx, "%s: left out (--exclude)%s", f[i].name, "");
+      continue;
+    }
     char why[512] = "";
     if (f[i].applies && !f[i].applies(in, why, sizeof why)) {
       if (!restartable_only) say(note, note_ctx, "%s: not fitted: %s", f[i].name, why);   /* said once */
@@ -105,6 +110,69 @@ int sf_candidate_network_name(const char *name, size_t len) {
   return 0;
 }
 
+/* The analytic baselines --exclude takes (the fitted models: factories). */
+static const char *const excludable_baselines[] = {"chapman",   "taylor",         "flat",     "spline",
+                                                   "naive-sky", "raymarched-sky", "flat-sky", "schuler-sky"};
+#define N_EXCLUDABLE_BASELINES (sizeof excludable_baselines / sizeof excludable_baselines[0])
+
+static int excludable(const char *name, size_t len) {
+  for (size_t k = 0; k < N_EXCLUDABLE_BASELINES; ++k)
+    if (strlen(excludable_baselines[k]) == len && strncmp(name, excludable_baselines[k], len) == 0) return 1;
+  const sf_candidate_factory *f;
+  int n = sf_candidate_factories(&f);
+  for (int i = 0; i < n; ++i)
+    if (strlen(f[i].name) == len && strncmp(name, f[i].name, len) == 0) return 1;
+  return 0;
+}
+
+int sf_candidate_exclude_check(const char *list, char *why, size_t why_len) {
+  for (const char *p = list; *p;) {
+    size_t len = strcspn(p, ",");
+    if (len > 0 && !excludable(p, len)) {
+      char known[512] = "";
+      for (size_t k = 0; k < N_EXCLUDABLE_BASELINES; ++k)
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", k ? ", " : "", excludable_baselines[k]);
+      const sf_candidate_factory *f;
+      int n = sf_candidate_factories(&f);
+      for (int i = 0; i < n; ++i) snprintf(known + strlen(known), sizeof known - strlen(known), ", %s", f[i].name);
+      snprintf(why, why_len, "'%.*s' is not a model a build can leave out (%s; the references, the table lookups "
+               "and naive16, the cost unit, stay)", (int)len, p, known);
+      return -1;
+    }
+    p += len;
+    if (*p == ',') ++p;
+  }
+  return 0;
+}
+
+/* "-<n>", n a restart's number (2, 3, ...: no sign, no leading 0). */
+static int restart_suffix(const char *s) {
+  if (s[0] != '-' || s[1] < '1' || s[1] > '9') return 0;
+  for (s += 2; *s; ++s)
+    if (*s < '0' || *s > '9') return 0;
+  return 1;
+}
+
+int sf_candidate_excluded(const char *list, const char *name) {
+  if (!list) return 0;
+  for (const char *p = list; *p;) {
+    size_t len = strcspn(p, ",");
+    if (len > 0 && strncmp(name, p, len) == 0 && (name[len] == '\0' || restart_suffix(name + len))) return 1;
+    p += len;
+    if (*p == ',') ++p;
+  }
+  return 0;
+}
+
+/* Adds c, or frees it where --exclude names it (said once). */
+static int add_unless_excluded(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate *c,
+                               sf_candidate_note_fn note, void *note_ctx, sf_error *err) {
+  if (!sf_candidate_excluded(in->exclude, c->name)) return add(list, c, err);
+  say(note, note_ctx, "%s: left out (--exclude)%s", c->name, "");
+  sf_candidate_free(c);
+  return SF_OK;
+}
+
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err) {
   sf_candidate c;
@@ -122,7 +190,7 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   for (size_t k = 0; k < n_kinds; ++k) {
     sf_error why = {0};
     if (sf_candidate_transmittance_baseline(in->atm, kinds[k], SF_NAIVE_COST_UNIT_STEPS, &c, &why) == SF_OK) {
-      if (add(list, &c, err) != SF_OK) return err->status;
+      if (add_unless_excluded(in, list, &c, note, note_ctx, err) != SF_OK) return err->status;
     } else if (why.status == SF_ERR_INPUT) {
       say(note, note_ctx, "baseline skipped: %s%s", why.message, "");
     } else {
@@ -134,12 +202,12 @@ int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *lis
   if (want_radiance) {
     if (sf_candidate_table_sky_radiance(in->sky, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
       return err->status;
-    if (sf_atmosphere_scattering_count(in->atm) > 0 &&
-        (sf_candidate_sky_naive(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
-         sf_candidate_sky_raymarched(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
-         sf_candidate_sky_flat(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK ||
-         sf_candidate_sky_schuler(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK))
-      return err->status;
+    /* the single-scattering skies, from the atmosphere alone */
+    static int (*const skies[])(const sf_atmosphere *, sf_candidate *, sf_error *) = {
+        sf_candidate_sky_naive, sf_candidate_sky_raymarched, sf_candidate_sky_flat, sf_candidate_sky_schuler};
+    for (size_t k = 0; sf_atmosphere_scattering_count(in->atm) > 0 && k < sizeof skies / sizeof skies[0]; ++k)
+      if (skies[k](in->atm, &c, err) != SF_OK || add_unless_excluded(in, list, &c, note, note_ctx, err) != SF_OK)
+        return err->status;
   }
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     if (q == SF_CANDIDATE_SKY_RADIANCE && !want_radiance) continue;

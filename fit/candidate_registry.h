@@ -45,6 +45,7 @@ typedef struct sf_candidate_inputs {
   int mlp_scattering_normalise;      /* 1: the sky network brightness-normalised (fit/output_norm.h) */
   double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (>= 0); INFINITY: none */
   sf_precompute_options run;         /* threads, progress */
+  const char *exclude;               /* comma-separated names left out (sf_candidate_exclude_check); NULL: none */
   void (*note)(void *ctx, const char *message);   /* messages for the user; may be NULL */
   void *note_ctx;
 } sf_candidate_inputs;
@@ -67,6 +68,15 @@ int sf_candidate_factories(const sf_candidate_factory **out);
  * zero); else 0. */
 int sf_candidate_network_name(const char *name, size_t len);
 
+/* `skyfit build --exclude LIST`: the comma-separated candidate names left
+ * out of a build (not made, measured or selected): a fitted model's (a
+ * network's restarts with it) or an analytic baseline's, not the
+ * references, the table lookups or naive16, the cost unit. 0, or -1 with
+ * why saying which name is not one. */
+int sf_candidate_exclude_check(const char *list, char *why, size_t why_len);
+/* 1 when name, or the network it is a restart of, is in the list. */
+int sf_candidate_excluded(const char *list, const char *name);
+
 /* Called for each model skipped or failed, with a sentence. */
 typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
 
@@ -74,7 +84,8 @@ typedef void (*sf_candidate_note_fn)(void *ctx, const char *message);
  * the scene asks for sky radiance), the naive16 raymarch (always: it is the
  * cost unit), the transmittance table lookup and the other analytic
  * baselines (if the scene asks for transmittance), then every registered
- * factory of a quantity the scene asks for that applies. */
+ * factory of a quantity the scene asks for that applies; those in->exclude
+ * names are left out, each said once. */
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err);
 
