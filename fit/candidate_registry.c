@@ -32,7 +32,6 @@ static int add(sf_candidate_list *list, sf_candidate *c, sf_error *err) {
   return SF_OK;
 }
 
-
 static void say(sf_candidate_note_fn note, void *ctx, const char *fmt, const char *a, const char *b) {
   if (!note) return;
   char text[1200];
@@ -130,11 +129,13 @@ int sf_candidate_exclude_check(const char *list, char *why, size_t why_len) {
     size_t len = strcspn(p, ",");
     if (len > 0 && !excludable(p, len)) {
       char known[512] = "";
-      for (size_t k = 0; k < N_EXCLUDABLE_BASELINES; ++k)
-        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", k ? ", " : "", excludable_baselines[k]);
       const sf_candidate_factory *f;
       int n = sf_candidate_factories(&f);
-      for (int i = 0; i < n; ++i) snprintf(known + strlen(known), sizeof known - strlen(known), ", %s", f[i].name);
+      for (size_t k = 0; k < N_EXCLUDABLE_BASELINES + (size_t)n; ++k) {
+        size_t used = strlen(known);
+        snprintf(known + used, sizeof known - used, "%s%s", k ? ", " : "",
+                 k < N_EXCLUDABLE_BASELINES ? excludable_baselines[k] : f[k - N_EXCLUDABLE_BASELINES].name);
+      }
       snprintf(why, why_len, "'%.*s' is not a model a build can leave out (%s; the references, the table lookups "
                "and naive16, the cost unit, stay)", (int)len, p, known);
       return -1;
