@@ -14,6 +14,7 @@
 #include "models/ray_geometry.h"
 #include "models/tangent_sweep.h"
 #include "codegen/baseline_spline.h"
+#include "codegen/emit_sky_frame.h"
 
 static const char *const kind_names[SF_BASELINE_COUNT] = {"naive", "chapman", "taylor", "flat",
                                                                "spline"};
@@ -482,11 +483,9 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   /* A constituent that neither scatters nor absorbs is in no channel's
    * sum: its column, set above, would be unread (C's -Wall -Werror had
    * refused the header); GLSL has no such warning, nor (void). */
-  for (int i = 0; w->lang == SF_CODE_C && i < atm->n_constituents; ++i) {
-    int read = 0;
-    for (int ch = 0; ch < n; ++ch) read |= sf_extinction(atm, i, ch) != 0.0;
-    if (!read) sf_cw_emit(w, "  (void)d%d;  /* %s: no extinction */\n", i, atm->constituents[i].name);
-  }
+  for (int i = 0; w->lang == SF_CODE_C && i < atm->n_constituents; ++i)
+    if (!sf_emit_sky_dims_any(atm, i))
+      sf_cw_emit(w, "  (void)d%d;  /* %s: no extinction */\n", i, atm->constituents[i].name);
   emit_transmittance_return(w, atm);
   sf_cw_emit(w,
              "}\n\n"

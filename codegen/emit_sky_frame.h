@@ -21,7 +21,8 @@
  * emitted as p<i>), in some channel, and whether it dims some channel: the
  * variables an emitted sky declares, so that none is emitted that nothing
  * reads (-Wall -Werror: an absorber's phase function, a transparent
- * constituent's depths). */
+ * constituent's depths; the transmittance baselines' too,
+ * codegen/baselines.c). */
 int sf_emit_sky_scatters(const sf_atmosphere *atm, int i, int k);
 int sf_emit_sky_scatters_any(const sf_atmosphere *atm, int i);
 int sf_emit_sky_dims_any(const sf_atmosphere *atm, int i);

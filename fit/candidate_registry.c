@@ -146,19 +146,16 @@ int sf_candidate_exclude_check(const char *list, char *why, size_t why_len) {
   return 0;
 }
 
-/* "-<n>", n a restart's number (2, 3, ...: no sign, no leading 0). */
-static int restart_suffix(const char *s) {
-  if (s[0] != '-' || s[1] < '1' || s[1] > '9') return 0;
-  for (s += 2; *s; ++s)
-    if (*s < '0' || *s > '9') return 0;
-  return 1;
-}
-
 int sf_candidate_excluded(const char *list, const char *name) {
   if (!list) return 0;
   for (const char *p = list; *p;) {
     size_t len = strcspn(p, ",");
-    if (len > 0 && strncmp(name, p, len) == 0 && (name[len] == '\0' || restart_suffix(name + len))) return 1;
+    char entry[64];
+    if (len > 0 && len < sizeof entry) {
+      memcpy(entry, p, len);
+      entry[len] = '\0';
+      if (strcmp(name, entry) == 0 || restart_of(name, strlen(name), entry)) return 1;
+    }
     p += len;
     if (*p == ',') ++p;
   }

@@ -131,7 +131,7 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
     float rp = R + hp, g0, g1, t_near, t_far;
     sf_emitted_sphere_hits_f(rp, mu_s_p, R, -hp, &g0, &g1);
     if (!(mu_s_p < 0.0f && g0 <= g1)) {   /* else the planet hides the sun */
-      float ds = 1.0f;   /* the sun's columns are sun[i] * ds */
+      float ds = 1.0f;   /* the sun's columns are sun[i] * ds (Schuler's: km already) */
       if (m->sun == SF_SKY_SUN_CHAPMAN) {   /* skyfit_schuler_sun_columns */
         float seg[4];
         sf_emitted_air_clip_between_f(R, m->sky.thickness, hp, mu_s_p, 0.0f, 3.4e38f, seg);
@@ -147,8 +147,7 @@ void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, floa
       for (int k = 0; k < nk; ++k) {
         float tau = 0.0f, scatter = 0.0f;
         for (int i = 0; i < nc; ++i) {
-          float sun_i = m->sun == SF_SKY_SUN_CHAPMAN ? sun[i] : sun[i] * ds;
-          tau += m->sky.extinction[i][k] * (view[i] + 0.5f * rho[i] * dt + sun_i);
+          tau += m->sky.extinction[i][k] * (view[i] + 0.5f * rho[i] * dt + sun[i] * ds);
           scatter += m->sky.scattering[i][k] * rho[i] * phase[i];
         }
         L[k] += expf(-tau) * scatter;

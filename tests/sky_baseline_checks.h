@@ -57,15 +57,29 @@ static inline void sky_reference(const sf_atmosphere *atm, const double *p, doub
       L[k] += sf_phase_value(&atm->constituents[i].phase, nu) * single[i * atm->n_channels + k];
 }
 
-/* seed 000 eq. 59: the length of the upward ray from altitude h along the
- * zenith cosine c >= 0 inside the shell lo..hi (km above the ground R). */
-static inline double sky_eq59_chord_up(double R, double lo, double hi, double h, double c) {
-  double r = R + h;
-  if (h >= hi) return 0.0;
-  double from = fmax(lo, h);
-  double t_hi = -r * c + sqrt(r * r * c * c + (R + hi) * (R + hi) - r * r);
-  double t_from = -r * c + sqrt(r * r * c * c + (R + from) * (R + from) - r * r);
-  return t_hi - t_from;
+/* Where the upward ray from altitude h along the zenith cosine c leaves the
+ * top of atm: the distance, and the cosine there in *c_top. */
+static inline double sky_top_exit(const sf_atmosphere *atm, double h, double c, double *c_top) {
+  double r = atm->bottom_radius_km + h, top = atm->top_radius_km;
+  double t = -r * c + sqrt(r * r * c * c + top * top - r * r);
+  *c_top = (r * c + t) / top;
+  return t;
+}
+
+/* The length of [0, t_end] along the line from radius r at zenith cosine c
+ * inside the sphere of radius rho. */
+static inline double sky_inside_sphere(double r, double c, double rho, double t_end) {
+  double disc = r * r * c * c - r * r + rho * rho;
+  if (disc <= 0.0) return 0.0;
+  double a = fmax(-r * c - sqrt(disc), 0.0), b = fmin(-r * c + sqrt(disc), t_end);
+  return b > a ? b - a : 0.0;
+}
+
+/* seed 000 eq. 59: the length of [0, t_end] along that line inside the
+ * shell lo..hi (km above the ground R): inside its top sphere, less inside
+ * its bottom one. */
+static inline double sky_eq59_chord(double R, double lo, double hi, double r, double c, double t_end) {
+  return sky_inside_sphere(r, c, R + hi, t_end) - sky_inside_sphere(r, c, R + lo, t_end);
 }
 
 /* The largest |a - b| over the channels, relative to b's largest channel. */

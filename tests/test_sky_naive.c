@@ -56,23 +56,6 @@ static double eq24_up(double R, double H, double h, double cosine) {
   return exp(-h / H) * c / (1.0 + c * cosine);
 }
 
-/* The length of [0, t_end] along the line from radius r at zenith cosine c
- * inside the sphere of radius rho. */
-static double inside_sphere(double r, double c, double rho, double t_end) {
-  double disc = r * r * c * c - r * r + rho * rho;
-  if (disc <= 0.0) return 0.0;
-  double a = fmax(-r * c - sqrt(disc), 0.0), b = fmin(-r * c + sqrt(disc), t_end);
-  return b > a ? b - a : 0.0;
-}
-
-/* Where the upward ray (h, cos) leaves the top: distance and cosine there. */
-static double top_exit(const sf_atmosphere *atm, double h, double cosine, double *cos_top) {
-  double R = atm->bottom_radius_km, r = R + h, top = atm->top_radius_km;
-  double t = -r * cosine + sqrt(r * r * cosine * cosine + top * top - r * r);
-  *cos_top = (r * cosine + t) / top;
-  return t;
-}
-
 /* Schuler's sky on a rising view ray (mu > 0): the naive sky's midpoint
  * sums with the sun's column of each constituent from eq. 24 less eq. 24
  * where the sun ray leaves the top: from the point, its first case for a
@@ -85,7 +68,7 @@ static double top_exit(const sf_atmosphere *atm, double h, double cosine, double
 static void schuler_rising(const sf_atmosphere *atm, const double *p, double *L, int *dipping, int *hidden) {
   const int n = SF_SKY_SCHULER_VIEW_STEPS;
   double R = atm->bottom_radius_km, r = R + p[0], mu = p[1], mu_s = p[2], nu = p[3], cos_end;
-  double dt = top_exit(atm, p[0], mu, &cos_end) / n, view[SF_MAX_CONSTITUENTS] = {0};
+  double dt = sky_top_exit(atm, p[0], mu, &cos_end) / n, view[SF_MAX_CONSTITUENTS] = {0};
   for (int k = 0; k < atm->n_channels; ++k) L[k] = 0.0;
   for (int s = 0; s < n; ++s) {
     double t = (s + 0.5) * dt, rs = sqrt(r * r + t * t + 2.0 * r * mu * t), hs = rs - R;
@@ -94,7 +77,7 @@ static void schuler_rising(const sf_atmosphere *atm, const double *p, double *L,
     int lit = c >= 0.0 || d > R;
     *dipping += c < 0.0 && lit;
     *hidden += !lit;
-    double t_top = top_exit(atm, hs, c, &c_top);
+    double t_top = sky_top_exit(atm, hs, c, &c_top);
     for (int i = 0; i < atm->n_constituents; ++i) {
       double H, d0, lo, hi;
       rho[i] = sf_constituent_density(&atm->constituents[i], hs);
@@ -104,7 +87,7 @@ static void schuler_rising(const sf_atmosphere *atm, const double *p, double *L,
         sun[i] = H * d0 * (from - eq24_up(R, H, atm->top_radius_km - R, c_top));
       } else {
         sf_flat_shell_of(atm, i, &lo, &hi);
-        sun[i] = inside_sphere(rs, c, R + hi, t_top) - inside_sphere(rs, c, R + lo, t_top);
+        sun[i] = sky_eq59_chord(R, lo, hi, rs, c, t_top);
       }
     }
     for (int k = 0; lit && k < atm->n_channels; ++k) {

@@ -65,15 +65,9 @@ static void seed_columns(const sf_atmosphere *atm, double h, double c, double *c
       col[i] = eq51_column(R, H, d0, h, c);
     } else {
       sf_flat_shell_of(atm, i, &lo, &hi);
-      col[i] = sky_eq59_chord_up(R, lo, hi, h, c);
+      col[i] = sky_eq59_chord(R, lo, hi, R + h, c, INFINITY);
     }
   }
-}
-
-/* Where the upward ray (h, c) leaves the top: its zenith cosine there. */
-static double cosine_at_top(double R, double top, double h, double c) {
-  double r = R + h, t = -r * c + sqrt(r * r * c * c + (R + top) * (R + top) - r * r);
-  return (r * c + t) / (R + top);
 }
 
 /* eq. 52, summed over constituents: E sum_i beta_s,i P_i col_i times the
@@ -88,8 +82,11 @@ static void seed_flat_sky(const sf_atmosphere *atm, const double *p, int to_top,
   seed_columns(atm, h, mu, view);
   seed_columns(atm, h, mu_s, sun);
   if (to_top) {
-    seed_columns(atm, top, cosine_at_top(R, top, h, mu), view_above);
-    seed_columns(atm, top, cosine_at_top(R, top, h, mu_s), sun_above);
+    double c_view, c_sun;
+    sky_top_exit(atm, h, mu, &c_view);
+    sky_top_exit(atm, h, mu_s, &c_sun);
+    seed_columns(atm, top, c_view, view_above);
+    seed_columns(atm, top, c_sun, sun_above);
   }
   for (int k = 0; k < atm->n_channels; ++k) {
     double tau_view = 0.0, tau_light = 0.0, scatter = 0.0;
