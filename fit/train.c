@@ -48,6 +48,7 @@ void sf_mlp_init_xavier(const sf_mlp_shape *s, uint64_t seed, int restart, doubl
 /* Scratch for chunked sums: one gradient and one loss per chunk, and one
  * block workspace per thread (fit/mlp_backward.h). */
 typedef struct chunk_sums {
+  long chunk;   /* samples per chunk */
   long n_chunks;
   int n_params;
   int n_threads;
@@ -60,9 +61,17 @@ typedef struct chunk_sums {
 
 static int thread_count(int n_threads) { return n_threads > 0 ? n_threads : omp_get_max_threads(); }
 
-static int chunk_sums_init(chunk_sums *c, const sf_mlp_shape *s, long max_samples, int n_params, int n_threads) {
+long sf_train_chunk_size(long batch) {
+  long chunk = SF_TRAIN_CHUNK;
+  while ((batch + chunk - 1) / chunk > SF_TRAIN_CHUNKS_MAX) chunk *= 2;
+  return chunk;
+}
+
+static int chunk_sums_init(chunk_sums *c, const sf_mlp_shape *s, long max_samples, long chunk, int n_params,
+                           int n_threads) {
   memset(c, 0, sizeof *c);
-  c->n_chunks = (max_samples + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
+  c->chunk = chunk;
+  c->n_chunks = (max_samples + chunk - 1) / chunk;
   if (c->n_chunks < 1) c->n_chunks = 1;
   c->n_params = n_params;
   c->parallel_work = SF_TRAIN_PARALLEL_WORK;
@@ -90,8 +99,8 @@ static void chunk_sums_free(chunk_sums *c) {
 static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf_mlp_loss *loss,
                            const sf_dataset *d, const sf_mlp_columns *columns, const sf_mlp_rows *rows,
                            const int *index, long begin, long end, double *grad, chunk_sums *cs) {
-  long n = end - begin;
-  long n_chunks = (n + SF_TRAIN_CHUNK - 1) / SF_TRAIN_CHUNK;
+  long n = end - begin, chunk = cs->chunk;
+  long n_chunks = (n + chunk - 1) / chunk;
   int np = cs->n_params;
   int threads = cs->n_threads;
   if (threads > n_chunks) threads = (int)(n_chunks > 0 ? n_chunks : 1);
@@ -120,12 +129,12 @@ static double chunked_loss(const sf_mlp_shape *s, const double *params, const sf
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
   for (long run = 0; run < n_runs; ++run) {
     long c = run * grab, count = c + grab < n_chunks ? grab : n_chunks - c;
-    long b = begin + c * SF_TRAIN_CHUNK;
-    long e = b + count * SF_TRAIN_CHUNK < end ? b + count * SF_TRAIN_CHUNK : end;
+    long b = begin + c * chunk;
+    long e = b + count * chunk < end ? b + count * chunk : end;
     long prefetch_end = index ? (e + SF_TRAIN_PREFETCH < d->n ? e + SF_TRAIN_PREFETCH : d->n) : 0;
     double *g = grad ? cs->grad + c * np : NULL;
     if (g) memset(g, 0, (size_t)(count * np) * sizeof(double));
-    sf_mlp_loss_chunks_ws(s, params, loss, columns, rows, d->x, d->y, index, b, e, SF_TRAIN_CHUNK, prefetch_end,
+    sf_mlp_loss_chunks_ws(s, params, loss, columns, rows, d->x, d->y, index, b, e, chunk, prefetch_end,
                           cs->loss + c, g, &cs->ws[omp_get_thread_num()]);
   }
   double total = 0.0;
@@ -144,7 +153,7 @@ double sf_mlp_dataset_loss(const sf_mlp_shape *s, const double *params, const sf
                            const sf_dataset *d, int n_threads) {
   if (d->n <= 0) return NAN;
   chunk_sums cs;
-  if (chunk_sums_init(&cs, s, d->n, 1, thread_count(n_threads))) {
+  if (chunk_sums_init(&cs, s, d->n, SF_TRAIN_CHUNK, 1, thread_count(n_threads))) {
     chunk_sums_free(&cs);
     return NAN;
   }
@@ -329,8 +338,9 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
   memset(&train_rows, 0, sizeof train_rows);
   int status = SF_OK;
   if (!delta || !grad || !perm || !st.params || !st.restart_best || !st.overall_best ||
-      sf_adam_init(&st.adam, np) || chunk_sums_init(&cs, s, batch, np, thread_count(o->n_threads)) ||
-      (has_val && chunk_sums_init(&val_cs, s, val->n, 1, thread_count(o->n_threads))) ||
+      sf_adam_init(&st.adam, np) ||
+      chunk_sums_init(&cs, s, batch, sf_train_chunk_size(batch), np, thread_count(o->n_threads)) ||
+      (has_val && chunk_sums_init(&val_cs, s, val->n, SF_TRAIN_CHUNK, 1, thread_count(o->n_threads))) ||
       (batch >= train->n && sf_mlp_columns_make(&train_columns, train->x, train->y, train->n, train->n_in, train->n_out)) ||
       (batch < train->n && sf_mlp_rows_make(&train_rows, train->x, train->y, train->n, train->n_in, train->n_out)) ||
       (has_val && sf_mlp_columns_make(&val_columns, val->x, val->y, val->n, val->n_in, val->n_out)) ||

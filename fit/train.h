@@ -4,12 +4,12 @@
  *
  * Determinism: everything random is drawn from streams named by (seed,
  * restart, epoch) (models/rng.h), so nothing depends on what ran before; a
- * batch gradient is summed over fixed chunks of SF_TRAIN_CHUNK samples,
- * each chunk in sample order, the chunk sums added in chunk order - the
- * result is byte-identical for any thread count. A full batch is not
- * shuffled (its gradient is the same sum in any order); a batch with
- * little work runs split or on one thread, whichever measured faster
- * (parallel_work).
+ * batch gradient is summed over fixed chunks of SF_TRAIN_CHUNK samples
+ * (more in a large batch: sf_train_chunk_size), each chunk in sample order,
+ * the chunk sums added in chunk order - the result is byte-identical for
+ * any thread count. A full batch is not shuffled (its gradient is the same
+ * sum in any order); a batch with little work runs split or on one thread,
+ * whichever measured faster (parallel_work).
  *
  * Checkpoints: when *interrupt becomes nonzero (a SIGINT handler sets it) or
  * after stop_after_epochs epochs (for tests), training stops at the end of
@@ -29,6 +29,17 @@
 #include "models/mlp.h"
 
 #define SF_TRAIN_CHUNK 256
+/* A batch of more than SF_TRAIN_CHUNKS_MAX chunks of SF_TRAIN_CHUNK takes
+ * chunks of twice the size, as often as needed (sf_train_chunk_size). Each
+ * chunk ends by folding its gradient's 8 lanes per parameter into its sum
+ * and zeroing them, and the chunks' sums are then added on one thread: in
+ * chunks of 256 that was 3-4 % of a full-batch epoch of the 967,680-sample
+ * scattering set on one thread and 12 % on two (bench/mlp_vs_torch.md).
+ * The size depends on the batch alone, never on the threads, so the sums
+ * stay the same for any thread count; 1024 chunks still share well among
+ * many threads; every batch of up to 262,144 samples (the builds' 256 and
+ * 1024 among them) keeps chunks of 256 and its bits. */
+#define SF_TRAIN_CHUNKS_MAX 1024
 /* Shuffled samples of the next pass whose rows a pass asks for early: as
  * far ahead as the kernel asks within a pass. */
 #define SF_TRAIN_PREFETCH SF_MLP_PREFETCH_AHEAD
@@ -98,6 +109,9 @@ typedef struct sf_train_result {
   int n_threads;                  /* worker threads used (o->n_threads, or all cores for 0) */
   int interrupted;          /* 1: stopped early, checkpoint written */
 } sf_train_result;
+
+/* Samples per chunk of a batch's gradient sum (SF_TRAIN_CHUNKS_MAX). */
+long sf_train_chunk_size(long batch);
 
 /* Xavier/Glorot-uniform weights U(-a, a), a = sqrt(6 / (fan_in + fan_out)),
  * zero biases, from the stream (seed, restart). */

@@ -1,7 +1,8 @@
 /* Training (fit/train.h, fit/adam.h): Adam's first steps against the closed
  * form of Kingma & Ba's Algorithm 1; byte-identical networks for 1 and 2
- * threads; an interrupted run resumed from its checkpoint ends byte-identical
- * to an uninterrupted one; a teacher network's data are learnt (loss drops
+ * threads (a full batch of 300,000 too, in larger chunks); an interrupted
+ * run resumed from its checkpoint ends byte-identical to an uninterrupted
+ * one; a teacher network's data are learnt (loss drops
  * by >= 100x); restarts keep the best validation loss, and restart r is
  * the same network trained in any call (first_restart). */
 #include <math.h>
@@ -34,6 +35,13 @@ static int run(const sf_dataset *tr, const sf_dataset *va, sf_train_options *o, 
   int s = sf_mlp_train(tr, va, o, r, &err);
   if (s) printf("train failed: %s\n", err.message);
   return s;
+}
+
+/* Progress callback: the first epoch's training loss into *ctx. */
+static void first_epoch_loss(void *ctx, int restart, int n_restarts, int epoch, int n_epochs, double train_loss,
+                             double validation_loss) {
+  (void)restart, (void)n_restarts, (void)n_epochs, (void)validation_loss;
+  if (epoch == 1) *(double *)ctx = train_loss;
 }
 
 int main(void) {
@@ -185,6 +193,67 @@ int main(void) {
   sf_mlp_free(&r5.net);
   printf("mismatched checkpoint: %s\n", err.message);
   remove(path);
+
+  /* A large batch sums its gradient in larger chunks (sf_train_chunk_size):
+   * the smallest power-of-two multiple of SF_TRAIN_CHUNK that leaves at
+   * most SF_TRAIN_CHUNKS_MAX chunks, and the sums still the same for 1 and
+   * 2 threads. */
+  {
+    const long batches[] = {1, 255, 256, 257, 1000, 262144, 262145, 300000, 967680, 1L << 30};
+    int rule_holds = 1;
+    for (size_t k = 0; k < sizeof batches / sizeof batches[0]; ++k) {
+      long b = batches[k], c = sf_train_chunk_size(b);
+      long chunks = (b + c - 1) / c, fewer = (b + c / 2 - 1) / (c / 2);
+      int power = c % SF_TRAIN_CHUNK == 0 && ((c / SF_TRAIN_CHUNK) & (c / SF_TRAIN_CHUNK - 1)) == 0;
+      int smallest = c == SF_TRAIN_CHUNK || fewer > SF_TRAIN_CHUNKS_MAX;
+      if (!power || chunks > SF_TRAIN_CHUNKS_MAX || !smallest) {
+        printf("chunk size of a batch of %ld: %ld (%ld chunks)\n", b, c, chunks);
+        rule_holds = 0;
+      }
+    }
+    CHECK(rule_holds);
+    CHECK(sf_train_chunk_size(300000) == 2 * SF_TRAIN_CHUNK);
+
+    sf_dataset big;
+    make_data(&big, 300000);
+    sf_train_options f;
+    sf_train_options_default(&f);
+    sf_mlp_shape_parse_layers("2,4,3", &f.shape, &err);
+    f.epochs = 3;
+    f.batch = 0;   /* the full batch: 586 chunks of 512 */
+    f.parallel_work = 0.0;
+    f.seed = 11;
+    sf_train_result b1 = {0}, b2 = {0};
+    f.n_threads = 1;
+    run(&big, NULL, &f, &b1);
+    f.n_threads = 2;
+    run(&big, NULL, &f, &b2);
+    int same = b1.net.params && b2.net.params &&
+               memcmp(b1.net.params, b2.net.params, (size_t)b1.net.n_params * sizeof(double)) == 0;
+    printf("full batch of 300000 (chunks of %ld), 1 vs 2 threads: training loss %.17g vs %.17g, "
+           "weights identical: %d\n",
+           sf_train_chunk_size(300000), b1.train_loss, b2.train_loss, same);
+    CHECK(same);
+    /* The first epoch's loss, of the initial network summed in chunks of
+     * 512, is the data set's loss summed in chunks of 256: every sample
+     * counted once. */
+    sf_mlp init_big;
+    sf_mlp_init(&init_big, &f.shape);
+    sf_mlp_init_xavier(&f.shape, f.seed, 0, init_big.params);
+    sf_mlp_loss mse_big = {SF_LOSS_MSE, NULL};
+    double first_epoch = NAN;
+    f.progress = first_epoch_loss;
+    f.progress_ctx = &first_epoch;
+    f.epochs = 1;
+    sf_train_result b3 = {0};
+    run(&big, NULL, &f, &b3);
+    CHECK_REL(first_epoch, sf_mlp_dataset_loss(&f.shape, init_big.params, &mse_big, &big, 1), 1e-12);
+    sf_mlp_free(&init_big);
+    sf_mlp_free(&b3.net);
+    sf_mlp_free(&b1.net);
+    sf_mlp_free(&b2.net);
+    sf_dataset_free(&big);
+  }
 
   /* Learning: the loss of the kept network is far below the initial one. */
   sf_train_options q;
