@@ -6,6 +6,24 @@
 #include "models/weights_file.h"
 #include "util/constants.h"
 
+/* SPEC §8's "seed" and "epochs" for a least-squares fit: nothing is drawn
+ * (seed 0, as spectral4's), and an epoch, one pass over every residual and
+ * its Jacobian, is a Levenberg-Marquardt iteration: the most that any one of
+ * the final fit's separate problems took (one per constituent and channel
+ * for the sigmoid, per channel for the sky forms' fit across elevations). */
+static void add_least_squares_run(cJSON *training, int iterations) {
+  cJSON_AddNumberToObject(training, "seed", 0);
+  cJSON_AddNumberToObject(training, "epochs", iterations);
+}
+
+static int sigmoid_most_iterations(const sf_sigmoid_model *m, const sf_sigmoid_fit_report *rep) {
+  int most = 0;
+  for (int c = 0; c < m->n_constituents; ++c)
+    for (int k = 0; k < m->n_channels; ++k)
+      if (!rep->entry[c][k].transparent && rep->entry[c][k].iterations > most) most = rep->entry[c][k].iterations;
+  return most;
+}
+
 int sf_sigmoid_weights_write(const sf_atmosphere *atm, const sf_scene_domain *domain,
                              const sf_sigmoid_fit_options *o, const sf_sigmoid_model *m,
                              const sf_sigmoid_fit_report *rep, const char *path, sf_error *err) {
@@ -50,6 +68,7 @@ int sf_sigmoid_weights_write(const sf_atmosphere *atm, const sf_scene_domain *do
       }
     }
     cJSON *tr = sf_weights_training(doc);
+    add_least_squares_run(tr, sigmoid_most_iterations(m, rep));
     cJSON_AddStringToObject(tr, "loss", "least squares on T_top (rays to the top, mu >= 0)");
     cJSON_AddNumberToObject(tr, "fit_h_min_km", rep->fit_h_min_km);
     cJSON_AddNumberToObject(tr, "fit_h_max_km", rep->fit_h_max_km);
@@ -104,6 +123,10 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
   cJSON *gw = cJSON_AddObjectToObject(mt, "elevation_fit_start_wins");
   for (int q = 0; q < 4; ++q) cJSON_AddNumberToObject(gw, global_names[q], rep->global_start_wins[q]);
   cJSON *tr = sf_weights_training(doc);
+  int most = 0;
+  for (int k = 0; k < rep->n_channels; ++k)
+    if (rep->global_iterations_channel[k] > most) most = rep->global_iterations_channel[k];
+  add_least_squares_run(tr, most);
   cJSON_AddStringToObject(tr, "loss", "least squares, residuals normalised per elevation and channel");
   cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
   cJSON_AddNumberToObject(tr, "elevations", o->n_elevations);

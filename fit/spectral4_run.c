@@ -216,6 +216,7 @@ static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spect
   cJSON_AddBoolToObject(m, "atmosphere_has_aerosols", rep->has_aerosols);
   cJSON *t = sf_weights_training(doc);
   cJSON_AddNumberToObject(t, "seed", 0);
+  cJSON_AddNumberToObject(t, "epochs", rep->fit.evaluations);   /* each a pass over every sample */
   cJSON_AddStringToObject(t, "loss", "mse_linear_srgb (seed 003 eq. 5.13)");
   cJSON_AddStringToObject(t, "optimizer", "grid search + NLopt NLOPT_LN_NELDERMEAD");
   cJSON_AddNumberToObject(t, "training_samples", (double)rep->n_train);

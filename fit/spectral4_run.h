@@ -33,7 +33,9 @@
  * ("without_aerosols", "with_aerosols"): {"mean_delta_e2000",
  * "p99_delta_e2000", "max_delta_e2000", "samples"}; plus "rgb_scale",
  * "uniform4_wavelengths_nm", "uniform4_weights_nm".
- * "training": {"seed": 0 (deterministic), "loss": "mse_linear_srgb", ...}. */
+ * "training": {"seed": 0 (deterministic), "epochs" (the Nelder-Mead
+ * evaluations, each a pass over every sample), "loss": "mse_linear_srgb",
+ * ...}. */
 #ifndef SKYFIT_FIT_SPECTRAL4_RUN_H
 #define SKYFIT_FIT_SPECTRAL4_RUN_H
 

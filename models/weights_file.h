@@ -11,6 +11,11 @@
  *    "metrics": {"rmse": 1e-3, "max_abs": ..., ...},
  *    "training": {"seed": 1, "epochs": 200, "loss": "mse"}}
  *
+ * Every fit skyfit writes gives "training" a "seed" and "epochs": those of
+ * the networks; for the deterministic fits seed 0, and the passes over the
+ * data, Levenberg-Marquardt iterations or Nelder-Mead evaluations
+ * (fit/fit_weights_doc.c, fit/spectral4_run.h).
+ *
  * "params" maps a name to a number or a rectangular nested array of numbers
  * (at most SF_WEIGHTS_MAX_DIMS deep); "inputs" and "training" may be
  * omitted; "metrics" holds numbers, strings, or objects/arrays of them.

@@ -87,6 +87,15 @@ touch -d "2020-01-01" "$stale"
 "$BIN" fit spectral4 "${small[@]}" --out "$TMP/fit/w3.json" --cache-limit none >"$TMP/out" 2>"$TMP/err" || true
 if [[ -s $TMP/fit/w3.json && -e $stale ]]; then pass "--cache-limit none keeps every entry"; else fail "--cache-limit none: $(tail -3 "$TMP/err")"; fi
 
+# SPEC §8's training seed and epochs: nothing is drawn (seed 0); an epoch is
+# a Nelder-Mead evaluation, a pass over every sample (the metrics' count).
+if python3 -c "
+import json, sys
+w = json.load(open(sys.argv[1])); t = w['training']
+assert t['seed'] == 0 and t['epochs'] == w['metrics']['evaluations'] >= 1, t" "$TMP/fit/w.json"; then
+  pass "training: seed 0, epochs = the Nelder-Mead evaluations"
+else fail "training seed/epochs"; fi
+
 # A parameter the model does not take (it had been ignored): codegen refuses it.
 python3 -c "
 import json, sys
