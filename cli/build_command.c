@@ -110,7 +110,8 @@ static int parse_count(const char *command, const char *opt, const char *text, l
  * file the build publishes itself (fit/build_staging.h), the other header;
  * or the folder of the build's it would lie in, at any depth (OUT's
  * published folders, which a build replaces whole, and cache/: *in_folder
- * set). NULL if none; own holds OUT's paths. */
+ * set to 1), or one of those folders itself (*in_folder 2). NULL if none;
+ * own holds OUT's paths. */
 static const char *header_clash_of(const char *const paths[2], int k, const char *const inputs[3],
                                    const char *out_dir, char own[][SF_REPORT_PATH_LEN + 64], int *in_folder) {
   *in_folder = 0;
@@ -128,6 +129,12 @@ static const char *header_clash_of(const char *const paths[2], int k, const char
   }
   if ((clash = sf_cli_same_as_any(paths[k], files, SF_BUILD_OUT_FILES)) != NULL) return clash;
   if (k == 1 && sf_cli_same_file(paths[0], paths[1])) return "the C header";
+  /* one of those folders itself (`--header-c OUT/views` had written the
+   * header, then failed to publish the run with exit 2) */
+  if ((clash = sf_cli_same_as_any(paths[k], folders, SF_BUILD_OUT_FOLDERS + 1)) != NULL) {
+    *in_folder = 2;
+    return clash;
+  }
   clash = sf_cli_inside_any(paths[k], folders, SF_BUILD_OUT_FOLDERS + 1);
   *in_folder = clash != NULL;
   return clash;
@@ -160,8 +167,12 @@ static int header_clash(const char *command, const char *scene_path, const sf_sc
     int in_folder;
     const char *clash = header_clash_of(paths, k, inputs, o->out_dir, own, &in_folder);
     if (!clash) continue;
-    fprintf(stderr, "%s: %s %s: %s %s, which the build %s; give another path\n", command, option[k], paths[k],
-            in_folder ? "lies in" : "is the same file as", clash, in_folder ? "writes itself" : "would overwrite");
+    if (in_folder == 2)
+      fprintf(stderr, "%s: %s %s: is a folder the build makes itself (%s); give another path\n", command, option[k],
+              paths[k], clash);
+    else
+      fprintf(stderr, "%s: %s %s: %s %s, which the build %s; give another path\n", command, option[k], paths[k],
+              in_folder ? "lies in" : "is the same file as", clash, in_folder ? "writes itself" : "would overwrite");
     return 2;
   }
   return 0;

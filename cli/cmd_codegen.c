@@ -159,6 +159,21 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
     fprintf(stderr, "skyfit codegen: nothing to emit: give --weights and/or --baselines\n");
     return 2;
   }
+  /* Every item named: strtok below skips empty ones, and `--baselines ""`
+   * had replaced the headers with empty ones, exit 0. */
+  if (o->baselines) {
+    size_t len = strlen(o->baselines);
+    const char *b = o->baselines;
+    if (len == 0 || b[0] == ',' || b[len - 1] == ',' || strstr(b, ",,")) {
+      fprintf(stderr, "skyfit codegen: --baselines: '%s' has an empty item: give names separated by single commas\n",
+              b);
+      return 2;
+    }
+    if (len >= 256) {
+      fprintf(stderr, "skyfit codegen: --baselines: the list is %zu characters long (at most 255)\n", len);
+      return 2;
+    }
+  }
   /* as skyfit sample and fit: one source of the atmosphere */
   if (o->atmosphere_path && o->scene_path) {
     fprintf(stderr, "skyfit codegen: --atmosphere and --scene both name the atmosphere: give one\n");

@@ -353,6 +353,31 @@ int sf_cmd_eval(int argc, char **argv) {
 #pragma omp parallel for schedule(dynamic, 16)
   for (long row = 0; row < pts.n_rows; ++row)
     evaluate_row(&atm, &o, fitted, &pts, row, &rays[row], results + row * n_out);
+  /* Finite inputs can still overflow: a weights file's extreme (finite)
+   * parameters, an atmosphere's sun of 1e308. Such a value is not printed
+   * (it had been, as inf, with exit 0): the input is at fault. */
+  long bad_row = -1;
+  int bad_column = 0;
+  for (long row = 0; row < pts.n_rows && bad_row < 0; ++row)
+    for (int k = 0; k < n_out; ++k)
+      if (!isfinite(results[row * n_out + k])) {
+        bad_row = row;
+        bad_column = k;
+        break;
+      }
+  if (bad_row >= 0) {
+    char point[256] = "";
+    for (int c = 0, w = 0; c < pts.n_columns && w >= 0 && (size_t)w < sizeof point; ++c)
+      w += snprintf(point + w, sizeof point - (size_t)w, "%s%s=%s", c ? ", " : "", pts.column_names[c],
+                    pts.fields[bad_row * pts.n_columns + c]);
+    const char *source = o.model_path ? o.model_path : o.atmosphere_path ? o.atmosphere_path : "the built-in atmosphere";
+    fprintf(stderr, "skyfit eval: %s: %s is not finite at point %ld (%s): %s overflow there; nothing written\n",
+            source, names[bad_column], bad_row + 1, point,
+            o.model_path ? "the model's parameters" : "the atmosphere's values");
+    free(rays), free(results), sf_csv_points_free(&pts);
+    free_model(fitted);
+    return 2;
+  }
   long n_outside = fitted ? count_outside(fitted, &pts) : 0;
   if (n_outside > 0 && !o.quiet) {
     const sf_scene_domain *d = &fitted->domain;

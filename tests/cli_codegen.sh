@@ -43,6 +43,14 @@ if command -v glslangValidator >/dev/null; then
 fi
 "$SKYFIT_BIN" codegen --baselines naive-sky,naive-sky --lang c --out "$tmp/sky" --name twice 2>"$tmp/err.txt"
 check "naive-sky given twice exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/sky/twice.h ] && grep -q 'given twice' $tmp/err.txt"
+# An empty list or item (skipped by the split) had replaced the header with
+# an empty one, exit 0.
+cp "$tmp/sky/skyfit.h" "$tmp/sky/skyfit.h.before"
+for list in "" "," "naive,,chapman" "naive,"; do
+  "$SKYFIT_BIN" codegen --baselines "$list" --lang c --out "$tmp/sky" 2>"$tmp/err.txt"
+  check "--baselines '$list' exits 2, the header as it was" \
+    "[ $? -eq 2 ] && cmp -s $tmp/sky/skyfit.h $tmp/sky/skyfit.h.before && grep -q 'empty item' $tmp/err.txt"
+done
 
 # Schuler's sky beside the naive sky and the Chapman transmittance (whose
 # columns its sun columns are): one header, -Werror C99 and GLSL; within

@@ -595,5 +595,20 @@ else
   fail "1e12 per km: $(cat "$TMP/out" "$TMP/err" | head -c 300)"
 fi
 
+# Finite inputs whose values overflow (a weights file's extreme but finite
+# parameters, a sun of 1e308) had printed inf, exit 0: now exit 2 naming
+# the file, the column and the point, nothing on stdout.
+python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1])); d['params']['b2'] = [-1000.0] * len(d['params']['b2'])
+json.dump(d, open(sys.argv[2], 'w'))" "$W/mlp-scattering.json" "$TMP/overflow.json"
+expect_error "--model whose output overflows" $'h_km,mu,mu_s,nu\n0,0.5,0.5,1\n' \
+  'overflow.json: L_r is not finite at point 1 \(h_km=0, mu=0.5, mu_s=0.5, nu=1\)' sky_radiance --model "$TMP/overflow.json"
+printf '{"base": "default", "sun_irradiance": [1.7e308, 1.7e308, 1.7e308], "constituents": [
+  {"name": "mie", "phase": {"kind": "henyey_greenstein", "g": 0.999}}]}\n' >"$TMP/bright.json"
+expect_error "single scattering that overflows" $'h_km,mu,mu_s,nu\n5,0.2,0.3,0.9\n0,0.5,0.5,1\n' \
+  "bright.json: mie_r is not finite at point 2 .*the atmosphere's values overflow" \
+  single_scattering --phase --atmosphere "$TMP/bright.json"
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

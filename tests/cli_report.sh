@@ -676,7 +676,9 @@ PY
 # are refused before any work, exit 2, the inputs untouched: they had
 # overwritten the scene (exit 0), or been lost under the report; a header
 # deeper in a folder the build replaces whole (out/views/new/deeper/) had
-# been accepted, the check looking at its own folder only.
+# been accepted, the check looking at its own folder only; a header named
+# as one of those folders itself (out/views) had been written, and the run
+# then refused to publish, exit 2, with the old report beside the new header.
 mkdir -p "$tmp/clash"
 cp "$src/examples/scenes/ground.json" "$tmp/clash/scene.json"
 cp "$tmp/clash/scene.json" "$tmp/clash/scene.orig"
@@ -688,7 +690,9 @@ for args in "scene.json --header-c scene.json" "scene.json --header-glsl ./scene
             "scene.json --header-c out/weights/sky.h" "scene.json --header-c out/x.h --header-glsl ./out//x.h" \
             "scene.json --header-c $tmp/clash/out/report.md" "scene.json --header-c out/../out/metrics.json" \
             "scene.json --header-glsl ../clash/scene.json" "scene-air.json" \
-            "scene.json --header-c out/views/new/deeper/sky.h" "scene.json --header-glsl out/cache/x/../y/sky.glsl"; do
+            "scene.json --header-c out/views/new/deeper/sky.h" "scene.json --header-glsl out/cache/x/../y/sky.glsl" \
+            "scene.json --header-glsl out/views" "scene.json --header-c out/plots/" "scene.json --header-c ./out/cache" \
+            "scene.json --header-glsl out/x/../weights"; do
   read -r -a a <<<"$args"
   (cd "$tmp/clash" && "$bin" build "${a[@]}" "${tiny[@]}" --out out > /dev/null 2> err)
   rc=$?
