@@ -23,6 +23,17 @@ static void emit_part(sf_code_writer *w, const void *model) {
   }
 }
 
+/* The fit's maximum searched where the model errs most (the horizon,
+ * models/tangent_sweep.h), which the build's sample misses: the headers had
+ * stated 0.505 for the default sigmoid, whose file holds 0.661. */
+void sf_fitted_max_abs_text(double sample_max_abs, double fit_max_abs, char *out, size_t n) {
+  if (fit_max_abs > sample_max_abs)
+    snprintf(out, n, "max abs %.3g (the fit's search near the horizon; %.3g over the values)", fit_max_abs,
+             sample_max_abs);
+  else
+    snprintf(out, n, "max abs %.3g", sample_max_abs);
+}
+
 /* The weights file's metrics as one line for the header comment: the
  * errors `skyfit build` measured over the scene's domain
  * (fit/build_weights_errors.h), as build's own header states them; else
@@ -36,9 +47,11 @@ static void metrics_line(const sf_weights *w, char *out, size_t n) {
   const cJSON *values = sf_json_get(b, "values"), *over = sf_json_get(b, "over");
   if (cJSON_IsNumber(rmse) && cJSON_IsNumber(max_abs) && cJSON_IsNumber(mean_rel) && cJSON_IsNumber(rel_rmse) &&
       cJSON_IsNumber(values) && cJSON_IsString(over)) {
-    snprintf(out, n, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %.0f values of %.80s (skyfit build)",
-             rmse->valuedouble, max_abs->valuedouble, mean_rel->valuedouble, rel_rmse->valuedouble,
-             values->valuedouble, over->valuestring);
+    char max_text[128];
+    sf_fitted_max_abs_text(max_abs->valuedouble, sf_weights_metric(w, "max_abs"), max_text, sizeof max_text);
+    snprintf(out, n, "RMSE %.3g, %s, mean rel %.3g, rel RMSE %.3g over %.0f values of %.80s (skyfit build)",
+             rmse->valuedouble, max_text, mean_rel->valuedouble, rel_rmse->valuedouble, values->valuedouble,
+             over->valuestring);
     return;
   }
   static const char *const names[] = {"rmse", "max_abs", "mean_rel", "rel_rmse", "loss", "train_loss",

@@ -56,4 +56,11 @@ void sf_fitted_link(sf_fitted_model **models, sf_codegen_part *parts, int n);
 /* The model names that have an emitter, comma-separated. */
 const char *sf_fitted_emitters(void);
 
+/* "max abs X" for a header's measured-error line: the largest error over
+ * the values the build sampled, or, where the fit's own search near the
+ * horizon (the weights file's metrics.max_abs; NAN: none) found a larger
+ * one, that with the sample's beside it. Both headers (skyfit build's and
+ * skyfit codegen's) state it so. */
+void sf_fitted_max_abs_text(double sample_max_abs, double fit_max_abs, char *out, size_t n);
+
 #endif

@@ -54,6 +54,18 @@ int sf_build_header_paths(const sf_scene *scene, const sf_build_options *o, char
   return SF_OK;
 }
 
+/* The largest error the fit itself found (its weights file's
+ * metrics.max_abs), or NAN: none, or no weights file. */
+static double fit_max_abs(const sf_candidate *c) {
+  if (!c->weights_path[0]) return NAN;
+  sf_weights w;
+  sf_error err = {0};
+  if (sf_weights_load_file(c->weights_path, NULL, &w, &err) != SF_OK) return NAN;
+  double v = sf_weights_metric(&w, "max_abs");
+  sf_weights_free(&w);
+  return v;
+}
+
 /* The emitted part of report model m for quantity q. */
 static void model_part(const sf_report *rep, const sf_scene *scene, const sf_report_model *m,
                        sf_candidate_quantity q, sf_codegen_part *p) {
@@ -66,8 +78,10 @@ static void model_part(const sf_report *rep, const sf_scene *scene, const sf_rep
   snprintf(p->atmosphere_hash, sizeof p->atmosphere_hash, "%s", rep->atmosphere_hash);
   p->domain = rep->domain;
   p->viewer_max_km = scene->viewer_altitude_km[1];
-  snprintf(p->error, sizeof p->error, "RMSE %.3g, max abs %.3g, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
-           m->errors.rmse, m->errors.max_abs, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
+  char max_text[128];
+  sf_fitted_max_abs_text(m->errors.max_abs, fit_max_abs(c), max_text, sizeof max_text);
+  snprintf(p->error, sizeof p->error, "RMSE %.3g, %s, mean rel %.3g, rel RMSE %.3g over %zu in-domain values%s",
+           m->errors.rmse, max_text, m->errors.mean_rel, m->errors.rel_rmse, m->errors.n_values,
            m->meets_budget ? "" : " (does NOT meet the scene's budget)");
   p->emit = c->emit;
   p->model = c->emit_model;

@@ -171,6 +171,22 @@ check "previous output untouched" "cmp -s $tmp/a/skyfit.h $tmp/before.h"
 command -v glslangValidator >/dev/null || { echo "FAIL glslangValidator is not installed (scripts/setup.sh installs it)"; fail=1; }
 if [ -z "${SKYFIT_SOURCE_DIR:-}" ]; then echo "FAIL SKYFIT_SOURCE_DIR is not set (ctest sets it)"; fail=1; else
   w="$SKYFIT_SOURCE_DIR/weights/default"
+  # The header's max abs is the larger of the build's sample and the fit's
+  # search near the horizon (it had stated the sample's 0.505 for a sigmoid
+  # whose file holds 0.661, found just below the horizon).
+  mkdir -p "$tmp/maxabs"
+  "$SKYFIT_BIN" codegen --weights "$w/sigmoid.json" --weights "$w/mlp-transmittance.json" --lang c \
+    --out "$tmp/maxabs" --quiet
+  check "the header states the fit's larger maximum, and the sample's" "python3 - $w $tmp/maxabs/skyfit.h <<'PY'
+import json, sys
+text = open(sys.argv[2]).read()
+for name in ('sigmoid', 'mlp-transmittance'):
+    m = json.load(open(sys.argv[1] + '/' + name + '.json'))['metrics']
+    sample, fit = m['build_error']['max_abs'], m.get('max_abs', float('nan'))
+    want = ('max abs %.3g (the fit' % fit + \"'s search near the horizon; %.3g over the values)\" % sample) if fit > sample else 'max abs %.3g,' % sample
+    assert want in text, (name, want)
+assert json.load(open(sys.argv[1] + '/sigmoid.json'))['metrics']['max_abs'] > 0.6
+PY"
   # Without a transmittance network the segment is left out, and codegen says so.
   mkdir -p "$tmp/alone"
   "$SKYFIT_BIN" codegen --weights "$w/mlp-scattering.json" --lang c --out "$tmp/alone" 2> "$tmp/alone/err.txt"
