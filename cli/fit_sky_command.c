@@ -118,10 +118,11 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
   for (int i = 0; i < n; ++i) {
     double theta = pts.values[i * pts.n_columns + ct], gamma = pts.values[i * pts.n_columns + cg];
     double L = pts.values[i * pts.n_columns + cr];
-    if (!(theta >= 0 && theta < 0.5 * SF_PI) || !(gamma >= 0 && gamma <= SF_PI) || !isfinite(L)) {
+    /* a negative radiance had been fitted silently */
+    if (!(theta >= 0 && theta < 0.5 * SF_PI) || !(gamma >= 0 && gamma <= SF_PI) || !(L >= 0)) {
       fprintf(stderr,
-              "%s: %s: row %d: need 0 <= theta < pi/2, 0 <= gamma <= pi (radians) and a finite "
-              "radiance, got %g, %g, %g\n",
+              "%s: %s: row %d: need 0 <= theta < pi/2, 0 <= gamma <= pi (radians) and a radiance >= 0, "
+              "got %g, %g, %g\n",
               command, path, i + 2, theta, gamma, L);
       sf_sky_samples_free(&s);
       sf_csv_points_free(&pts);
@@ -135,6 +136,12 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
   sf_csv_points_free(&pts);
   if (!(ss > 0)) {
     fprintf(stderr, "%s: %s: every radiance is 0\n", command, path);
+    sf_sky_samples_free(&s);
+    return 2;
+  }
+  /* A radiance of 1e300 had ended as a "converged" fit of rmse null. */
+  if (!isfinite(ss)) {
+    fprintf(stderr, "%s: %s: radiance: the squares overflow double; scale the radiances down\n", command, path);
     sf_sky_samples_free(&s);
     return 2;
   }
@@ -215,6 +222,12 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
     }
   }
   sf_sky_samples_free(&s);
+  int finite = isfinite(sse) && isfinite(scale);
+  for (int i = 0; i < nc; ++i) finite = finite && isfinite(coeffs[i]);
+  if (!finite) {
+    fprintf(stderr, "%s: %s: the fit gave non-finite values\n", command, path);
+    return 1;
+  }
   cJSON *root = cJSON_CreateObject();
   cJSON_AddStringToObject(root, "model", sf_sky_form_model_name(form));
   cJSON *co = cJSON_AddObjectToObject(root, "coefficients");
@@ -244,6 +257,11 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
   if (!text) return 1;
   printf("%s\n", text);
   free(text);
+  /* the result is this output: a full disk had lost it with exit 0 */
+  if (fflush(stdout) != 0 || ferror(stdout)) {
+    fprintf(stderr, "%s: writing to stdout failed\n", command);
+    return 1;
+  }
   return 0;
 }
 

@@ -153,6 +153,15 @@ header=$(head -1 "$TMP/t.csv")
 json=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 200 --batch 64 --quiet)
 mse=$(echo "$json" | sed 's/.*"final_train_mse": \([^,]*\),.*/\1/')
 awk -v m="$mse" 'BEGIN { exit !(m > 0 && m < 0.03) }' && pass "fit mlp prints final_train_mse $mse" || fail "fit mlp: $json"
+# Its figures are its output: a full disk had lost them with exit 0.
+if [ -w /dev/full ]; then
+  set +e
+  err=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 2 --batch 64 --quiet 2>&1 >/dev/full)
+  rc=$?
+  set -e
+  [ "$rc" = 1 ] && echo "$err" | grep -q "writing to stdout failed" && pass "fit mlp, stdout on a full disk: exit 1, $err" ||
+    fail "fit mlp, stdout on a full disk: rc $rc, '$err'"
+fi
 # Levenberg-Marquardt polish (fit/mlp_lm.h) after the same Adam run: lower loss
 plain=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 50 --batch 64 --quiet)
 polished=$("$BIN" fit mlp --data "$TMP/t.csv" --inputs 2 --layers 2,4,3 --epochs 50 --batch 64 --polish 20 --quiet)

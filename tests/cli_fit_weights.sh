@@ -151,6 +151,18 @@ expect 0 "hosek --samples" "coefficients" -- "$bin" fit hosek --samples "$tmp/ho
 cp "$tmp/out" "$tmp/hosek_fit.json"
 expect 0 "preetham --samples" "coefficients" -- "$bin" fit preetham --samples "$tmp/perez.csv"
 cp "$tmp/out" "$tmp/perez_fit.json"
+# A radiance below 0 had been fitted silently, and one of 1e300 had ended
+# as a "converged" fit of rmse null, exit 0; a result lost on a full disk
+# had exited 0.
+{ cat "$tmp/perez.csv"; echo "0.5,0.5,-1"; } >"$tmp/negative.csv"
+{ cat "$tmp/perez.csv"; echo "0.5,0.5,1e300"; } >"$tmp/huge.csv"
+expect 2 "preetham --samples, a negative radiance" "radiance >= 0, got 0.5, 0.5, -1" -- "$bin" fit preetham --samples "$tmp/negative.csv"
+expect 2 "preetham --samples, radiances whose squares overflow" "huge.csv: radiance: the squares overflow" -- \
+  "$bin" fit preetham --samples "$tmp/huge.csv"
+if [ -w /dev/full ]; then
+  expect 1 "preetham --samples, stdout on a full disk" "writing to stdout failed" -- \
+    bash -c '"$0" fit preetham --samples "$1" >/dev/full' "$bin" "$tmp/perez.csv"
+fi
 python3 - "$tmp" <<'PY' || fail=1
 import json, sys
 d = sys.argv[1]; bad = 0
