@@ -18,7 +18,7 @@
 /* rng stream keys of this file */
 #define INIT_KEY 0x696e6974ull      /* "init" */
 #define SHUFFLE_KEY 0x73687566ull   /* "shuf" */
-#define CHECKPOINT_MAGIC "SKYFIT-MLP-CHECKPOINT 1\n"
+#define CHECKPOINT_MAGIC "SKYFIT-MLP-CHECKPOINT 2\n"
 
 void sf_train_options_default(sf_train_options *o) {
   memset(o, 0, sizeof *o);
@@ -199,22 +199,38 @@ static uint64_t run_fingerprint(const sf_dataset *train, const sf_dataset *val, 
   return h;
 }
 
-/* Binary, native byte order (a checkpoint resumes on the machine that wrote it). */
+/* Binary, native byte order (a checkpoint resumes on the machine that wrote
+ * it), ending in the FNV-1a hash of everything after the magic: a damaged
+ * checkpoint had resumed into 2 billion epochs, a false "diverged" or other
+ * weights, each silently. put/get write or read n bytes and hash them. */
+static void put(FILE *out, uint64_t *hash, const void *bytes, size_t n) {
+  fwrite(bytes, 1, n, out);
+  *hash = sf_fnv1a64(*hash, bytes, n);
+}
+
+static int get(FILE *in, uint64_t *hash, void *bytes, size_t n) {
+  if (fread(bytes, 1, n, in) != n) return 0;
+  *hash = sf_fnv1a64(*hash, bytes, n);
+  return 1;
+}
+
 static int write_checkpoint(const char *path, uint64_t fingerprint, const train_state *st, int np,
                             sf_error *err) {
   sf_atomic_file f;
   if (sf_atomic_open(&f, path, err)) return err->status;
   FILE *out = f.stream;
+  uint64_t hash = SF_FNV1A64_OFFSET;
   fwrite(CHECKPOINT_MAGIC, 1, strlen(CHECKPOINT_MAGIC), out);
-  fwrite(&fingerprint, sizeof fingerprint, 1, out);
+  put(out, &hash, &fingerprint, sizeof fingerprint);
   int ints[7] = {st->restart, st->epoch, st->since_best, st->epochs_run, st->best_restart_epoch,
                  st->best_restart, st->best_epoch};
-  fwrite(ints, sizeof ints, 1, out);
-  fwrite(&st->adam.step, sizeof st->adam.step, 1, out);
+  put(out, &hash, ints, sizeof ints);
+  put(out, &hash, &st->adam.step, sizeof st->adam.step);
   double losses[2] = {st->best_restart_loss, st->best_loss};
-  fwrite(losses, sizeof losses, 1, out);
+  put(out, &hash, losses, sizeof losses);
   const double *arrays[5] = {st->params, st->restart_best, st->overall_best, st->adam.m, st->adam.v};
-  for (int k = 0; k < 5; ++k) fwrite(arrays[k], sizeof(double), (size_t)np, out);
+  for (int k = 0; k < 5; ++k) put(out, &hash, arrays[k], sizeof(double) * (size_t)np);
+  fwrite(&hash, sizeof hash, 1, out);
   if (ferror(out)) {
     sf_atomic_abort(&f);
     return sf_fail(err, SF_ERR_INPUT, "%s: cannot write the checkpoint", path);
@@ -226,27 +242,31 @@ static int read_checkpoint(const char *path, uint64_t fingerprint, train_state *
   FILE *in = fopen(path, "rb");
   if (!in) return sf_fail(err, SF_ERR_INPUT, "%s: --resume: no checkpoint to resume from", path);
   char magic[sizeof CHECKPOINT_MAGIC];
-  uint64_t fp = 0;
+  uint64_t fp = 0, hash = SF_FNV1A64_OFFSET, stored = 0;
   int ints[7];
   double losses[2];
   int ok = fread(magic, 1, strlen(CHECKPOINT_MAGIC), in) == strlen(CHECKPOINT_MAGIC) &&
-           memcmp(magic, CHECKPOINT_MAGIC, strlen(CHECKPOINT_MAGIC)) == 0 &&
-           fread(&fp, sizeof fp, 1, in) == 1;
+           memcmp(magic, CHECKPOINT_MAGIC, strlen(CHECKPOINT_MAGIC)) == 0 && get(in, &hash, &fp, sizeof fp);
   if (!ok) {
     fclose(in);
-    return sf_fail(err, SF_ERR_INPUT, "%s: not a skyfit MLP checkpoint", path);
+    return sf_fail(err, SF_ERR_INPUT, "%s: not a skyfit MLP checkpoint (or one of an older skyfit)", path);
   }
   if (fp != fingerprint) {
     fclose(in);
     return sf_fail(err, SF_ERR_INPUT,
                    "%s: the checkpoint belongs to another run (different data, network or options)", path);
   }
-  ok = fread(ints, sizeof ints, 1, in) == 1 && fread(&st->adam.step, sizeof st->adam.step, 1, in) == 1 &&
-       fread(losses, sizeof losses, 1, in) == 1;
+  ok = get(in, &hash, ints, sizeof ints) && get(in, &hash, &st->adam.step, sizeof st->adam.step) &&
+       get(in, &hash, losses, sizeof losses);
   double *arrays[5] = {st->params, st->restart_best, st->overall_best, st->adam.m, st->adam.v};
-  for (int k = 0; k < 5 && ok; ++k) ok = fread(arrays[k], sizeof(double), (size_t)np, in) == (size_t)np;
+  for (int k = 0; k < 5 && ok; ++k) ok = get(in, &hash, arrays[k], sizeof(double) * (size_t)np);
+  ok = ok && fread(&stored, sizeof stored, 1, in) == 1;
+  int extra = ok && fgetc(in) != EOF;
   fclose(in);
   if (!ok) return sf_fail(err, SF_ERR_INPUT, "%s: checkpoint is truncated", path);
+  if (extra || stored != hash)
+    return sf_fail(err, SF_ERR_INPUT, "%s: checkpoint is corrupt (its checksum does not match); remove it and "
+                   "train from the start", path);
   st->restart = ints[0];
   st->epoch = ints[1];
   st->since_best = ints[2];

@@ -137,6 +137,22 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 130 ] && [ -f "$TMP/r.json.checkpoint" ] && [ ! -f "$TMP/r.json" ] && pass "interrupted: exit 130, checkpoint, no weights" || fail "interrupt: rc $rc"
+# A damaged checkpoint (8 bytes overwritten with a NaN's, at its epoch
+# counters, its losses and its parameters; one byte appended) is refused,
+# exit 2, nothing written, the checkpoint kept: it had resumed into 2
+# billion epochs, a false "diverged" or other weights, each silently.
+for damage in 40 60 100 200 append; do
+  cp "$TMP/r.json.checkpoint" "$TMP/damaged.checkpoint"
+  if [ "$damage" = append ]; then printf 'x' >>"$TMP/damaged.checkpoint"
+  else printf '\x00\x00\x00\x00\x00\x00\xf8\x7f' | dd of="$TMP/damaged.checkpoint" bs=1 seek="$damage" conv=notrunc status=none; fi
+  set +e
+  err=$("$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/damaged.json" \
+    --checkpoint "$TMP/damaged.checkpoint" --resume --quiet 2>&1)
+  rc=$?
+  set -e
+  [ "$rc" = 2 ] && echo "$err" | grep -q "damaged.checkpoint: checkpoint is corrupt" && [ ! -e "$TMP/damaged.json" ] &&
+    [ -f "$TMP/damaged.checkpoint" ] && pass "checkpoint damaged ($damage): exit 2, $err" || fail "checkpoint damaged ($damage): rc $rc, '$err'"
+done
 set +e
 "$BIN" fit mlp-transmittance "${TT[@]}" --epochs 30 --restarts 2 --patience 5 --polish 10 --out "$TMP/r.json" --resume --stop-after-epochs 20 --quiet
 set -e
