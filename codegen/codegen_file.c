@@ -1,6 +1,7 @@
 #include "codegen/codegen_file.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -276,7 +277,7 @@ int sf_codegen_prepare_files(const sf_codegen_part *parts, int n_parts, const ch
       break;
     }
     out->open[k] = 1;
-    if (fputs(text[k], out->file[k].stream) == EOF) status = sf_fail(err, SF_ERR_INTERNAL, "%s: write failed", paths[k]);
+    if (fputs(text[k], out->file[k].stream) == EOF) status = sf_fail(err, SF_ERR_INTERNAL, "%s: write failed: %s", paths[k], strerror(errno));
   }
   free(text[0]);
   free(text[1]);

@@ -190,5 +190,27 @@ else
   fi
 fi
 
+# A full disk is not bad input: exit 1 (SPEC §11), the reason named, no
+# temporary left (fit and sample had exited 2, codegen 1 without the
+# reason). Needs a small tmpfs: root with mount rights (skipped otherwise).
+mkdir -p "$tmp/full"
+if mount -t tmpfs -o size=64k tmpfs "$tmp/full" 2>/dev/null; then
+  printf 'x,y,t\n0,0,1\n1,1,0.5\n0.5,0.2,0.7\n' >"$tmp/d.csv"
+  "$BIN" fit mlp --data "$tmp/d.csv" --inputs 2 --layers 2,64,64,1 --epochs 1 --out "$tmp/full/w.json" >/dev/null 2>"$tmp/err"
+  rc_fit=$?
+  "$BIN" codegen --baselines naive,chapman,taylor,spline --lang both --out "$tmp/full" --quiet 2>"$tmp/err2"
+  rc_codegen=$?
+  left=$(ls -A "$tmp/full")
+  umount "$tmp/full"
+  if [ $rc_fit -eq 1 ] && [ $rc_codegen -eq 1 ] && grep -q "No space left on device" "$tmp/err" &&
+     grep -q "No space left on device" "$tmp/err2" && [ -z "$left" ]; then
+    pass "a full disk: fit mlp and codegen exit 1 naming it, nothing left"
+  else
+    fail "a full disk: fit mlp exit $rc_fit, codegen $rc_codegen, left '$left': $(cat "$tmp/err" "$tmp/err2")"
+  fi
+else
+  echo "skip a full disk (no rights to mount a tmpfs)"
+fi
+
 echo "$failures failed"
 [ $failures -eq 0 ]
