@@ -58,6 +58,13 @@ int sf_table_resolution_parse(const char *text, sf_table_resolution *res, sf_err
                    "--resolution: expected MUxH,HxMUxMU_SxNU (transmittance, then scattering; "
                    "e.g. 256x64,32x128x32x8), got '%s'", text);
   long all[6] = {t[0], t[1], s[0], s[1], s[2], s[3]};
+  /* a negative count had been reported as "count -1" whatever was given */
+  static const char *const axis[6] = {"transmittance mu", "transmittance h", "scattering h",
+                                      "scattering mu",    "scattering mu_s", "scattering nu"};
+  for (int k = 0; k < 6; ++k)
+    if (all[k] < 0)
+      return sf_fail(err, SF_ERR_INPUT, "--resolution: the %s count is negative in '%s' (counts are at least 2)",
+                     axis[k], text);
   for (int k = 0; k < 6; ++k)
     if (all[k] < -1 || all[k] > SF_TABLE_MAX_AXIS_SIZE) all[k] = all[k] < 0 ? -1 : SF_TABLE_MAX_AXIS_SIZE + 1;
   sf_table_resolution r = *res;

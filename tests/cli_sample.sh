@@ -32,6 +32,14 @@ check "no --out: exit $rc ($(cat "$tmp/err"))" "[ $rc -eq 2 ]"
 echo '{"base": "default", "top_radius_km": 6000}' >"$tmp/broken.json"
 "$BIN" sample --out "$tmp/bad" --atmosphere "$tmp/broken.json" --quiet 2>"$tmp/err"
 check "bad atmosphere: exit $?, message: $(cat "$tmp/err")" "[ ! -e '$tmp/bad' ] && grep -q top_radius_km '$tmp/err'"
+# A negative count is named with the axis it is on (every one had read
+# "count -1").
+for res in "-16x8,4x8x4x4|transmittance mu" "16x8,4x8x4x-3|scattering nu" "16x-8,4x8x4x4|transmittance h"; do
+  "$BIN" sample --out "$tmp/bad" --resolution "${res%%|*}" --quiet 2>"$tmp/err"
+  rc=$?
+  check "--resolution ${res%%|*}: exit $rc, $(cat "$tmp/err")" \
+    "[ $rc -eq 2 ] && [ ! -e '$tmp/bad' ] && grep -q -- 'the ${res#*|} count is negative' '$tmp/err'"
+done
 
 touch "$tmp/a_file"
 "$BIN" sample --out "$tmp/a_file/sub" --resolution $small --quiet 2>"$tmp/err"
