@@ -326,6 +326,13 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
                      "%s: sun_elevation_deg: the sun never rises; Preetham and Hosek hold only "
                      "for a sun above the horizon (SPEC §5)",
                      scene_path ? scene_path : "scene");
+  /* A single elevation (or none above the horizon) has no curve to fit:
+   * the fit had said so only after the tables, naming neither file nor key. */
+  if (status == SF_OK && !(fmax(scene->sun_elevation_deg[0], 0.0) < scene->sun_elevation_deg[1]))
+    status = sf_fail(&err, SF_ERR_INPUT,
+                     "%s: sun_elevation_deg: [%g, %g] is a single elevation above the horizon; the fit across "
+                     "elevations needs a range (e.g. [0, 90])",
+                     scene_path ? scene_path : "scene", scene->sun_elevation_deg[0], scene->sun_elevation_deg[1]);
   if (status == SF_OK) {
     const char *inputs[3];
     sf_cli_scene_files(scene_path, o->atmosphere_path, scene, inputs);

@@ -44,6 +44,11 @@ expect 2 "mlp-transmittance --out ./D = --dump-dataset D, neither there yet" "wo
 expect 2 "fit mlp --out = --data" "would overwrite" -- "$bin" fit mlp --data "$tmp/t.csv" --inputs 2 --layers 2,4,1 --epochs 2 --out "$tmp/t.csv"
 cmp -s "$tmp/a.json" "$tmp/a0.json" && cmp -s "$tmp/t.csv" "$tmp/t0.csv" && cmp -s "$tmp/sc.json" <(printf '{"atmosphere": "a.json", "viewer_altitude_km": [0, 0], "sun_elevation_deg": [0, 90]}\n') ||
   { echo "FAIL an input file was changed"; fail=1; }
+# A single sun elevation is refused before the tables, naming the scene and
+# its key (the fit had said "sun elevation range [30, 30]" after them).
+printf '{"viewer_altitude_km": [0, 0], "sun_elevation_deg": [30, 30]}\n' >"$tmp/one-sun.json"
+expect 2 "hosek, a single sun elevation" "one-sun.json: sun_elevation_deg: \[30, 30\] is a single elevation" -- \
+  "$bin" fit hosek --scene "$tmp/one-sun.json" --out "$tmp/one-sun-w.json" "${small[@]}"
 start=$(date +%s%N)
 expect 2 "hosek, unwritable --out" "cannot write here" -- "$bin" fit hosek --out "$tmp/missing/w.json" "${small[@]}"
 expect 2 "spectral4, unwritable --out" "cannot write here" -- "$bin" fit spectral4 --out "$tmp/missing/deeper/w.json" "${small[@]}"
