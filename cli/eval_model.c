@@ -107,10 +107,15 @@ int sf_eval_model_check_ray(const sf_eval_model *m, sf_ray_end end, double dista
                    "transmittance network: add --transmittance-model T.json (mlp-transmittance, the same atmosphere)",
                    m->path);
   }
+  /* the option given is named: --to-distance had been answered about --to top */
+  const char *asked = distance >= 0.0 ? "--to-distance" : "--to top";
+  const char *takes = distance >= 0.0 ? "sigmoid, mlp-transmittance or mlp-scattering (with --transmittance-model)"
+                                      : "a transmittance model (sigmoid, mlp-transmittance)";
   return sf_fail(err, SF_ERR_INPUT,
                  "%s: model \"%s\" evaluates the full ray (to the ground or the top, whichever comes first)%s; "
-                 "--to top takes a transmittance model (sigmoid, mlp-transmittance)",
-                 m->path, m->name, m->kind == SF_EVAL_MODEL_MLP_SCATTERING ? " and segments (--to-distance)" : "");
+                 "%s takes %s",
+                 m->path, m->name, m->kind == SF_EVAL_MODEL_MLP_SCATTERING ? " and segments (--to-distance)" : "",
+                 asked, takes);
 }
 
 void sf_eval_model_values(const sf_eval_model *m, const double *v, double distance, double *out) {

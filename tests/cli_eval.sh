@@ -544,6 +544,13 @@ expect_error "the sky network's segments with a sigmoid" "$(cat "$TMP/ground.csv
 expect_error "--transmittance-model for hosek" "$(cat "$TMP/ground.csv")" \
   'hosek.json: --transmittance-model joins an mlp-scattering model' \
   sky_radiance --model "$W/hosek.json" --to-distance 5 --transmittance-model "$W/mlp-transmittance.json"
+# the option given is the one named (--to-distance had been answered about --to top)
+expect_error "hosek with --to-distance" "$(cat "$TMP/ground.csv")" \
+  'hosek.json: model "hosek" evaluates the full ray .*; --to-distance takes sigmoid, mlp-transmittance or mlp-scattering' \
+  sky_radiance --model "$W/hosek.json" --to-distance 5
+expect_error "hosek with --to top" "$(cat "$TMP/ground.csv")" \
+  'hosek.json: model "hosek" evaluates the full ray .*; --to top takes a transmittance model' \
+  sky_radiance --model "$W/hosek.json" --to top
 expect_error "--transmittance-model without --to-distance" "$(cat "$TMP/ground.csv")" \
   '--transmittance-model: for sky_radiance --model \(mlp-scattering\) with --to-distance only' \
   sky_radiance --model "$W/mlp-scattering.json" --transmittance-model "$W/mlp-transmittance.json"
