@@ -1,6 +1,7 @@
 #include "cli/csv_points.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -83,7 +84,8 @@ static int parse_header(char *line, const char *source, const char *const *allow
     if (fields[i][0] == '\0')
       return sf_fail(err, SF_ERR_INPUT, "%s: row 1 (header): column %d has no name", source, i + 1);
     if (!in_list(fields[i], allowed))
-      return sf_fail(err, SF_ERR_INPUT, "%s: row 1 (header): unknown column '%s'", source, fields[i]);
+      return sf_fail(err, SF_ERR_INPUT, "%s: row 1 (header): unknown column '%.60s%s'", source, fields[i],
+                     strlen(fields[i]) > 60 ? "..." : "");
     for (int j = 0; j < i; ++j)
       if (strcmp(fields[i], fields[j]) == 0)
         return sf_fail(err, SF_ERR_INPUT, "%s: row 1 (header): column '%s' appears twice", source,
@@ -118,12 +120,14 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
     char *end;
     double v = strtod(fields[i], &end);
     /* decimal only: strtod would read "0x10" as 16 */
+    /* a long field is cut in the message, which had lost its verdict */
+    const char *more = strlen(fields[i]) > 60 ? "..." : "";
     if (fields[i][0] == '\0' || *end != '\0' || strpbrk(fields[i], "xX"))
-      return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%s' is not a number", source, row,
-                     out->column_names[i], fields[i]);
+      return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%.60s%s' is not a number", source, row,
+                     out->column_names[i], fields[i], more);
     if (!isfinite(v))
-      return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%s' is not finite", source, row,
-                     out->column_names[i], fields[i]);
+      return sf_fail(err, SF_ERR_INPUT, "%s: row %ld, column %s: '%.60s%s' is not finite", source, row,
+                     out->column_names[i], fields[i], more);
     row_values[i] = v;
   }
   for (int i = 0; i < nc; ++i) {
@@ -170,6 +174,9 @@ int sf_csv_points_read(FILE *in, const char *source, const char *const *allowed,
     else
       status = append_row(out, &capacity, fields, row, source, err);
   }
+  /* a read error (stdin a folder, or closed) had been reported as empty input */
+  if (status == 0 && ferror(in))
+    status = sf_fail(err, SF_ERR_INPUT, "%s: cannot read: %s", source, strerror(errno ? errno : EIO));
   if (status == 0 && row == 0)
     status = sf_fail(err, SF_ERR_INPUT, "%s: empty input: expected a header row naming the columns",
                      source);

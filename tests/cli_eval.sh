@@ -602,6 +602,16 @@ else
   fail "1e12 per km: $(cat "$TMP/out" "$TMP/err" | head -c 300)"
 fi
 
+# A read error is named (a folder on stdin had read as "empty input"); a
+# long field is cut in the message, which keeps its verdict (it had been
+# cut off by the field).
+rc=0
+"$BIN" eval transmittance <"$TMP" >"$TMP/out" 2>"$TMP/err" || rc=$?
+[[ $rc -eq 2 && ! -s $TMP/out ]] && grep -q "stdin: cannot read: Is a directory" "$TMP/err" &&
+  pass "stdin a folder: exit 2, $(cat "$TMP/err")" || fail "stdin a folder: exit $rc, $(cat "$TMP/err")"
+expect_error "a 1200-digit field" "h_km,mu"$'\n'"1,$(printf '9%.0s' $(seq 1200))x"$'\n' \
+  "row 2, column mu: '9{60}\.\.\.' is not a number" transmittance
+
 # Finite inputs whose values overflow (a weights file's extreme but finite
 # parameters, a sun of 1e308) had printed inf, exit 0: now exit 2 naming
 # the file, the column and the point, nothing on stdout.
