@@ -214,11 +214,19 @@ static int read_inputs(const sf_json_ctx *c, const cJSON *root, sf_weights *w) {
     const cJSON *off = sf_json_get(e, "offset");
     if (!off) return sf_json_fail(c, kpath, "missing");
     if (sf_json_read_finite(c, off, kpath, &in->offset)) return SF_ERR_INPUT;
+    /* as params (array_shape below): an offset of 1e300 had stopped codegen
+     * with "constant inf is not a finite float32", naming no file nor key */
+    if (isinf((float)in->offset))
+      return sf_json_fail(c, kpath, "%.17g is beyond float32's range (%.9g), which the emitted code holds",
+                          in->offset, (double)FLT_MAX);
     sf_json_join_key(kpath, sizeof kpath, path, "scale");
     const cJSON *sc = sf_json_get(e, "scale");
     if (!sc) return sf_json_fail(c, kpath, "missing");
     if (sf_json_read_finite(c, sc, kpath, &in->scale)) return SF_ERR_INPUT;
     if (in->scale == 0.0) return sf_json_fail(c, kpath, "must not be 0");
+    if (isinf((float)in->scale))
+      return sf_json_fail(c, kpath, "%.17g is beyond float32's range (%.9g), which the emitted code holds",
+                          in->scale, (double)FLT_MAX);
   }
   w->n_inputs = n;
   return SF_OK;

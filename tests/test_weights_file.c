@@ -148,6 +148,8 @@ int main(void) {
       {"\"h_km\":\t[0, 15]", "\"h_km\":\t[15, 0]", "domain.h_km"},
       {"\"mu\":\t[-1, 1]", "\"mu\":\t[-1, 2]", "domain.mu"},
       {"\"scale\":\t1\n", "\"scale\":\t0\n", "inputs[1].scale"},
+      /* an input's normalisation is emitted too (codegen had failed naming neither) */
+      {"\"scale\":\t1\n", "\"scale\":\t1e300\n", "inputs[1].scale"},
       {"\"training\"", "\"trainnig\"", "trainnig"},
       {"\"ground_albedo\":\t[0, 0, 0]", "\"ground_albedo\":\t[0, 0, 0.5]", "atmosphere_hash"},
       {"\"bottom_radius_km\":\t6360", "\"bottom_radius_km\":\t-1", "atmosphere"},
