@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
@@ -166,6 +167,13 @@ static int header_clash(const char *command, const char *scene_path, const sf_sc
     char own[SF_BUILD_OUT_FILES + SF_BUILD_OUT_FOLDERS + 1][SF_REPORT_PATH_LEN + 64];
     int in_folder;
     const char *clash = header_clash_of(paths, k, inputs, o->out_dir, own, &in_folder);
+    struct stat st;
+    /* found here, before the work, naming the option (it had been found
+     * after the fits, as ".: is a folder") */
+    if (!clash && stat(paths[k], &st) == 0 && S_ISDIR(st.st_mode)) {
+      fprintf(stderr, "%s: %s %s: is a folder; give the header's file path\n", command, option[k], paths[k]);
+      return 2;
+    }
     if (!clash) continue;
     if (in_folder == 2)
       fprintf(stderr, "%s: %s %s: is a folder the build makes itself (%s); give another path\n", command, option[k],

@@ -692,11 +692,11 @@ for args in "scene.json --header-c scene.json" "scene.json --header-glsl ./scene
             "scene.json --header-glsl ../clash/scene.json" "scene-air.json" \
             "scene.json --header-c out/views/new/deeper/sky.h" "scene.json --header-glsl out/cache/x/../y/sky.glsl" \
             "scene.json --header-glsl out/views" "scene.json --header-c out/plots/" "scene.json --header-c ./out/cache" \
-            "scene.json --header-glsl out/x/../weights"; do
+            "scene.json --header-glsl out/x/../weights" "scene.json --header-c ." "scene.json --header-glsl /tmp"; do
   read -r -a a <<<"$args"
   (cd "$tmp/clash" && "$bin" build "${a[@]}" "${tiny[@]}" --out out > /dev/null 2> err)
   rc=$?
-  [ $rc -eq 2 ] && grep -q "give another path" "$tmp/clash/err" && [ ! -e "$tmp/clash/out" ] &&
+  [ $rc -eq 2 ] && grep -Eq "give another path|is a folder; give the header's file path" "$tmp/clash/err" && [ ! -e "$tmp/clash/out" ] &&
     cmp -s "$tmp/clash/scene.json" "$tmp/clash/scene.orig" && grep -q base "$tmp/clash/air.json" ||
     { echo "FAIL build $args: exit $rc, or something written"; cat "$tmp/clash/err"; fail=1; }
 done
