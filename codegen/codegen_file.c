@@ -79,7 +79,10 @@ static void header_comment(sf_code_writer *w, const sf_codegen_part *parts, int 
                  " * moves eq. 43-44 differences and the baselines' sums by up to ~1e-3.\n");
   else
     sf_cw_raw(w, " * Compile without -ffast-math: the formulas keep their float32 precision\n"
-                 " * only in the order written.\n");
+                 " * only in the order written. Fused multiply-adds (-ffp-contract=fast, GCC's\n"
+                 " * default outside -std=c99/c11, with -march=...fma) keep the precision but\n"
+                 " * may put a ray within an ulp of the horizon cosine on the other side of\n"
+                 " * the ground/sky jump than the same call without them.\n");
   for (int p = 0; p < n_parts; ++p) {
     const sf_codegen_part *part = &parts[p];
     char line[3 * SF_CODEGEN_TEXT_LEN];

@@ -284,6 +284,9 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
   sf_cw_emit(w, ");\n}\n\n");
 
   sf_cw_emit(w,
+             "/* the network's own quantity: T to the top from a viewer inside the\n"
+             " * atmosphere; skyfit_mlp_transmittance takes any viewer (those in\n"
+             " * space moved to where their ray enters, rays that miss: 1) */\n"
              "@fn %V skyfit_mlp_transmittance_top(float h_km, float mu) {\n"
              "  %V a = skyfit_mlp_transmittance_net(h_km, mu);\n"
              "  return %C",
