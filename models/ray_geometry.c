@@ -32,10 +32,15 @@ double sf_ray_mu_at(double r, double mu, double t) {
 int sf_ray_enter_from_above(double r, double mu, double mu_s, double nu, double top, double *t_enter, double *mu_e,
                             double *mu_s_e) {
   if (!(r > top) || !(mu < 0.0)) return 0;
-  double p = r * sqrt((1.0 - mu) * (1.0 + mu));
-  if (!(p < top)) return 0;   /* a ray that only touches the sphere has no path inside */
-  double s = sqrt((top - p) * (top + p));
-  *t_enter = -r * mu - s;
+  /* s^2 = top^2 - p^2 as the discriminant forms it: from the closest
+   * approach far out, (top - r)(top + r) + (r mu)^2 near the sphere, where
+   * top - p had cancelled (a viewer 1e-12 km above the top, mu -1e-7, had
+   * seen its column 7.5e-3 off) */
+  double disc = sf_ray_sphere_discriminant(r, mu, top);
+  if (!(disc > 0.0)) return 0;   /* a ray that only touches the sphere has no path inside */
+  double s = sqrt(disc);
+  /* the near root as c / q, q = s - r mu > 0: -r mu - s cancels when grazing */
+  *t_enter = (r - top) * (r + top) / (s - r * mu);
   *mu_e = -s / top;
   if (mu_s_e) {
     double m = (r * (mu_s - mu * nu) - s * nu) / top;

@@ -46,8 +46,10 @@ int sf_ray_atmosphere_segment(double r, double mu, double bottom_radius,
                               double *t_exit, int *hits_ground);
 
 /* Where the ray of a viewer above the sphere of radius top (r > top) enters
- * it, taken from the ray's closest approach p = r sqrt((1 - mu)(1 + mu)):
- * the distance t_enter = -r mu - s, s = sqrt((top - p)(top + p)), the view
+ * it: with s^2 = top^2 - p^2, p = r sqrt((1 - mu)(1 + mu)) the ray's closest
+ * approach (formed as sf_ray_sphere_discriminant forms it, without
+ * cancellation near the sphere or far out), the distance t_enter = -r mu - s
+ * (computed as (r - top)(r + top) / (s - r mu)), the view
  * cosine there mu_e = -s / top and, with the sun at mu_s and view-sun cosine
  * nu, the sun cosine there (r (mu_s - mu nu) - s nu) / top (mu_s_e may be
  * NULL). (r mu + t_enter) / top and (r mu_s + t_enter nu) / top cancel for
