@@ -23,6 +23,8 @@ void sf_emit_sky_open(sf_code_writer *w, const sf_atmosphere *atm, const char *n
   const double R = atm->bottom_radius_km, H = atm->top_radius_km - atm->bottom_radius_km;
   sf_cw_emit(w,
              "@fn %V skyfit_%s_sky_radiance(float h_km, float mu, float mu_s, float nu) {\n"
+             "  mu = @min(@max(mu, -1.0f), 1.0f);\n"   /* as the fitted models: |mu| 1.1 had given NaN */
+             "  mu_s = @min(@max(mu_s, -1.0f), 1.0f);\n"
              "  nu = skyfit_clamp_nu(mu, mu_s, nu);\n"
              "  @vec4 e = skyfit_ray_enter(%F, %F, @max(h_km, 0.0f), mu, mu_s, nu);\n",
              nk, name, R, H);

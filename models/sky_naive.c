@@ -56,11 +56,13 @@ void sf_sky_naive_radiance(const sf_sky_naive *m, double h_km, double mu, double
   const sf_atmosphere *atm = m->atm;
   const int nc = atm->n_constituents, nk = atm->n_channels;
   for (int k = 0; k < nk; ++k) L[k] = 0.0;
+  mu = clamp1(mu);   /* the cosines clamped as the emitted code clamps them */
+  mu_s = clamp1(mu_s);
   nu = sf_clamp_nu(mu, mu_s, nu);
   sf_view_ray ray;
   double mu_s_e;
   const char *why = NULL;
-  if (sf_view_ray_make_at_entry(atm, fmax(h_km, 0.0), clamp1(mu), mu_s, nu, SF_RAY_END_NEAREST, -1.0, &ray, &mu_s_e,
+  if (sf_view_ray_make_at_entry(atm, fmax(h_km, 0.0), mu, mu_s, nu, SF_RAY_END_NEAREST, -1.0, &ray, &mu_s_e,
                                 &why) != 0 ||
       !(ray.t1 > ray.t0))
     return;
@@ -109,6 +111,8 @@ int sf_sky_naive_f_make(const sf_sky_naive *m, sf_sky_naive_f *out) {
 void sf_sky_naive_radiance_f(const sf_sky_naive_f *m, float h_km, float mu, float mu_s, float nu, float *L) {
   const int nc = m->sky.n_constituents, nk = m->sky.n_channels;
   for (int k = 0; k < nk; ++k) L[k] = 0.0f;
+  mu = fminf(fmaxf(mu, -1.0f), 1.0f);   /* skyfit_<model>_sky_radiance's clamps */
+  mu_s = fminf(fmaxf(mu_s, -1.0f), 1.0f);
   float spread = sqrtf(fmaxf(0.0f, (1.0f - mu * mu) * (1.0f - mu_s * mu_s)));
   nu = fminf(fmaxf(nu, mu * mu_s - spread), mu * mu_s + spread);
   float R = m->sky.bottom, Rt = m->sky.bottom + m->sky.thickness;

@@ -112,11 +112,13 @@ void sf_sky_raymarched_radiance(const sf_sky_raymarched *m, double h_km, double 
                                 double *L) {
   const sf_atmosphere *atm = m->atm;
   for (int k = 0; k < atm->n_channels; ++k) L[k] = 0.0;
+  mu = clamp1(mu);   /* the cosines clamped as the emitted code clamps them */
+  mu_s = clamp1(mu_s);
   nu = sf_clamp_nu(mu, mu_s, nu);
   sf_view_ray ray;
   march w = {.m = m, .ray = &ray, .nu = nu};
   const char *why = NULL;
-  if (sf_view_ray_make_at_entry(atm, fmax(h_km, 0.0), clamp1(mu), mu_s, nu, SF_RAY_END_NEAREST, -1.0, &ray, &w.mu_s,
+  if (sf_view_ray_make_at_entry(atm, fmax(h_km, 0.0), mu, mu_s, nu, SF_RAY_END_NEAREST, -1.0, &ray, &w.mu_s,
                                 &why) != 0 ||
       !(ray.t1 > ray.t0))
     return;
@@ -240,6 +242,8 @@ void sf_sky_raymarched_radiance_f(const sf_sky_raymarched_f *m, float h_km, floa
   const int nc = m->sky.n_constituents, nk = m->sky.n_channels;
   const float R = m->sky.bottom;
   for (int k = 0; k < nk; ++k) L[k] = 0.0f;
+  mu = fminf(fmaxf(mu, -1.0f), 1.0f);   /* skyfit_<model>_sky_radiance's clamps */
+  mu_s = fminf(fmaxf(mu_s, -1.0f), 1.0f);
   float spread = sqrtf(fmaxf(0.0f, (1.0f - mu * mu) * (1.0f - mu_s * mu_s)));
   nu = fminf(fmaxf(nu, mu * mu_s - spread), mu * mu_s + spread);
   float hv = fmaxf(h_km, 0.0f), seg[4];

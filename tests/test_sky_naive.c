@@ -191,9 +191,36 @@ static void check_emitted(const sf_atmosphere *atm, int schuler, const char *dir
   sf_candidate_free(&c);
 }
 
+/* Cosines past +-1 (a renderer's unnormalised vector) are clamped, as the
+ * fitted models clamp them: |mu| or |mu_s| of 1.1 had given NaN. The same
+ * value as at +-1, in double and in the float port. */
+static void check_clamped_cosines(const sf_atmosphere *atm) {
+  sf_sky_naive m = {.atm = atm, .view_steps = SF_SKY_NAIVE_VIEW_STEPS, .sun_steps = SF_SKY_NAIVE_SUN_STEPS};
+  sf_sky_naive_f mf;
+  if (!CHECK(sf_sky_naive_f_make(&m, &mf) == 0)) return;
+  const double past[4][2] = {{1.1, 1.0}, {-1.1, -1.0}, {1.0 + 1e-7, 1.0}, {3.0, 1.0}};
+  int same = 1;
+  for (int i = 0; i < 4; ++i) {
+    double a[4], b[4], c[4], d[4];
+    float af[4], bf[4], cf[4], df[4];
+    sf_sky_naive_radiance(&m, 1.0, past[i][0], 0.5, 0.2, a);
+    sf_sky_naive_radiance(&m, 1.0, past[i][1], 0.5, 0.2, b);
+    sf_sky_naive_radiance(&m, 1.0, 0.3, past[i][0], 0.2, c);
+    sf_sky_naive_radiance(&m, 1.0, 0.3, past[i][1], 0.2, d);
+    sf_sky_naive_radiance_f(&mf, 1.0f, (float)past[i][0], 0.5f, 0.2f, af);
+    sf_sky_naive_radiance_f(&mf, 1.0f, (float)past[i][1], 0.5f, 0.2f, bf);
+    sf_sky_naive_radiance_f(&mf, 1.0f, 0.3f, (float)past[i][0], 0.2f, cf);
+    sf_sky_naive_radiance_f(&mf, 1.0f, 0.3f, (float)past[i][1], 0.2f, df);
+    for (int k = 0; k < atm->n_channels; ++k)
+      same &= a[k] == b[k] && c[k] == d[k] && af[k] == bf[k] && cf[k] == df[k] && isfinite(a[k]) && isfinite(af[k]);
+  }
+  CHECK(same);
+}
+
 int main(void) {
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
+  check_clamped_cosines(&atm);
   check_convergence(&atm);
   check_schuler_is_eq24(&atm);
   char dir[] = "/tmp/skyfit-sky-naive-XXXXXX";
