@@ -663,7 +663,8 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
       char *end;
       n_inputs = strtol(argv[++i], &end, 10);
       if (*end != '\0' || n_inputs < 1 || n_inputs >= SF_DATASET_MAX_COLUMNS) {
-        fprintf(stderr, "%s: --inputs: expected a whole number >= 1, got '%s'\n", command, argv[i]);
+        fprintf(stderr, "%s: --inputs: expected a whole number in 1..%d (the data hold at most %d columns), got '%s'\n",
+                command, SF_DATASET_MAX_COLUMNS - 1, SF_DATASET_MAX_COLUMNS, argv[i]);
         return 2;
       }
     } else {
@@ -758,18 +759,23 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
     cJSON_AddNumberToObject(sf_weights_training(doc), "seed", (double)t->seed);
     cJSON_AddNumberToObject(sf_weights_training(doc), "epochs", t->epochs);
     cJSON_AddStringToObject(sf_weights_training(doc), "loss", sf_mlp_loss_name(t->loss));
-    cJSON_AddNumberToObject(sf_weights_metrics(doc), "train_mse", train_mse);
+    /* the MSE of targets beyond 1e154 overflows whatever the loss trained
+     * on: left out, not a refused file that lost the network */
+    if (isfinite(train_mse)) cJSON_AddNumberToObject(sf_weights_metrics(doc), "train_mse", train_mse);
     if (sf_weights_write(doc, o.out, &err)) goto fail;
   }
   if (t->checkpoint_path) remove(t->checkpoint_path);   /* kept for an interrupted polish */
   /* null, not 0, when this call ran no epoch (it resumed a finished run) */
-  char wall[32] = "null", cpu[32] = "null";
+  /* and null, not inf (no JSON), for a loss that overflows */
+  char wall[32] = "null", cpu[32] = "null", mse_text[32] = "null", loss_text[32] = "null";
   if (isfinite(result.seconds_per_epoch)) snprintf(wall, sizeof wall, "%.6g", result.seconds_per_epoch);
   if (isfinite(result.cpu_seconds_per_epoch)) snprintf(cpu, sizeof cpu, "%.6g", result.cpu_seconds_per_epoch);
-  printf("{\"final_train_mse\": %.9g, \"final_train_loss\": %.9g, \"seconds_per_epoch\": %s, "
+  if (isfinite(train_mse)) snprintf(mse_text, sizeof mse_text, "%.9g", train_mse);
+  if (isfinite(result.train_loss)) snprintf(loss_text, sizeof loss_text, "%.9g", result.train_loss);
+  printf("{\"final_train_mse\": %s, \"final_train_loss\": %s, \"seconds_per_epoch\": %s, "
          "\"cpu_seconds_per_epoch\": %s, \"epochs\": %d, \"epochs_this_run\": %d, \"samples\": %ld, "
          "\"batch\": %ld, \"threads\": %d}\n",
-         train_mse, result.train_loss, wall, cpu, result.epochs_run, result.epochs_this_call, train.n, t->batch,
+         mse_text, loss_text, wall, cpu, result.epochs_run, result.epochs_this_call, train.n, t->batch,
          result.n_threads);
   /* the figures are this output: a full disk had lost them with exit 0 */
   if (fflush(stdout) != 0 || ferror(stdout)) {

@@ -463,6 +463,12 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
         o->progress(o->progress_ctx, st.restart - o->first_restart, o->restarts, st.epoch, o->epochs, epoch_loss,
                     val_loss);
     }
+    /* Without a validation set a restart is judged by its kept (last)
+     * network's loss over the whole training set: the last epoch's mean of
+     * the batches' losses, each taken before its step, had kept the worse
+     * of two restarts. */
+    if (!has_val && isfinite(st.best_restart_loss))
+      st.best_restart_loss = sf_mlp_dataset_loss(s, st.restart_best, &loss, train, o->n_threads);
     if (st.best_restart_loss < st.best_loss) {
       st.best_loss = st.best_restart_loss;
       st.best_restart = st.restart;
