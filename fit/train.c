@@ -298,6 +298,17 @@ static void start_restart(train_state *st, const sf_train_options *o, int np) {
  * below -floor. */
 static int check_targets(const sf_dataset *train, const sf_dataset *val, sf_mlp_loss_kind kind, const double *delta,
                          sf_error *err) {
+  /* Squared errors of targets near 1e154 overflow at the first epoch: that
+   * had been reported as divergence, with "try a smaller --lr". */
+  for (int k = 0; kind == SF_LOSS_MSE && k < train->n_out; ++k) {
+    double m = 0.0;
+    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
+    if (!isfinite(m * m * (double)train->n))
+      return sf_fail(err, SF_ERR_INPUT,
+                     "target column '%s' reaches %.3g: its squared errors overflow double over %ld samples; "
+                     "scale the targets, or use --loss log or rel",
+                     train->names[train->n_in + k], m, train->n);
+  }
   if (kind == SF_LOSS_MSE) return SF_OK;
   const char *name = kind == SF_LOSS_REL ? "rel" : "log";
   for (int k = 0; k < train->n_out; ++k) {

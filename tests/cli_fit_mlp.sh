@@ -412,6 +412,9 @@ expect_error() {
 expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3 --out "$TMP/bad.json"
 expect_error "--inputs past the columns the data can hold" "expected a whole number in 1..63 (the data hold at most 64 columns), got '64'" \
   "$BIN" fit mlp --data "$TMP/t.csv" --inputs 64 --layers 64,2 --out "$TMP/bad.json"
+# the mse loss on them is refused before training (it had "diverged", exit 1, "try a smaller --lr")
+expect_error "mse on targets of 1e200" "target column 'y0' reaches 2.7[0-9]e+200: its squared errors overflow" \
+  "$BIN" fit mlp --data "$TMP/huge.csv" --inputs 2 --layers 2,4,2 --epochs 5 --out "$TMP/bad.json"
 expect_error "bad polish" "--polish" "$BIN" fit mlp-transmittance --polish -3 --out "$TMP/bad.json"
 expect_error "bad input map" "--input-map" "$BIN" fit mlp-transmittance --input-map polar --out "$TMP/bad.json"
 expect_error "bad loss" "--loss" "$BIN" fit mlp-scattering --loss huber --out "$TMP/bad.json"
