@@ -83,6 +83,9 @@ int sf_report_write_plot(FILE *f, const sf_report *rep, int q) {
     fputs("<polyline fill=\"none\" stroke=\"#2a7\" stroke-width=\"2\" points=\"", f);
     for (int a = 0; a < nf; ++a) fprintf(f, "%.1f,%.1f ", PX(log10(cost[order[a]])), PY(log10(error[order[a]])));
     fputs("\"/>\n", f);
+  } else if (nf == 1) {   /* a front of one model: a green ring (it had not been marked at all) */
+    fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"11\" fill=\"none\" stroke=\"#2a7\" stroke-width=\"2\"/>\n",
+            PX(log10(cost[order[0]])), PY(log10(error[order[0]])));
   }
   for (int i = 0; i < n; ++i) {
     const sf_report_model *m = &rep->models[idx[i]];

@@ -187,7 +187,7 @@ static void write_page(FILE *f, const sf_report *rep) {
     if (sf_report_write_plot(f, rep, q))
       fputs("<p class=\"note\">Orange: analytic baselines; blue: fitted models; grey: table lookup; hollow: a model "
             "that cannot ship (it needs the tables at run time, cannot be emitted or is valid on part of the domain "
-            "only), left out of the front. Green line: the Pareto front of those that can; dashed red: the scene's "
+            "only), left out of the front. Green line (a green ring for a front of one model): the Pareto front of those that can; dashed red: the scene's "
             "budget; black ring: the selection.</p>\n", f);
     else
       fputs("<p>No model with both a cost and an error to plot.</p>\n", f);

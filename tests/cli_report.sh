@@ -116,7 +116,14 @@ for q in ("transmittance", "sky_radiance"):
     assert got == want and set(sel) <= set(got), f"FAIL {q} front {got}, want {want}, selected {sel}"
 import os, xml.dom.minidom
 for q in ("transmittance", "sky_radiance"):
-    xml.dom.minidom.parse(os.path.dirname(sys.argv[1]) + f"/plots/{q}-cost-error.svg")
+    svg = xml.dom.minidom.parse(os.path.dirname(sys.argv[1]) + f"/plots/{q}-cost-error.svg")
+    # the front is marked: a green line through its models, or a green ring
+    # around one (a front of one model had not been marked)
+    n_front = sum(1 for m in doc["models"] if m["quantity"] == q and m.get("on_pareto_front"))
+    lines = [e for e in svg.getElementsByTagName("polyline") if e.getAttribute("stroke") == "#2a7"]
+    rings = [e for e in svg.getElementsByTagName("circle") if e.getAttribute("stroke") == "#2a7"]
+    marked = (len(lines) == 1 and len(lines[0].getAttribute("points").split()) == n_front) if n_front > 1 else len(rings) == n_front
+    assert marked, f"FAIL {q}: front of {n_front} models, {len(lines)} green lines, {len(rings)} green rings"
 PY
 for w in sigmoid mlp-transmittance preetham hosek mlp-scattering; do
   [ -s "$tmp/out/weights/$w.json" ] || { echo "FAIL no weights file for $w"; fail=1; }
@@ -230,6 +237,24 @@ stable_sky_name() {
 # The stable name of the selected ground model (f(mu, mu_s, nu)) takes and
 # ignores h_km.
 stable_sky_name "ground scene" "$tmp/ground" "return skyfit_(preetham|hosek)_sky_radiance\(mu, mu_s, nu\);"
+# Its plots mark their fronts too (checked as above for the default scene),
+# whatever their sizes: a front of one model had not been marked.
+python3 - "$tmp/ground" <<'PY' || fail=1
+import json, sys, xml.dom.minidom
+d = sys.argv[1]
+doc = json.load(open(d + "/metrics.json"))
+for q in ("transmittance", "sky_radiance"):
+    n_front = sum(1 for m in doc["models"] if m["quantity"] == q and m.get("on_pareto_front"))
+    try:
+        svg = xml.dom.minidom.parse(d + f"/plots/{q}-cost-error.svg")
+    except FileNotFoundError:
+        continue
+    lines = [e for e in svg.getElementsByTagName("polyline") if e.getAttribute("stroke") == "#2a7"]
+    rings = [e for e in svg.getElementsByTagName("circle") if e.getAttribute("stroke") == "#2a7"]
+    marked = (len(lines) == 1 and len(lines[0].getAttribute("points").split()) == n_front) if n_front > 1 else len(rings) == n_front
+    assert marked, f"FAIL ground scene {q}: front of {n_front} models, {len(lines)} green lines, {len(rings)} green rings"
+    print(f"ground scene {q}: front of {n_front} marked")
+PY
 # A ground scene whose sun sets (-10 deg): Preetham and Hosek need the sun
 # up, so the network is selected, and its stable name passes h_km on. The
 # alias had followed the valid domain (ground only) instead of the model's

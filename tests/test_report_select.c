@@ -47,6 +47,20 @@ static void fill(sf_report *rep, sf_candidate *cands, const fake *f, int n) {
   rep->reference[SF_CANDIDATE_SKY_RADIANCE] = -1;
 }
 
+/* How often needle occurs in the transmittance plot of rep. */
+static int plot_front_marks(const sf_report *rep, const char *needle) {
+  char *text = NULL;
+  size_t size = 0;
+  FILE *f = open_memstream(&text, &size);
+  if (!f) return -1;
+  int drawn = sf_report_write_plot(f, rep, SF_CANDIDATE_TRANSMITTANCE);
+  fclose(f);
+  int count = 0;
+  for (const char *p = text; drawn && (p = strstr(p, needle)) != NULL; ++p) ++count;
+  free(text);
+  return drawn ? count : -1;
+}
+
 static int index_of(const sf_report *rep, const char *name) {
   for (int i = 0; i < rep->n_models; ++i)
     if (strcmp(rep->models[i].candidate->name, name) == 0) return i;
@@ -96,6 +110,21 @@ int main(void) {
   CHECK(!rep.models[index_of(&rep, "table")].on_front && !rep.models[index_of(&rep, "ground")].on_front &&
         !rep.models[index_of(&rep, "slow")].on_front);
   CHECK(strstr(sel->reason, "FAILED") == NULL);
+  /* The plot draws the front of four as one green line through them */
+  CHECK(plot_front_marks(&rep, "<polyline fill=\"none\" stroke=\"#2a7\"") == 1 &&
+        plot_front_marks(&rep, "stroke=\"#2a7\" stroke-width=\"2\"/>") == 0);
+  free(rep.models);
+
+  /* A front of one model (it dominates every other that can ship) is
+   * marked by a green ring: it had not been marked at all. */
+  const fake alone[] = {{"reference", SF_ROLE_REFERENCE, 0, 1, 0, 0, 0},
+                        {"naive16", SF_ROLE_BASELINE, 1, 1, 1.0, 3e-3, 4e-3},
+                        {"mlp", SF_ROLE_FITTED, 1, 1, 0.5, 7e-4, 8e-4}};
+  fill(&rep, cands, alone, 3);
+  sf_report_select(&rep, scene);
+  CHECK(rep.models[index_of(&rep, "mlp")].on_front && !rep.models[index_of(&rep, "naive16")].on_front);
+  CHECK(plot_front_marks(&rep, "<polyline fill=\"none\" stroke=\"#2a7\"") == 0 &&
+        plot_front_marks(&rep, "r=\"11\" fill=\"none\" stroke=\"#2a7\"") == 1);
   free(rep.models);
 
   /* None meets the budget; one fit failed (relative RMSE above 1). */
