@@ -56,6 +56,7 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
     add_number(k, "points", (double)m->cost.n_points);
     add_number(k, "precision_bits", m->cost.precision_bits);
     add_number(k, "ratio_to_naive16", m->cost_ratio_naive16);
+    cJSON_AddStringToObject(k, "over", m->errors_over_valid_part ? "its valid part of the domain" : "the domain");
   }
   cJSON *views = cJSON_AddArrayToObject(o, "views");
   for (int v = 0; v < m->n_views; ++v) {

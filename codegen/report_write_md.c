@@ -81,7 +81,7 @@ static void write_md(FILE *f, const sf_report *rep) {
     for (int i = 0; i < rep->n_models; ++i) {
       const sf_report_model *m = &rep->models[i];
       if ((int)m->candidate->quantity != q || !m->errors_over_valid_part) continue;
-      fprintf(f, "\n\\* %s is valid on part of the scene's domain only; its errors are measured there: h %g..%g km, "
+      fprintf(f, "\n\\* %s is valid on part of the scene's domain only; its errors and its cost are measured there: h %g..%g km, "
                  "mu %.3g..%.3g, mu_s %.3g..%.3g.\n",
               m->candidate->name, m->errors_domain.h_min_km, m->errors_domain.h_max_km, m->errors_domain.mu_min,
               m->errors_domain.mu_max, m->errors_domain.mu_s_min, m->errors_domain.mu_s_max);
