@@ -21,7 +21,10 @@
 void sf_multiple_internal_params(const sf_table_params *p, sf_table_params *internal) {
   *internal = *p;
   internal->kind = SF_PARAM_BRUNETON;
-  internal->mu_s_min = SF_BRUNETON_MU_S_MIN;
+  /* down to the output's lowest sun where that is below cos 102 deg: a
+   * night scene's suns (-18 deg) had been read at the grid's edge, the sky
+   * no darker at -18 deg than at -12 */
+  internal->mu_s_min = fmin(SF_BRUNETON_MU_S_MIN, p->mu_s_min);
   /* the full domain: light reaches a restricted output's entries from
    * every altitude, direction and sun angle */
   internal->h_min_km = 0.0;

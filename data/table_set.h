@@ -22,7 +22,7 @@
 #include "util/error.h"
 
 /* Bump whenever a change makes the tables' values differ. */
-#define SF_TABLES_CODE_VERSION "skyfit-tables 2"
+#define SF_TABLES_CODE_VERSION "skyfit-tables 3"
 /* All orders (SPEC §6): up to the most, stopping once the orders left
  * would add less than 5e-4 of every channel's sky radiance (estimated as
  * the geometric tail of the last two; 7 orders for the built-in Earth,

@@ -165,6 +165,20 @@ if printf 'h_km,mu,mu_s,nu\n' | "$BIN" eval sky_radiance --tables "$tmp/bruneton
     <"$tmp/space_points.csv" >"$tmp/out" 2>"$tmp/err"
   check "eval sky_radiance --scene, viewer in space: the entry's sun counts ($(tail -1 "$tmp/err"))" \
     "grep -q '1 of 2 points lie outside scene' '$tmp/err'"
+  # A night scene's suns below cos 102 deg (-12 deg): its multiple
+  # scattering keeps darkening as the sun sinks. The orders' internal grid
+  # had ended at -12 deg and read lower suns at its edge: from -12 to -18
+  # deg it fell by 0.65. Twilight skies darken by about a magnitude per
+  # degree of depression there (-18 deg, astronomical night, is a few
+  # hundred times darker than -12 deg): a bound of 10x, falling all the way.
+  printf '{"viewer_altitude_km": [0, 15], "view": "all", "sun_elevation_deg": [-18, -6]}\n' >"$tmp/night.json"
+  awk 'BEGIN { pi = atan2(0, -1); print "h_km,mu,mu_s,nu"; mu = 0.3;
+    for (e = -12; e >= -18; e -= 3) { ms = sin(e * pi / 180); printf "0,%.17g,%.17g,%.17g\n", mu, ms, mu * ms + sqrt((1 - mu * mu) * (1 - ms * ms)) } }' \
+    >"$tmp/night_points.csv"
+  "$BIN" eval multiple_scattering --scene "$tmp/night.json" --resolution 64x16,16x32x32x8 --quiet \
+    <"$tmp/night_points.csv" >"$tmp/night.csv" 2>"$tmp/err"
+  check "night scene: multiple scattering at -12, -15, -18 deg falls >10x ($(cut -d, -f5 "$tmp/night.csv" | tail -3 | tr '\n' ' '))" \
+    "awk -F, 'NR > 1 { v[NR] = \$5 } END { exit !(NR == 4 && v[3] < v[2] && v[4] < v[3] && v[4] < 0.1 * v[2] && v[4] > 0) }' '$tmp/night.csv'"
 else
   echo "note: skyfit eval sky_radiance is not routed to cli/cmd_eval_tables.c yet; its checks were not run"
 fi
