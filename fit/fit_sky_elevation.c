@@ -273,6 +273,12 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   if (n_e < SF_BEZIER_POINTS || n_e > SF_SKY_MAX_ELEVATIONS)
     return sf_fail(err, SF_ERR_INPUT, "sky fit: %d sun elevations; need %d..%d", n_e,
                    SF_BEZIER_POINTS, SF_SKY_MAX_ELEVATIONS);
+  /* a single elevation had been told it was not "a range within [0, 90]" */
+  if (o->elevation_min_rad >= 0.0 && o->elevation_min_rad == o->elevation_max_rad)
+    return sf_fail(err, SF_ERR_INPUT,
+                   "sky fit: a single sun elevation (%g deg): Perez and Hosek are fitted across a range of "
+                   "elevations (a curve in elevation, as Hosek's), not at one",
+                   o->elevation_min_rad * 180 / SF_PI);
   if (!(o->elevation_min_rad >= 0.0 && o->elevation_min_rad < o->elevation_max_rad &&
         o->elevation_max_rad <= 0.5 * SF_PI + 1e-12))
     return sf_fail(err, SF_ERR_INPUT,
