@@ -42,7 +42,11 @@ int sf_scene_get_domain(const sf_scene *s, sf_scene_domain *out, sf_error *err) 
   d.mu_min = s->view == SF_VIEW_ALL
                  ? -1.0
                  : sf_horizon_mu(atm->bottom_radius_km + d.h_max_km, atm->bottom_radius_km);
-  d.mu_max = 1.0;
+  /* Viewers at or above the top use only the rays that enter there, going
+   * down (mu <= 0): the others leave at once (T 1, no light). Sampled too,
+   * they had made half a space scene's errors zeros (a model 0.0088 off on
+   * entering rays had been measured 0.006 and met a budget of 0.007). */
+  d.mu_max = v[0] >= thickness ? 0.0 : 1.0;
   d.mu_s_min = clamp_unit(sin(e[0] * (SF_PI / 180.0)));
   d.mu_s_max = clamp_unit(sin(e[1] * (SF_PI / 180.0)));
   *out = d;

@@ -206,6 +206,16 @@ static void test_domain(void) {
   CHECK_REL(d.mu_min, -sqrt(100.0 * (2.0 * 6360.0 + 100.0)) / 6460.0, 1e-14);
   CHECK_REL(d.mu_s_min, 0.5, 1e-15);
   CHECK_REL(d.mu_s_max, sqrt(0.5), 1e-15);
+  /* viewers all at or above the top use the rays entering it there, going
+   * down: mu up to 0 (rays up leave at once; sampled, they had diluted a
+   * space scene's errors with zeros); with a viewer inside, up to 1 */
+  CHECK_ABS(d.mu_max, 0.0, 0.0);
+  s->viewer_altitude_km[0] = 100.0;
+  CHECK(sf_scene_get_domain(s, &d, &err) == 0);
+  CHECK_ABS(d.mu_max, 0.0, 0.0);
+  s->viewer_altitude_km[0] = 99.0;
+  CHECK(sf_scene_get_domain(s, &d, &err) == 0);
+  CHECK_REL(d.mu_max, 1.0, 0.0);
   /* empty domains of hand-built scenes */
   sf_scene_domain before;
   memset(&before, 0x5a, sizeof before);
