@@ -174,6 +174,18 @@ static int header_clash(const char *command, const char *scene_path, const sf_sc
       fprintf(stderr, "%s: %s %s: is a folder; give the header's file path\n", command, option[k], paths[k]);
       return 2;
     }
+    /* its folder must exist (OUT, which the build makes, aside): it had
+     * been found after the work, the message naming neither option nor key */
+    char folder[SF_REPORT_PATH_LEN];
+    snprintf(folder, sizeof folder, "%s", paths[k]);
+    char *slash = strrchr(folder, '/');
+    if (!clash && slash) {
+      slash[slash == folder] = '\0';
+      if (!sf_cli_same_file(folder, o->out_dir) && !(stat(folder, &st) == 0 && S_ISDIR(st.st_mode))) {
+        fprintf(stderr, "%s: %s %s: its folder %s does not exist\n", command, option[k], paths[k], folder);
+        return 2;
+      }
+    }
     if (!clash) continue;
     if (in_folder == 2)
       fprintf(stderr, "%s: %s %s: is a folder the build makes itself (%s); give another path\n", command, option[k],

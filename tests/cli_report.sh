@@ -601,8 +601,10 @@ for outputs in '{"c": "nodir/sky.h"}' '{"glsl": "nodir/sky.glsl"}' '{"c": "same.
   rc=$?
   echo "outputs $outputs: exit $rc: $(head -1 "$tmp/err")"
   listing > "$tmp/named-after"
-  [ $rc -eq 2 ] && ! grep -q "chose" "$tmp/named-bad.out" && cmp -s "$tmp/named-before" "$tmp/named-after" ||
-    { echo "FAIL outputs $outputs: should exit 2 before fitting, the previous outputs untouched"; fail=1; }
+  # the message names the scene's key (a missing folder's had named neither)
+  [ $rc -eq 2 ] && ! grep -q "chose" "$tmp/named-bad.out" && cmp -s "$tmp/named-before" "$tmp/named-after" &&
+    grep -q "the scene's outputs" "$tmp/err" ||
+    { echo "FAIL outputs $outputs: should exit 2 before fitting naming the key, the previous outputs untouched"; fail=1; }
 done
 # Into a new folder: refused before anything is written (it had left
 # DIR/cache and DIR/weights behind).
