@@ -57,7 +57,7 @@ echo "ok   a second skyfit_generate on the target (another NAME and PREFIX, BASE
 # The selected model (the report in the work folder names it) behind the
 # stable names: the demo's zenith transmittance is the reference's within
 # the scene's budget (1e-3 RMSE; 0.01 here, a single ray).
-chosen=$(sed -n 's/^- \*\*transmittance: \([a-z0-9-]*\)\*\*.*/\1/p' "$tmp/consumer/build/skyfit-sky_demo-skyfit/report.md")
+chosen=$(sed -n 's/^- \*\*transmittance: \([a-z0-9-]*\)\*\*.*/\1/p' "$tmp/consumer/build/skyfit/sky_demo/skyfit/report.md")
 emitted=$(sed -n 's/.*return skyfit_\([a-z0-9]*\)_transmittance(h_km, mu);.*/\1/p' "$header")
 # a candidate's name less its variant (naive16, mlp-transmittance-2) is its functions' prefix
 [ -n "$chosen" ] && [ "${chosen%%[-0-9]*}" = "$emitted" ] || { echo "FAIL selected '$chosen', the header calls '$emitted'"; exit 1; }
@@ -127,4 +127,47 @@ sed -i 's/"atmosphere": *"[^"]*"/"atmosphere": "nope.json"/' "$tmp/consumer/sky.
 grep -q '"nope.json"' "$tmp/consumer/sky.json" || { echo "FAIL the test could not point sky.json at nope.json"; exit 1; }
 bad_configure missing_atmosphere "nope.json, which does not exist" -- \
   TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+bad_configure bad_name "NAME 'sky/x' must be letters, digits" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c NAME sky/x BASELINES naive
+bad_configure no_target "TARGET nothing is not a target of this project" -- \
+  TARGET nothing SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+sed -i 's/"atmosphere": *"[^"]*"/"atmosphere": 5/' "$tmp/consumer/sky.json"
+bad_configure atmosphere_number "atmosphere: expected a file path (a string), got NUMBER" -- \
+  TARGET app SCENE sky.json OUTPUT_DIR gen LANG c BASELINES naive
+
+# An INTERFACE library (the headers shared by everything linking it) and a
+# custom target (a shader step) as targets: both had stopped configure
+# with CMake's error. A shader step that uses the GLSL through
+# OUTPUTS_VARIABLE and add_dependencies: one generation per build, also
+# with -j4 on Makefiles (a command DEPENDing on the files alone had run
+# the step twice at once).
+mkdir -p "$tmp/kinds"
+printf '{"viewer_altitude_km": [0, 2]}\n' >"$tmp/kinds/sky.json"
+printf '#include "shared.h"\nint main(void) { return !(shared_naive_transmittance(0.0f, 1.0f).x > 0.5f); }\n' >"$tmp/kinds/main.c"
+cat >"$tmp/kinds/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.19)
+project(kinds C)
+find_package(skyfit 0.1 REQUIRED)
+add_library(sky_headers INTERFACE)
+skyfit_generate(TARGET sky_headers SCENE sky.json OUTPUT_DIR gen NAME shared PREFIX shared LANG c BASELINES naive)
+add_executable(app main.c)
+target_link_libraries(app PRIVATE sky_headers m)
+add_custom_target(shaders ALL)
+skyfit_generate(TARGET shaders SCENE sky.json OUTPUT_DIR gen NAME shader LANG glsl BASELINES naive
+                OUTPUTS_VARIABLE shader_files)
+add_custom_command(OUTPUT shader.stamp COMMAND ${CMAKE_COMMAND} -E copy ${shader_files} shader.copy
+                   COMMAND ${CMAKE_COMMAND} -E touch shader.stamp DEPENDS ${shader_files})
+add_custom_target(shader_copy ALL DEPENDS shader.stamp)
+add_dependencies(shader_copy shaders_skyfit_shader)
+CMAKE
+cmake -S "$tmp/kinds" -B "$tmp/kinds/build" -DCMAKE_PREFIX_PATH="$tmp/prefix" >"$tmp/kinds.log" 2>&1 ||
+  { echo "FAIL INTERFACE library and custom target: configure failed"; cat "$tmp/kinds.log"; exit 1; }
+out=$(cmake --build "$tmp/kinds/build" -j4 2>&1) || { echo "FAIL INTERFACE library and custom target: build failed"; echo "$out"; exit 1; }
+"$tmp/kinds/build/app" && test -s "$tmp/kinds/build/shader.copy" ||
+  { echo "FAIL the app through the INTERFACE library, or the shader step's copy"; exit 1; }
+sleep 1; touch "$tmp/kinds/sky.json"
+out=$(cmake --build "$tmp/kinds/build" -j4 2>&1)
+[ "$(grep -c "skyfit: generating shader headers" <<<"$out")" -eq 1 ] ||
+  { echo "FAIL the shader step's headers generated other than once"; echo "$out"; exit 1; }
+echo "ok   an INTERFACE library and a custom target: headers on the linking app's path, the shader step's files once"
 echo "cli_consumer: all checks passed"

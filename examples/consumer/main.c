@@ -2,7 +2,7 @@
  * transmittance of the zenith and of a ray 5 degrees above the horizon for a
  * viewer on the ground, from the model the scene's budget selected, under
  * its stable name (the selection is in the build folder's
- * skyfit-sky_demo-skyfit/report.md), beside Schuler's Chapman approximation
+ * skyfit/sky_demo/skyfit/report.md), beside Schuler's Chapman approximation
  * from the second header, whose names start baseline_. */
 #include <stdio.h>
 
