@@ -345,6 +345,13 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     return sf_fail(err, SF_ERR_INPUT, "the first restart must be >= 0 and leave room for %d restart(s)", o->restarts);
   const int end_restart = o->first_restart + o->restarts;
   int has_val = val && val->n > 0;
+  /* a validation fraction of a few rows that rounds to none had left
+   * --patience silently unused */
+  if (o->patience > 0 && !has_val)
+    return sf_fail(err, SF_ERR_INPUT,
+                   "--patience %d: early stopping watches the validation loss, and the validation set is empty "
+                   "(%ld training rows; a larger --validation fraction or more data)",
+                   o->patience, train->n);
   int np = sf_mlp_param_count(s);
   long batch = o->batch > 0 && o->batch < train->n ? o->batch : train->n;
 

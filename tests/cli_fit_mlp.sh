@@ -412,6 +412,10 @@ expect_error() {
 expect_error "bad layers" "--layers" "$BIN" fit mlp-transmittance --layers 2,x,3 --out "$TMP/bad.json"
 expect_error "--inputs past the columns the data can hold" "expected a whole number in 1..63 (the data hold at most 64 columns), got '64'" \
   "$BIN" fit mlp --data "$TMP/t.csv" --inputs 64 --layers 64,2 --out "$TMP/bad.json"
+printf 'x,y\n0,0\n1,1\n0.5,0.5\n0.2,0.3\n' >"$TMP/four.csv"
+expect_error "--patience with a validation fraction that rounds to no rows" \
+  "--patience 2: early stopping watches the validation loss, and the validation set is empty" \
+  "$BIN" fit mlp --data "$TMP/four.csv" --inputs 1 --layers 1,2,1 --epochs 3 --validation 0.1 --patience 2 --out "$TMP/bad.json"
 # the mse loss on them is refused before training (it had "diverged", exit 1, "try a smaller --lr")
 expect_error "mse on targets of 1e200" "target column 'y0' reaches 2.7[0-9]e+200: its squared errors overflow" \
   "$BIN" fit mlp --data "$TMP/huge.csv" --inputs 2 --layers 2,4,2 --epochs 5 --out "$TMP/bad.json"
