@@ -484,8 +484,9 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     /* Without a validation set a restart is judged by its kept (last)
      * network's loss over the whole training set: the last epoch's mean of
      * the batches' losses, each taken before its step, had kept the worse
-     * of two restarts. */
-    if (!has_val && isfinite(st.best_restart_loss))
+     * of two restarts. One restart needs no judging (nor the pass, a third
+     * of an epoch). */
+    if (!has_val && o->restarts > 1 && isfinite(st.best_restart_loss))
       st.best_restart_loss = sf_mlp_dataset_loss(s, st.restart_best, &loss, train, o->n_threads);
     if (st.best_restart_loss < st.best_loss) {
       st.best_loss = st.best_restart_loss;
