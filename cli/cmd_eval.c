@@ -12,6 +12,7 @@
 #include "cli/cmd_eval_tables.h"
 #include "cli/eval_model.h"
 #include "cli/option_value.h"
+#include "cli/output_file_check.h"
 #include "models/atmosphere_file.h"
 #include "models/optical_depth.h"
 #include "models/phase.h"
@@ -402,9 +403,5 @@ int sf_cmd_eval(int argc, char **argv) {
   free(results);
   sf_csv_points_free(&pts);
   free_model(fitted);
-  if (fflush(stdout) != 0 || ferror(stdout)) {
-    fprintf(stderr, "skyfit eval: writing to stdout failed\n");
-    return 1;
-  }
-  return 0;
+  return sf_cli_stdout_written("skyfit eval");
 }

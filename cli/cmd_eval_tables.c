@@ -10,6 +10,7 @@
 #include "cli/cmd_eval_tables.h"
 #include "cli/csv_points.h"
 #include "cli/option_value.h"
+#include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
 #include "cli/table_options.h"
 #include "data/sky_lookup.h"
@@ -184,9 +185,5 @@ int sf_cmd_eval_tables(int argc, char **argv) {
   }
   sf_table_set_free(&set);
   sf_csv_points_free(&pts);
-  if (fflush(stdout) != 0 || ferror(stdout)) {
-    fprintf(stderr, "%s: writing to stdout failed\n", COMMAND);
-    return 1;
-  }
-  return 0;
+  return sf_cli_stdout_written(COMMAND);
 }

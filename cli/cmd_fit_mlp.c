@@ -777,11 +777,7 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
          "\"batch\": %ld, \"threads\": %d}\n",
          mse_text, loss_text, wall, cpu, result.epochs_run, result.epochs_this_call, train.n, t->batch,
          result.n_threads);
-  /* the figures are this output: a full disk had lost them with exit 0 */
-  if (fflush(stdout) != 0 || ferror(stdout)) {
-    fprintf(stderr, "%s: writing to stdout failed\n", command);
-    status = SF_ERR_INTERNAL;
-  }
+  if (sf_cli_stdout_written(command)) status = SF_ERR_INTERNAL;   /* the figures are this output */
   goto done;
 fail:
   if (err.status == SF_OK) sf_fail(&err, SF_ERR_INTERNAL, "out of memory");

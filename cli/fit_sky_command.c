@@ -257,12 +257,7 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
   if (!text) return 1;
   printf("%s\n", text);
   free(text);
-  /* the result is this output: a full disk had lost it with exit 0 */
-  if (fflush(stdout) != 0 || ferror(stdout)) {
-    fprintf(stderr, "%s: writing to stdout failed\n", command);
-    return 1;
-  }
-  return 0;
+  return sf_cli_stdout_written(command);   /* the result is this output */
 }
 
 /* ---- --check ------------------------------------------------------------- */

@@ -107,3 +107,9 @@ int sf_cli_check_output(const char *command, const char *option, const char *pat
   fprintf(stderr, "%s: %s\n", command, err.message);
   return 2;
 }
+
+int sf_cli_stdout_written(const char *command) {
+  if (fflush(stdout) == 0 && !ferror(stdout)) return 0;
+  fprintf(stderr, "%s: writing to stdout failed\n", command);
+  return 1;
+}

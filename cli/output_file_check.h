@@ -36,6 +36,11 @@ int sf_cli_output_problem(const char *option, const char *path, const char *cons
 void sf_cli_scene_files(const char *scene_path, const char *atmosphere_path, const sf_scene *scene,
                         const char *files[3]);
 
+/* A command whose result is its standard output: 0 once stdout is flushed,
+ * else "<command>: writing to stdout failed" on stderr and 1 (a full disk
+ * had lost `fit mlp`'s and `fit --samples`' results with exit 0). */
+int sf_cli_stdout_written(const char *command);
+
 /* The same, printed: 0, or "<command>: <message>" on stderr and 2. */
 int sf_cli_check_output(const char *command, const char *option, const char *path, const char *const *inputs,
                         int n_inputs);

@@ -191,6 +191,14 @@ static int read_domain(const sf_json_ctx *c, const cJSON *root, sf_scene_domain 
   return SF_OK;
 }
 
+/* SF_OK when x, a number the emitted code holds as float32, does not round
+ * beyond FLT_MAX; else the failure at path. */
+static int within_float32(const sf_json_ctx *c, const char *path, double x) {
+  if (!isinf((float)x)) return SF_OK;
+  return sf_json_fail(c, path, "%.17g is beyond float32's range (%.9g), which the emitted code holds", x,
+                      (double)FLT_MAX);
+}
+
 static int read_inputs(const sf_json_ctx *c, const cJSON *root, sf_weights *w) {
   const cJSON *v = sf_json_get(root, "inputs");
   if (!v) return SF_OK;
@@ -213,20 +221,16 @@ static int read_inputs(const sf_json_ctx *c, const cJSON *root, sf_weights *w) {
     sf_json_join_key(kpath, sizeof kpath, path, "offset");
     const cJSON *off = sf_json_get(e, "offset");
     if (!off) return sf_json_fail(c, kpath, "missing");
-    if (sf_json_read_finite(c, off, kpath, &in->offset)) return SF_ERR_INPUT;
     /* as params (array_shape below): an offset of 1e300 had stopped codegen
      * with "constant inf is not a finite float32", naming no file nor key */
-    if (isinf((float)in->offset))
-      return sf_json_fail(c, kpath, "%.17g is beyond float32's range (%.9g), which the emitted code holds",
-                          in->offset, (double)FLT_MAX);
+    if (sf_json_read_finite(c, off, kpath, &in->offset) || within_float32(c, kpath, in->offset))
+      return SF_ERR_INPUT;
     sf_json_join_key(kpath, sizeof kpath, path, "scale");
     const cJSON *sc = sf_json_get(e, "scale");
     if (!sc) return sf_json_fail(c, kpath, "missing");
     if (sf_json_read_finite(c, sc, kpath, &in->scale)) return SF_ERR_INPUT;
     if (in->scale == 0.0) return sf_json_fail(c, kpath, "must not be 0");
-    if (isinf((float)in->scale))
-      return sf_json_fail(c, kpath, "%.17g is beyond float32's range (%.9g), which the emitted code holds",
-                          in->scale, (double)FLT_MAX);
+    if (within_float32(c, kpath, in->scale)) return SF_ERR_INPUT;
   }
   w->n_inputs = n;
   return SF_OK;
@@ -240,10 +244,7 @@ static int array_shape(const sf_json_ctx *c, const cJSON *v, const char *path, i
                        int *shape) {
   if (cJSON_IsNumber(v)) {
     double x;
-    if (sf_json_read_finite(c, v, path, &x)) return SF_ERR_INPUT;
-    if (isinf((float)x))   /* rounds beyond FLT_MAX */
-      return sf_json_fail(c, path, "%.17g is beyond float32's range (%.9g), which the emitted code holds", x,
-                          (double)FLT_MAX);
+    if (sf_json_read_finite(c, v, path, &x) || within_float32(c, path, x)) return SF_ERR_INPUT;
     *n_dims = 0;
     return SF_OK;
   }
