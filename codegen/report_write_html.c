@@ -231,7 +231,7 @@ static void write_page(FILE *f, const sf_report *rep) {
 
 int sf_report_write_html(const sf_report *rep, const char *path, sf_error *err) {
   sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err) != SF_OK) return SF_ERR_INPUT;
+  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
   write_page(f.stream, rep);
   return sf_atomic_commit(&f, err);
 }

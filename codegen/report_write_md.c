@@ -166,7 +166,7 @@ static void write_md(FILE *f, const sf_report *rep) {
 
 int sf_report_write_markdown(const sf_report *rep, const char *path, sf_error *err) {
   sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err) != SF_OK) return SF_ERR_INPUT;
+  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
   write_md(f.stream, rep);
   return sf_atomic_commit(&f, err);
 }

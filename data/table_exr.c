@@ -28,6 +28,7 @@
 typedef struct exr_stream {
   int fd;
   char message[512];   /* first error OpenEXR reported */
+  int write_errno;     /* the first failed write's errno, 0 if none */
 } exr_stream;
 
 static void keep_first_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
@@ -43,7 +44,8 @@ static void keep_first_error(exr_const_context_t ctxt, exr_result_t code, const 
 
 static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz,
                             uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  return sf_exr_write_fd(ctxt, ((exr_stream *)user)->fd, buffer, sz, offset, error_cb);
+  exr_stream *s = (exr_stream *)user;
+  return sf_exr_write_fd(ctxt, s->fd, buffer, sz, offset, error_cb, &s->write_errno);
 }
 
 static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,
@@ -72,6 +74,12 @@ static int64_t stream_size(exr_const_context_t ctxt, void *user) {
 
 static const char *exr_reason(const exr_stream *s, exr_result_t rv) {
   return s->message[0] ? s->message : exr_get_default_error_message(rv);
+}
+
+/* A write that failed (a full disk: exit 1) or OpenEXR refusing the table,
+ * which sf_table_desc_check has passed (ours to fix: exit 1 too). */
+static int write_failure_status(const exr_stream *s) {
+  return s->write_errno ? sf_write_error_status(s->write_errno) : SF_ERR_INTERNAL;
 }
 
 /* ---- The skyfit header strings and the checksum ---- */
@@ -228,7 +236,7 @@ static int write_pixels(exr_context_t ctx, int part, const sf_table *t, const ch
     rv = exr_encoding_choose_default_routines(ctx, part, &enc);
     if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
     if (rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, SF_ERR_INPUT, "%s: writing pixel chunk %d failed: %s", path, (int)ci,
+      status = sf_fail(err, write_failure_status(stream), "%s: writing pixel chunk %d failed: %s", path, (int)ci,
                        exr_reason(stream, rv));
   }
   if (initialised) exr_encoding_destroy(ctx, &enc);
@@ -278,7 +286,7 @@ int sf_table_write_exr(const sf_table *t, const char *path, sf_error *err) {
 
   int status = SF_OK;
   sf_atomic_file file;
-  if (sf_atomic_open(&file, path, err) != SF_OK) status = SF_ERR_INPUT;
+  if (sf_atomic_open(&file, path, err) != SF_OK) status = err->status;
   exr_stream stream = {.fd = file.stream ? fileno(file.stream) : -1};
   exr_context_t ctx = NULL;
   if (status == SF_OK) {
@@ -291,13 +299,15 @@ int sf_table_write_exr(const sf_table *t, const char *path, sf_error *err) {
     int part = 0;
     if (rv == EXR_ERR_SUCCESS) rv = write_header(ctx, &part, t, strings, checksum_hex);
     if (rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, SF_ERR_INPUT, "%s: writing the EXR header failed: %s", path, exr_reason(&stream, rv));
+      status = sf_fail(err, write_failure_status(&stream), "%s: writing the EXR header failed: %s", path,
+                       exr_reason(&stream, rv));
     if (status == SF_OK) status = write_pixels(ctx, part, t, path, &stream, err);
     /* exr_finish writes the chunk offset table; its failure is a failed write. */
     rv = ctx ? exr_finish(&ctx) : EXR_ERR_SUCCESS;
     if (status == SF_OK && rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, SF_ERR_INPUT, "%s: finishing the EXR file failed: %s", path, exr_reason(&stream, rv));
-    if (status == SF_OK) status = sf_atomic_commit(&file, err) == SF_OK ? SF_OK : SF_ERR_INPUT;
+      status = sf_fail(err, write_failure_status(&stream), "%s: finishing the EXR file failed: %s", path,
+                       exr_reason(&stream, rv));
+    if (status == SF_OK) status = sf_atomic_commit(&file, err);
     else sf_atomic_abort(&file);
   }
   cJSON_free(axes);

@@ -365,8 +365,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     if (!out_existed) rmdir(o->out_dir);
     return err->status;
   }
-  if (sf_make_folders(cache, "--out", err) != SF_OK || sf_make_folders(work, "--out", err) != SF_OK)
-    return err->status;
+  /* OUT/weights is made when the staged run is published: a run that
+   * fails (a full disk while the tables are written) leaves none behind. */
+  if (sf_make_folders(cache, "--out", err) != SF_OK) return err->status;
   sf_table_set set;
   if (sf_table_set_make(&set, &scene->atmosphere, &topt, err) != SF_OK) return err->status;
   for (int t = 0; t < set.n_tables; ++t) res->tables_from_cache += set.from_cache[t];

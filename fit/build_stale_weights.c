@@ -30,6 +30,7 @@ int sf_build_remove_stale_weights(const char *work_dir, const char *const *writt
                                   int *n_removed, sf_error *err) {
   *n_removed = 0;
   DIR *dir = opendir(work_dir);
+  if (!dir && errno == ENOENT) return SF_OK;   /* a build that wrote no weights: none stale */
   if (!dir) return sf_fail(err, SF_ERR_INPUT, "%s: cannot list the weights folder: %s", work_dir, strerror(errno));
   /* The stale paths first, then removed: what readdir returns after an
    * entry is removed is unspecified (POSIX). */

@@ -208,6 +208,23 @@ if mount -t tmpfs -o size=64k tmpfs "$tmp/full" 2>/dev/null; then
   else
     fail "a full disk: fit mlp exit $rc_fit, codegen $rc_codegen, left '$left': $(cat "$tmp/err" "$tmp/err2")"
   fi
+  # The EXR writers (the tables' cache) named the full disk but exited 2,
+  # and build left an empty OUT/weights behind.
+  if mount -t tmpfs -o size=64k tmpfs "$tmp/full" 2>/dev/null; then
+    "$BIN" sample --out "$tmp/full/tables" --quiet 2>"$tmp/err"
+    rc_sample=$?
+    "$BIN" build --quick --quiet --out "$tmp/full/b" 2>"$tmp/err2"
+    rc_build=$?
+    weights_left=no
+    [ -e "$tmp/full/b/weights" ] && weights_left=yes
+    umount "$tmp/full"
+    if [ $rc_sample -eq 1 ] && [ $rc_build -eq 1 ] && grep -q "No space left on device" "$tmp/err" &&
+       grep -q "No space left on device" "$tmp/err2" && [ $weights_left = no ]; then
+      pass "a full disk under the EXR tables: sample and build exit 1 naming it, build leaves no weights folder"
+    else
+      fail "a full disk under the EXR tables: sample exit $rc_sample, build $rc_build, weights folder left: $weights_left: $(cat "$tmp/err" "$tmp/err2")"
+    fi
+  fi
 else
   echo "skip a full disk (no rights to mount a tmpfs)"
 fi

@@ -112,10 +112,8 @@ void sf_atomic_remove_stale_in(const char *folder) {
   closedir(d);
 }
 
-/* A full disk or a failing device is not bad input (exit 1, SPEC §11):
- * sample, fit and build had exited 2 on ENOSPC, codegen 1. A path that
- * cannot hold the file (missing folder, no permission, a folder there) is. */
-static int write_error_status(int errno_value) {
+/* sample, fit and build had exited 2 on ENOSPC, codegen 1. */
+int sf_write_error_status(int errno_value) {
   switch (errno_value) {
     case ENOSPC:
     case EIO:
@@ -140,7 +138,7 @@ int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
     int saved = errno;
     f->temp_path[0] = '\0';
     if (saved == ENAMETOOLONG) return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
-    return sf_fail(err, write_error_status(saved), "%s: cannot write here: %s", path, strerror(saved));
+    return sf_fail(err, sf_write_error_status(saved), "%s: cannot write here: %s", path, strerror(saved));
   }
   f->stream = fdopen(fd, "wb");
   if (!f->stream) {
@@ -161,7 +159,7 @@ int sf_atomic_commit(sf_atomic_file *f, sf_error *err) {
     saved = errno;
   }
   unlink(f->temp_path);
-  return sf_fail(err, write_error_status(saved), "%s: writing failed: %s", f->final_path, strerror(saved));
+  return sf_fail(err, sf_write_error_status(saved), "%s: writing failed: %s", f->final_path, strerror(saved));
 }
 
 void sf_atomic_abort(sf_atomic_file *f) {

@@ -27,6 +27,11 @@ void sf_atomic_abort(sf_atomic_file *f);
  * path is not a folder), checked before long work whose result goes
  * there; SF_ERR_INPUT naming the path otherwise. Writes nothing. */
 int sf_atomic_check(const char *path, sf_error *err);
+/* The status of a failed write with this errno: a full disk or a failing
+ * device (ENOSPC, EDQUOT, EIO, ENOMEM) is not bad input (SF_ERR_INTERNAL,
+ * exit 1, SPEC §11); a path that cannot hold the file (missing folder, no
+ * permission, a folder there) is (SF_ERR_INPUT). */
+int sf_write_error_status(int errno_value);
 /* 1 when no process pid exists, so what it left behind (a temporary, a
  * staging folder) can go; 0 for this process, pid <= 0, or one that may
  * exist. */

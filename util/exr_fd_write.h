@@ -12,8 +12,10 @@
 
 /* Writes sz bytes of buffer at offset of fd, retrying short writes and
  * EINTR. Returns sz, or -1 after reporting EXR_ERR_WRITE_IO through
- * error_cb. */
+ * error_cb and keeping the write's errno in *write_errno (the first one:
+ * OpenEXR's own result code does not tell a full disk from bad input;
+ * sf_write_error_status does). */
 int64_t sf_exr_write_fd(exr_const_context_t ctxt, int fd, const void *buffer, uint64_t sz, uint64_t offset,
-                        exr_stream_error_func_ptr_t error_cb);
+                        exr_stream_error_func_ptr_t error_cb, int *write_errno);
 
 #endif

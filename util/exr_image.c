@@ -54,9 +54,15 @@ static void quiet_errors(exr_const_context_t ctxt, exr_result_t code, const char
 
 /* OpenEXR writes through the atomic file's descriptor, so the image gets
  * the same temporary-then-rename, fsync and permissions as every output. */
+typedef struct image_stream {
+  int fd;
+  int write_errno;   /* the first failed write's errno, 0 if none */
+} image_stream;
+
 static int64_t write_to_fd(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz, uint64_t offset,
                            exr_stream_error_func_ptr_t error_cb) {
-  return sf_exr_write_fd(ctxt, *(const int *)user, buffer, sz, offset, error_cb);
+  image_stream *s = (image_stream *)user;
+  return sf_exr_write_fd(ctxt, s->fd, buffer, sz, offset, error_cb, &s->write_errno);
 }
 
 int sf_exr_write_image(const char *path, int width, int height, int n_channels,
@@ -64,10 +70,10 @@ int sf_exr_write_image(const char *path, int width, int height, int n_channels,
   if (width < 1 || height < 1 || n_channels < 1) return sf_fail(err, SF_ERR_INTERNAL, "%s: empty image", path);
   sf_atomic_file file;
   if (sf_atomic_open(&file, path, err) != SF_OK) return err->status;
-  int fd = fileno(file.stream);
+  image_stream stream = {.fd = fileno(file.stream)};
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = quiet_errors;
-  init.user_data = &fd;
+  init.user_data = &stream;
   init.write_fn = write_to_fd;
   init.zip_level = EXR_IMAGE_ZIP_LEVEL;
   exr_context_t ctx = NULL;
@@ -83,8 +89,12 @@ int sf_exr_write_image(const char *path, int width, int height, int n_channels,
   exr_result_t fin = ctx ? exr_finish(&ctx) : EXR_ERR_SUCCESS;
   if (status != 0 || fin != EXR_ERR_SUCCESS) {
     sf_atomic_abort(&file);
-    return sf_fail(err, SF_ERR_INPUT, "%s: writing the EXR image failed (%s)", path,
-                   exr_get_default_error_message(rv != EXR_ERR_SUCCESS ? rv : fin));
+    /* a failed write (a full disk) or OpenEXR refusing our image: both
+     * exit 1, SPEC §11 */
+    int why = stream.write_errno ? sf_write_error_status(stream.write_errno) : SF_ERR_INTERNAL;
+    return sf_fail(err, why, "%s: writing the EXR image failed (%s%s%s)", path,
+                   exr_get_default_error_message(rv != EXR_ERR_SUCCESS ? rv : fin),
+                   stream.write_errno ? ": " : "", stream.write_errno ? strerror(stream.write_errno) : "");
   }
-  return sf_atomic_commit(&file, err) == SF_OK ? SF_OK : SF_ERR_INPUT;
+  return sf_atomic_commit(&file, err);
 }

@@ -34,10 +34,10 @@ static int write_stream(FILE *stream, int width, int height, const unsigned char
 int sf_png_write_rgb8(const char *path, int width, int height, const unsigned char *rgb, sf_error *err) {
   if (width < 1 || height < 1) return sf_fail(err, SF_ERR_INTERNAL, "%s: empty image", path);
   sf_atomic_file f;
-  if (sf_atomic_open(&f, path, err) != SF_OK) return SF_ERR_INPUT;
+  if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
   if (write_stream(f.stream, width, height, rgb) != 0) {
     sf_atomic_abort(&f);
     return sf_fail(err, SF_ERR_INTERNAL, "%s: libpng failed to write the image", path);
   }
-  return sf_atomic_commit(&f, err) == SF_OK ? SF_OK : SF_ERR_INPUT;
+  return sf_atomic_commit(&f, err);
 }
