@@ -24,6 +24,7 @@
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
 #include "util/make_folders.h"
+#include "util/path_from_folder.h"
 #include "util/clock.h"
 #include "util/signal_defer.h"
 
@@ -218,8 +219,9 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES; ++q) {
     sf_report_selection *s = &rep->selection[q];
     if (!s->asked || s->model < 0 || !rep->models[s->model].candidate->emit) continue;
-    snprintf(s->emitted_c, sizeof s->emitted_c, "%s", res->header_c);
-    snprintf(s->emitted_glsl, sizeof s->emitted_glsl, "%s", res->header_glsl);
+    /* the report's paths are all from its folder (its views' too) */
+    sf_path_from_folder(o->out_dir, res->header_c, s->emitted_c, sizeof s->emitted_c);
+    sf_path_from_folder(o->out_dir, res->header_glsl, s->emitted_glsl, sizeof s->emitted_glsl);
   }
   return SF_OK;
 }

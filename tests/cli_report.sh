@@ -521,7 +521,13 @@ grep -E "chose|headers" "$tmp/named.out"
 python3 - "$tmp/named" <<'PY' || fail=1
 import json, re, sys
 d = sys.argv[1]
-chosen = json.load(open(f"{d}/out/metrics.json"))["selection"]["transmittance"]["model"]
+sel = json.load(open(f"{d}/out/metrics.json"))["selection"]["transmittance"]
+chosen = sel["model"]
+# the report names the headers from its folder, as its views (they had
+# been named from where skyfit ran): outside it, absolute
+import os
+want = {"c_header": os.path.realpath(f"{d}/ext/sky.hpp"), "glsl": os.path.realpath(f"{d}/ext/sky.frag")}
+assert all(sel[k] == v for k, v in want.items()), f"FAIL the report's header paths: {sel}, want {want}"
 prefix = {"naive16": "naive", "mlp-transmittance": "mlp"}.get(chosen, chosen)
 header = open(f"{d}/ext/sky.hpp").read()
 assert re.search(rf"skyfit_{prefix}_transmittance\(", header), f"FAIL chose {chosen}: no skyfit_{prefix}_transmittance"
@@ -563,6 +569,8 @@ d = sys.argv[1]
 sel = json.load(open(f"{d}/metrics.json"))["selection"]
 t, s = sel["transmittance"]["model"], sel["sky_radiance"]["model"]
 assert s == "mlp-scattering" and t != "mlp-transmittance", f"FAIL the scene should select the sky network and another transmittance model: {t}, {s}"
+paths = [sel[q][k] for q in sel for k in ("c_header", "glsl")]
+assert paths == ["sky.h", "sky.glsl"] * 2, f"FAIL the report's header paths, from its folder: {paths}"
 for f in ("sky.h", "sky.glsl"):
     text = open(f"{d}/{f}").read()
     assert "skyfit_sky_radiance_segment(" in text, f"FAIL {f}: no skyfit_sky_radiance_segment with {t} selected"
