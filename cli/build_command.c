@@ -34,7 +34,7 @@ static void usage(FILE *out, const char *command, int emit) {
           "measures every model against the reference over the scene's domain (RMSE, max abs, mean\n"
           "relative error; cost in ns per evaluation and as a ratio to the 16-step naive raymarch),\n"
           "renders the standard views of seed 000 §11.4 and writes DIR/report.html, report.md,\n"
-          "metrics.json, views/*.png and views/*-error.exr. Without SCENE.json: the built-in\n"
+          "metrics.json, views/*.png, views/*-error.exr and plots/*.svg. Without SCENE.json: the built-in\n"
           "atmosphere and scene (ground to space, sun -10..90 deg, RGB).\n"
           "\n"
           "options:\n"

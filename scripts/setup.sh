@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages skyfit needs (if missing) and builds it into
-# build/. Used by both README commands. (chromium renders report.html in a
-# test: tests/cli_report_html.sh.)
+# build/. Used by both README commands. (For tests: chromium renders
+# report.html in tests/cli_report.sh, glslang-tools and the EGL/GL packages
+# check and run the emitted GLSL, clang builds tests/cli_fuzz_short.sh's
+# fuzzers.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -3,8 +3,10 @@
  * (models/views_standard.h) with the Hosek sky radiance the header holds,
  * tone mapped as seed 000 §11.5, written as an 8-bit sRGB PNG.
  *
- * Build (the header is named by SKYFIT_SKY_HEADER, default "sky.h"):
- *   skyfit codegen --weights hosek.json --lang c --out gen
+ * Build (the header is named by SKYFIT_SKY_HEADER, default "sky.h";
+ * codegen's --name sets the file's name, --out an existing folder):
+ *   mkdir -p gen
+ *   skyfit codegen --weights hosek.json --lang c --name sky --out gen
  *   cc -std=c99 -O2 -Igen -DSKYFIT_SKY_HEADER='"sky.h"' render_sky.c -o render_sky -lpng -lm
  *   ./render_sky sky.png [WIDTH HEIGHT]
  *
