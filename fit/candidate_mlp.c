@@ -143,6 +143,27 @@ static int train_network(const sf_candidate_inputs *in, mlp_job *job, const sf_d
   return status;
 }
 
+/* The note of a sky network that could not be brightness-normalised; the
+ * reason is kept in its weights file (training.normalise_skipped), so a
+ * build that takes the fit from the cache says it too, and its report is
+ * the fresh one's byte for byte. */
+static void note_raw_targets(const sf_candidate_inputs *in, const char *name, const char *why) {
+  if (!in->note || !why[0]) return;
+  char text[700];
+  snprintf(text, sizeof text, "%s: sky network trained on raw targets: %s", name, why);
+  in->note(in->note_ctx, text);
+}
+
+static void note_raw_targets_of_file(const sf_candidate_inputs *in, const char *name, const char *path) {
+  sf_weights w;
+  sf_error ignored = {0};
+  if (sf_weights_load_file(path, NULL, &w, &ignored) != SF_OK) return;
+  const cJSON *why = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(w.root, "training"),
+                                                      "normalise_skipped");
+  if (cJSON_IsString(why)) note_raw_targets(in, name, why->valuestring);
+  sf_weights_free(&w);
+}
+
 /* Trains and writes the weights file to path (if not ""). The scattering
  * model is split at the horizon (models/mlp_sky.h) when the domain holds
  * both kinds of ray: a network per half, each on its own samples. */
@@ -163,14 +184,10 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
    * the ground network's stay raw (it measured worse normalised). */
   sf_mlp_output_norm norm;
   memset(&norm, 0, sizeof norm);
+  char why_raw[512] = "";
   if (status == SF_OK && job->normalise) {
-    char why[512];
-    status = sf_output_norm_prepare(&data, job->normalise_cap, &norm, why, sizeof why, err);
-    if (status == SF_OK && why[0] && in->note) {
-      char text[700];
-      snprintf(text, sizeof text, "%s: sky network trained on raw targets: %s", job->name, why);
-      in->note(in->note_ctx, text);
-    }
+    status = sf_output_norm_prepare(&data, job->normalise_cap, &norm, why_raw, sizeof why_raw, err);
+    if (status == SF_OK) note_raw_targets(in, job->name, why_raw);
   }
   if (status == SF_OK) {
     char layers[64];
@@ -235,6 +252,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
       status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
     if (job->scattering) cJSON_AddStringToObject(training, "split", model->horizon_split ? "horizon" : "none");
     if (job->scattering) cJSON_AddStringToObject(training, "normalise", norm.active ? "brightness" : "none");
+    if (job->scattering && why_raw[0]) cJSON_AddStringToObject(training, "normalise_skipped", why_raw);
     cJSON_AddNumberToObject(training, "seed", (double)job->train.seed);
     if (job->train.first_restart > 0) cJSON_AddNumberToObject(training, "restart", job->train.first_restart);
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
@@ -291,6 +309,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     sf_error lerr = {0};
     loaded = sf_mlp_sky_load(path, m, &lerr) == SF_OK;
     if (loaded) sf_cache_entry_used(path);
+    if (loaded && job->scattering) note_raw_targets_of_file(in, job->name, path);
     if (!loaded) {
       sf_mlp_sky_free(m);
       memset(m, 0, sizeof *m);

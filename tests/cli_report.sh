@@ -159,6 +159,23 @@ echo "rerun: $(head -1 "$tmp/stdout2") (wall $(awk -v a="$start" -v b="$end" 'BE
 grep -q "tables 5/5 from the cache" "$tmp/stdout2" || { echo "FAIL rerun did not take the tables from the cache"; fail=1; }
 cmp -s "$tmp/metrics-first.json" "$tmp/out/metrics.json" || { echo "FAIL metrics.json differs on a rerun"; diff "$tmp/metrics-first.json" "$tmp/out/metrics.json" | head -5; fail=1; }
 cmp -s "$tmp/report-first.md" "$tmp/out/report.md" || { echo "FAIL report.md differs on a rerun"; fail=1; }
+# A fitter's note is part of the report: a sky network whose tables are
+# too coarse to brightness-normalise says so, from the cache too (the
+# rerun's report had lost the note, and with it byte-identity).
+cat > "$tmp/raw-scene.json" <<'EOF'
+{"viewer_altitude_km": [0, 0], "view": "above_horizon", "sun_elevation_deg": [0, 90], "quantities": ["sky_radiance"],
+ "error_budget": {"sky_radiance_rel_rmse": 0.1}}
+EOF
+raw=(--resolution 64x16,8x32x16x8 --views 48x27 --timing-points 20000 --quick --quiet)
+"$bin" build "$tmp/raw-scene.json" "${raw[@]}" --out "$tmp/raw" > /dev/null 2>&1 && cp "$tmp/raw/report.md" "$tmp/raw-first.md" &&
+  cp "$tmp/raw/metrics.json" "$tmp/raw-first.json" && "$bin" build "$tmp/raw-scene.json" "${raw[@]}" --out "$tmp/raw" > /dev/null 2>&1 ||
+  { echo "FAIL the raw-targets scene's builds"; fail=1; }
+if grep -q "sky network trained on raw targets" "$tmp/raw-first.md" && cmp -s "$tmp/raw-first.md" "$tmp/raw/report.md" &&
+   cmp -s "$tmp/raw-first.json" "$tmp/raw/metrics.json"; then
+  echo "a fit's note (raw targets) is in the report of a rerun from the cache too, byte for byte"
+else
+  echo "FAIL a fit's note on a rerun from the cache: $(diff "$tmp/raw-first.md" "$tmp/raw/report.md" | head -5)"; fail=1
+fi
 
 # The ratios to the naive raymarch are of timings from one run (SPEC §12):
 # with one model's timing gone from the cache, every model is timed again
