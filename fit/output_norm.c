@@ -96,6 +96,33 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, doubl
   return SF_OK;
 }
 
+/* The polynomial is fitted to the lit slices only; in the dark ones (a sun
+ * below the horizon by more than the atmosphere's twilight arc: a thin
+ * shell, a huge planet) it extrapolates, and where it falls far below the
+ * brightest it scales a target by up to e^450: training diverged, or a
+ * target overflowed. Such a set stays raw (SF_ERR_INPUT: the caller's
+ * note says why). */
+static int check_dark_slices(const sf_mlp_output_norm *n, const sf_dataset *d, sf_error *err) {
+  double worst = 0.0;
+  long at = -1;
+  for (long i = 0; i < d->n; ++i) {
+    const double *x = d->x + i * d->n_in;
+    double f = exp(-sf_mlp_output_norm_log_brightness(n, x[0], x[2]));
+    for (int o = 0; o < d->n_out; ++o) {
+      double scaled = fabs(d->y[i * d->n_out + o]) * f;
+      if (!(scaled <= worst)) {   /* NaN too */
+        worst = scaled;
+        at = i;
+      }
+    }
+  }
+  if (at >= 0 && !(worst <= SF_OUTPUT_NORM_MAX_SCALED))
+    return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: extrapolated to a dark slice (normalised sqrt h %.3g, "
+                   "mu_s %.3g) it scales a target to %.3g, above %g", d->x[at * d->n_in], d->x[at * d->n_in + 2],
+                   worst, SF_OUTPUT_NORM_MAX_SCALED);
+  return SF_OK;
+}
+
 int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *out, char *why, size_t why_size,
                            sf_error *err) {
   if (why_size > 0) why[0] = '\0';
@@ -103,6 +130,7 @@ int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *
     return sf_fail(err, SF_ERR_INPUT, "brightness normalisation: cap %g below the brightest: expected >= 0", cap_below);
   sf_error fit_err = {0};
   int status = sf_output_norm_fit(d, SF_OUTPUT_NORM_DEGREE_H, SF_OUTPUT_NORM_DEGREE_MU_S, cap_below, out, &fit_err);
+  if (status == SF_OK) status = check_dark_slices(out, d, &fit_err);
   if (status == SF_OK) {
     sf_output_norm_apply(out, d);
     return SF_OK;

@@ -30,6 +30,10 @@
 #include "models/mlp_sky.h"
 
 #define SF_OUTPUT_NORM_FLOOR 1e-6
+/* The largest normalised target a set may hold (targets divided by the
+ * fitted brightness are about 1 on the lit slices); beyond it the set
+ * stays raw (sf_output_norm_prepare). */
+#define SF_OUTPUT_NORM_MAX_SCALED 1e3
 /* The degrees fit mlp-scattering uses: the logs of the default scene's
  * slice brightnesses (7 orders of magnitude) are fitted to 0.1-0.3. */
 #define SF_OUTPUT_NORM_DEGREE_H 3

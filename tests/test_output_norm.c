@@ -276,8 +276,52 @@ static void test_model(const sf_atmosphere *atm, int split, double cap) {
   sf_mlp_sky_free(&normed);
 }
 
+/* sf_output_norm_prepare on a set whose dark slices (sun far below the
+ * horizon) are faint but not black: log brightness 13 v - 13 on the lit
+ * half v >= 0 (down to e^-13, above the 1e-6 floor), targets 1e-7 on the
+ * dark half. The polynomial, exact on the lit half, reaches -26 at v = -1
+ * and would scale those targets to 1e-7 e^26 = 2e4 (a thin shell's set had
+ * reached 2.4e6 and diverged, a huge planet's inf): the set stays raw and
+ * the reason names the dark slice. The same set with black dark slices is
+ * normalised. */
+static void test_dark_slices(double dark_target, int want_active) {
+  sf_error err = {0};
+  sf_dataset d;
+  enum { SU = 5, SV = 21 };
+  CHECK(sf_dataset_init(&d, SU * SV, 4, 1, &err) == SF_OK);
+  for (int s = 0; s < SU * SV; ++s) {
+    double u = -1.0 + 2.0 * (s / SV) / (SU - 1.0), v = -1.0 + 2.0 * (s % SV) / (SV - 1.0);
+    double *x = d.x + (long)s * 4;
+    x[0] = u;
+    x[1] = 0.5;
+    x[2] = v;
+    x[3] = 0.0;
+    d.y[s] = v >= 0.0 ? exp(13.0 * v - 13.0) : dark_target;
+  }
+  double *y0 = malloc(sizeof *y0 * SU * SV);
+  memcpy(y0, d.y, sizeof *y0 * SU * SV);
+  sf_mlp_output_norm n;
+  char why[512];
+  CHECK(sf_output_norm_prepare(&d, INFINITY, &n, why, sizeof why, &err) == SF_OK);
+  printf("dark slices at %g: %s%s\n", dark_target, n.active ? "normalised" : "raw: ", why);
+  CHECK(n.active == want_active);
+  if (!want_active) {
+    CHECK(strstr(why, "dark slice") != NULL && strstr(why, "mu_s -1") != NULL);
+    CHECK(memcmp(y0, d.y, sizeof *y0 * SU * SV) == 0);   /* left raw */
+  } else {
+    double worst = 0.0;
+    for (int s = 0; s < SU * SV; ++s) worst = worst_of(worst, fabs(d.y[s]));
+    printf("largest normalised target %.3g\n", worst);
+    CHECK(worst <= SF_OUTPUT_NORM_MAX_SCALED);
+  }
+  free(y0);
+  sf_dataset_free(&d);
+}
+
 int main(void) {
   test_fit();
+  test_dark_slices(1e-7, 0);
+  test_dark_slices(0.0, 1);
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
   test_model(&atm, 0, INFINITY);
