@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "data/phase_peak.h"
 #include "data/precompute_single.h"
 #include "data/precompute_transmittance.h"
 #include "data/scattering_setup.h"
@@ -222,6 +223,8 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     set->multiple_computed = status == SF_OK;
     char text[400];
     if (status == SF_OK && o->note && sf_table_set_orders_short(set, o, text, sizeof text)) o->note(o->note_ctx, text);
+    if (status == SF_OK && o->note && o->orders >= 2 && sf_phase_peaks_note(atm, text, sizeof text))
+      o->note(o->note_ctx, text);
     for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&internal_single[k]);
   }
   sf_scattering_setup_free(&setup);

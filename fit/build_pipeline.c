@@ -23,6 +23,7 @@
 #include "models/weights_file.h"
 #include "fit/candidate_fitted.h"
 #include "models/atmosphere_file.h"
+#include "data/phase_peak.h"
 #include "util/make_folders.h"
 #include "util/path_from_folder.h"
 #include "util/clock.h"
@@ -389,6 +390,9 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   notes->forward_ctx = o->note_ctx;
   char orders_short[400];
   if (sf_table_set_orders_short(&set, &topt, orders_short, sizeof orders_short)) log_note(notes, orders_short);
+  /* the atmosphere's, so a rerun from the cache says it too */
+  if (topt.orders >= 2 && sf_phase_peaks_note(&scene->atmosphere, orders_short, sizeof orders_short))
+    log_note(notes, orders_short);
   /* Weights, views and report go to a staging folder, published when the
    * run has succeeded (fit/build_staging.h); the cache is written as it goes. */
   sf_build_staging stage;
