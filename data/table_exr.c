@@ -76,6 +76,23 @@ static const char *exr_reason(const exr_stream *s, exr_result_t rv) {
   return s->message[0] ? s->message : exr_get_default_error_message(rv);
 }
 
+/* A write context's error handler keeps nothing: OpenEXR calls it with the
+ * context's lock held (from exr_write_header's writes), and
+ * exr_get_user_data takes that lock, so keep_first_error there waited on
+ * itself forever (a full disk under the header hung sample and build). The
+ * failed write's errno reaches the stream through the write callback's own
+ * user pointer instead (sf_exr_write_fd). */
+static void ignore_write_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
+  (void)ctxt;
+  (void)code;
+  (void)msg;
+}
+
+static void write_reason(const exr_stream *s, exr_result_t rv, char *text, size_t n) {
+  if (s->write_errno) snprintf(text, n, "write failed: %s", strerror(s->write_errno));
+  else snprintf(text, n, "%s", exr_get_default_error_message(rv));
+}
+
 /* A write that failed (a full disk: exit 1) or OpenEXR refusing the table,
  * which sf_table_desc_check has passed (ours to fix: exit 1 too). */
 static int write_failure_status(const exr_stream *s) {
@@ -187,7 +204,7 @@ static int write_pixels(exr_context_t ctx, int part, const sf_table *t, const ch
   exr_result_t rv = exr_get_chunk_count(ctx, part, &chunks);
   if (rv == EXR_ERR_SUCCESS) rv = exr_get_scanlines_per_chunk(ctx, part, &lines);
   if (rv != EXR_ERR_SUCCESS || lines < 1)
-    return sf_fail(err, SF_ERR_INTERNAL, "%s: OpenEXR chunk layout: %s", path, exr_reason(stream, rv));
+    return sf_fail(err, SF_ERR_INTERNAL, "%s: OpenEXR chunk layout: %s", path, exr_get_default_error_message(rv));
   size_t row_floats = (size_t)t->width * d->n_channels;
   float *rows = malloc(sizeof(float) * row_floats * (size_t)lines);
   if (!rows) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", path);
@@ -203,7 +220,9 @@ static int write_pixels(exr_context_t ctx, int part, const sf_table *t, const ch
       initialised = initialised || rv == EXR_ERR_SUCCESS;
     }
     if (rv != EXR_ERR_SUCCESS) {
-      status = sf_fail(err, SF_ERR_INTERNAL, "%s: OpenEXR chunk %d: %s", path, (int)ci, exr_reason(stream, rv));
+      char why[300];
+      write_reason(stream, rv, why, sizeof why);
+      status = sf_fail(err, write_failure_status(stream), "%s: OpenEXR chunk %d: %s", path, (int)ci, why);
       break;
     }
     for (int ly = 0; ly < cinfo.height; ++ly) gather_row(t, y0 + ly, rows + (size_t)ly * row_floats);
@@ -235,9 +254,11 @@ static int write_pixels(exr_context_t ctx, int part, const sf_table *t, const ch
     if (status != SF_OK) break;
     rv = exr_encoding_choose_default_routines(ctx, part, &enc);
     if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
-    if (rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, write_failure_status(stream), "%s: writing pixel chunk %d failed: %s", path, (int)ci,
-                       exr_reason(stream, rv));
+    if (rv != EXR_ERR_SUCCESS) {
+      char why[300];
+      write_reason(stream, rv, why, sizeof why);
+      status = sf_fail(err, write_failure_status(stream), "%s: writing pixel chunk %d failed: %s", path, (int)ci, why);
+    }
   }
   if (initialised) exr_encoding_destroy(ctx, &enc);
   free(rows);
@@ -291,22 +312,25 @@ int sf_table_write_exr(const sf_table *t, const char *path, sf_error *err) {
   exr_context_t ctx = NULL;
   if (status == SF_OK) {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = keep_first_error;
+    init.error_handler_fn = ignore_write_error;
     init.user_data = &stream;
     init.write_fn = stream_write;
     init.zip_level = TABLE_ZIP_LEVEL;
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     int part = 0;
     if (rv == EXR_ERR_SUCCESS) rv = write_header(ctx, &part, t, strings, checksum_hex);
-    if (rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, write_failure_status(&stream), "%s: writing the EXR header failed: %s", path,
-                       exr_reason(&stream, rv));
+    char why[300];
+    if (rv != EXR_ERR_SUCCESS) {
+      write_reason(&stream, rv, why, sizeof why);
+      status = sf_fail(err, write_failure_status(&stream), "%s: writing the EXR header failed: %s", path, why);
+    }
     if (status == SF_OK) status = write_pixels(ctx, part, t, path, &stream, err);
     /* exr_finish writes the chunk offset table; its failure is a failed write. */
     rv = ctx ? exr_finish(&ctx) : EXR_ERR_SUCCESS;
-    if (status == SF_OK && rv != EXR_ERR_SUCCESS)
-      status = sf_fail(err, write_failure_status(&stream), "%s: finishing the EXR file failed: %s", path,
-                       exr_reason(&stream, rv));
+    if (status == SF_OK && rv != EXR_ERR_SUCCESS) {
+      write_reason(&stream, rv, why, sizeof why);
+      status = sf_fail(err, write_failure_status(&stream), "%s: finishing the EXR file failed: %s", path, why);
+    }
     if (status == SF_OK) status = sf_atomic_commit(&file, err);
     else sf_atomic_abort(&file);
   }

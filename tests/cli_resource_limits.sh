@@ -225,6 +225,22 @@ if mount -t tmpfs -o size=64k tmpfs "$tmp/full" 2>/dev/null; then
       fail "a full disk under the EXR tables: sample exit $rc_sample, build $rc_build, weights folder left: $weights_left: $(cat "$tmp/err" "$tmp/err2")"
     fi
   fi
+  # A disk already full: the first table's header cannot be written. The
+  # write error's handler had waited on OpenEXR's lock, held by
+  # exr_write_header, forever (timeout: 137).
+  if mount -t tmpfs -o size=64k tmpfs "$tmp/full" 2>/dev/null; then
+    dd if=/dev/zero of="$tmp/full/fill" bs=1k count=64 2>/dev/null
+    timeout -s KILL 120 "$BIN" sample --out "$tmp/full/s" --resolution 32x16,8x16x8x4 --quiet 2>"$tmp/err"
+    rc_sample=$?
+    left=$(ls -A "$tmp/full/s" 2>/dev/null)
+    umount "$tmp/full"
+    if [ $rc_sample -eq 1 ] && grep -q "writing the EXR header failed: write failed: No space left on device" "$tmp/err" &&
+       [ -z "$left" ]; then
+      pass "a full disk under an EXR header: exit 1 naming it, nothing left"
+    else
+      fail "a full disk under an EXR header: exit $rc_sample, left '$left': $(cat "$tmp/err")"
+    fi
+  fi
 else
   echo "skip a full disk (no rights to mount a tmpfs)"
 fi
