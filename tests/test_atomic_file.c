@@ -4,11 +4,14 @@
  * beside the target and is gone after a commit or an abort; two writers
  * of one path do not collide; a missing folder is an input error. (Stale
  * temporaries: tests/test_memory_limit.c.) */
+#define _XOPEN_SOURCE 700 /* mknod, S_IFCHR */
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "tests/check.h"
@@ -41,6 +44,79 @@ static int file_is(const char *path, const char *text) {
   size_t n = fread(buf, 1, sizeof buf - 1, fp);
   fclose(fp);
   return n == strlen(text) && memcmp(buf, text, n) == 0;
+}
+
+/* What is at the path is not always a file. A link is followed: the file
+ * it names is replaced and the link stays (renaming over it had replaced
+ * the link). A character device or a FIFO is written into in place
+ * (renaming over it had replaced /dev/null itself, as root, with a
+ * regular file). A folder is refused. */
+static void test_other_kinds(const char *dir) {
+  char target[600], link[600], dangling[600], missing[600], fifo[600], folder[600], node[600];
+  snprintf(target, sizeof target, "%s/real.json", dir);
+  snprintf(link, sizeof link, "%s/link.json", dir);
+  snprintf(dangling, sizeof dangling, "%s/dangling.json", dir);
+  snprintf(missing, sizeof missing, "%s/missing.json", dir);
+  snprintf(fifo, sizeof fifo, "%s/fifo", dir);
+  snprintf(folder, sizeof folder, "%s/folder", dir);
+  snprintf(node, sizeof node, "%s/null", dir);
+  struct stat st;
+
+  CHECK(write_text(target, "old") == 0);
+  CHECK(symlink("real.json", link) == 0);
+  CHECK(write_text(link, "through the link") == 0);
+  CHECK(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
+  CHECK(file_is(target, "through the link"));
+  CHECK(count_prefixed(dir, "real.json.tmp.") == 0 && count_prefixed(dir, "link.json.tmp.") == 0);
+  /* a link to a file not yet there: the file is made where it points */
+  CHECK(symlink("missing.json", dangling) == 0);
+  CHECK(write_text(dangling, "made") == 0);
+  CHECK(lstat(dangling, &st) == 0 && S_ISLNK(st.st_mode));
+  CHECK(file_is(missing, "made"));
+
+  /* a FIFO: a child reads what is written into it */
+  CHECK(mkfifo(fifo, 0666) == 0);
+  sf_error err;
+  sf_error_clear(&err);
+  CHECK(sf_atomic_check(fifo, &err) == SF_OK);   /* does not wait for a reader */
+  pid_t child = fork();
+  if (child == 0) {
+    FILE *in = fopen(fifo, "rb");
+    char buf[64] = {0};
+    size_t n = in ? fread(buf, 1, sizeof buf - 1, in) : 0;
+    _exit(n == 9 && memcmp(buf, "into fifo", 9) == 0 ? 0 : 1);
+  }
+  CHECK(write_text(fifo, "into fifo") == 0);
+  int status = -1;
+  CHECK(waitpid(child, &status, 0) == child && WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  CHECK(lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
+  CHECK(count_prefixed(dir, "fifo.tmp.") == 0);
+
+  /* a character device (a private /dev/null; root only) */
+  if (mknod(node, S_IFCHR | 0666, makedev(1, 3)) == 0) {
+    CHECK(write_text(node, "discarded") == 0);
+    CHECK(lstat(node, &st) == 0 && S_ISCHR(st.st_mode));
+    CHECK(count_prefixed(dir, "null.tmp.") == 0);
+    unlink(node);
+  } else {
+    printf("skip a character device (mknod needs root)\n");
+  }
+
+  /* a folder: refused naming it, before anything is written */
+  CHECK(mkdir(folder, 0777) == 0);
+  sf_atomic_file f;
+  sf_error_clear(&err);
+  CHECK(sf_atomic_open(&f, folder, &err) != 0 && err.status == SF_ERR_INPUT && strstr(err.message, "is a folder"));
+  CHECK(count_prefixed(dir, "folder.tmp.") == 0);
+  sf_error_clear(&err);
+  CHECK(sf_atomic_check(folder, &err) == SF_ERR_INPUT);
+
+  unlink(target);
+  unlink(link);
+  unlink(dangling);
+  unlink(missing);
+  unlink(fifo);
+  rmdir(folder);
 }
 
 int main(void) {
@@ -108,6 +184,7 @@ int main(void) {
   printf("missing folder: %s\n", err.message);
   CHECK(strstr(err.message, missing) != NULL);
 
+  test_other_kinds(dir);
   unlink(path);
   rmdir(dir);
   return check_summary();

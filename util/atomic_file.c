@@ -127,13 +127,81 @@ int sf_write_error_status(int errno_value) {
   }
 }
 
+/* What an output at path replaces. Links are followed (up to 40), so that
+ * the file a link names is replaced and the link stays: renaming over the
+ * link had replaced it with a file of its own. */
+typedef enum output_kind {
+  OUTPUT_NEW,       /* nothing there yet */
+  OUTPUT_FILE,      /* a regular file: written beside and renamed over */
+  OUTPUT_STREAM,    /* a character device or a FIFO (/dev/null, a pipe): written into */
+  OUTPUT_FOLDER,
+  OUTPUT_OTHER      /* a block device or a socket */
+} output_kind;
+
+static int resolve_output(const char *path, char *target, size_t n, output_kind *kind, sf_error *err) {
+  char current[4096], link[4096];
+  if (snprintf(current, sizeof current, "%s", path) >= (int)sizeof current || strlen(path) + 1 > n)
+    return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
+  for (int hops = 0; hops <= 40; ++hops) {
+    struct stat st;
+    if (lstat(current, &st) != 0) {
+      *kind = OUTPUT_NEW;   /* a missing folder is found when the temporary is made */
+    } else if (S_ISLNK(st.st_mode)) {
+      ssize_t len = readlink(current, link, sizeof link - 1);
+      if (len < 0) return sf_fail(err, SF_ERR_INPUT, "%s: cannot read the link: %s", path, strerror(errno));
+      link[len] = '\0';
+      const char *slash = strrchr(current, '/');
+      char next[8192];
+      if (link[0] == '/' || !slash) snprintf(next, sizeof next, "%s", link);
+      else snprintf(next, sizeof next, "%.*s%s", (int)(slash - current + 1), current, link);
+      if (strlen(next) + 1 > sizeof current || strlen(next) + 1 > n)
+        return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long (through its link)", path);
+      strcpy(current, next);
+      continue;
+    } else if (S_ISREG(st.st_mode)) {
+      *kind = OUTPUT_FILE;
+    } else if (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)) {
+      *kind = OUTPUT_STREAM;
+    } else {
+      *kind = S_ISDIR(st.st_mode) ? OUTPUT_FOLDER : OUTPUT_OTHER;
+    }
+    strcpy(target, current);
+    return SF_OK;
+  }
+  return sf_fail(err, SF_ERR_INPUT, "%s: too many links", path);
+}
+
+/* The errors of an output that is neither a file nor a stream. */
+static int refuse_kind(const char *path, output_kind kind, sf_error *err) {
+  if (kind == OUTPUT_FOLDER) return sf_fail(err, SF_ERR_INPUT, "%s: is a folder", path);
+  return sf_fail(err, SF_ERR_INPUT,
+                 "%s: is a block device or a socket: outputs go to files, character devices (/dev/null) or FIFOs",
+                 path);
+}
+
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
   memset(f, 0, sizeof *f);
-  sf_atomic_remove_stale(path);
-  if (strlen(path) + 1 > sizeof f->final_path)
-    return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
-  strcpy(f->final_path, path);
-  int fd = create_temp(path, f->temp_path, sizeof f->temp_path);
+  output_kind kind;
+  if (resolve_output(path, f->final_path, sizeof f->final_path, &kind, err) != SF_OK) return err->status;
+  if (kind == OUTPUT_FOLDER || kind == OUTPUT_OTHER) return refuse_kind(path, kind, err);
+  if (kind == OUTPUT_STREAM) {
+    /* a device or a pipe is written into, in place: renaming a file over
+     * it had replaced /dev/null itself (as root) with a regular file */
+    int fd = open(f->final_path, O_WRONLY | O_CLOEXEC);
+    if (fd < 0) {
+      int saved = errno;
+      return sf_fail(err, sf_write_error_status(saved), "%s: cannot write here: %s", path, strerror(saved));
+    }
+    f->stream = fdopen(fd, "wb");
+    if (!f->stream) {
+      close(fd);
+      return sf_fail(err, SF_ERR_INTERNAL, "%s: fdopen failed: %s", path, strerror(errno));
+    }
+    f->in_place = 1;
+    return 0;
+  }
+  sf_atomic_remove_stale(f->final_path);
+  int fd = create_temp(f->final_path, f->temp_path, sizeof f->temp_path);
   if (fd < 0) {
     int saved = errno;
     f->temp_path[0] = '\0';
@@ -150,6 +218,17 @@ int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
 }
 
 int sf_atomic_commit(sf_atomic_file *f, sf_error *err) {
+  if (f->in_place) {   /* nothing to sync or rename on a device or a pipe */
+    int failed = ferror(f->stream) || fflush(f->stream) != 0;
+    int saved = failed && errno ? errno : EIO;
+    if (fclose(f->stream) != 0 && !failed) {
+      failed = 1;
+      saved = errno;
+    }
+    f->stream = NULL;
+    if (!failed) return 0;
+    return sf_fail(err, sf_write_error_status(saved), "%s: writing failed: %s", f->final_path, strerror(saved));
+  }
   int failed = ferror(f->stream) || fflush(f->stream) != 0 || fsync(fileno(f->stream)) != 0;
   int saved = errno;
   if (fclose(f->stream) != 0) failed = 1;
@@ -169,8 +248,15 @@ void sf_atomic_abort(sf_atomic_file *f) {
 }
 
 int sf_atomic_check(const char *path, sf_error *err) {
-  struct stat st;
-  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return sf_fail(err, SF_ERR_INPUT, "%s: is a folder", path);
+  char target[4096];
+  output_kind kind;
+  if (resolve_output(path, target, sizeof target, &kind, err) != SF_OK) return err->status;
+  if (kind == OUTPUT_FOLDER || kind == OUTPUT_OTHER) return refuse_kind(path, kind, err);
+  if (kind == OUTPUT_STREAM) {   /* opening a FIFO to check it would wait for its reader */
+    if (access(target, W_OK) == 0) return SF_OK;
+    int saved = errno;
+    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here: %s", path, strerror(saved));
+  }
   sf_atomic_file f;
   if (sf_atomic_open(&f, path, err) != SF_OK) return err->status;
   sf_atomic_abort(&f);

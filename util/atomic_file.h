@@ -8,15 +8,19 @@
 
 typedef struct sf_atomic_file {
   FILE *stream;          /* write here */
-  char final_path[4096];
+  char final_path[4096]; /* the path, or the file its links name */
   char temp_path[4096];
+  int in_place;          /* a character device or a FIFO: written into, no temporary */
 } sf_atomic_file;
 
 /* Opens a temporary sibling of path, first removing stale temporaries of
  * path that a killed writer left behind (sf_atomic_remove_stale). The
- * output gets mode 0666 less the process's umask, like any new file. On
- * failure sets err (SF_ERR_INPUT: the folder is missing or unwritable) and
- * returns nonzero. */
+ * output gets mode 0666 less the process's umask, like any new file. A
+ * link at path is followed: the file it names is replaced, the link stays.
+ * A character device or a FIFO there (/dev/null, a pipe) is written into
+ * in place; a folder, a block device or a socket is refused. On failure
+ * sets err (SF_ERR_INPUT: the folder is missing or unwritable, or what is
+ * at path cannot take the output) and returns nonzero. */
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err);
 /* Flushes, syncs and renames into place; the previous file stays untouched
  * until the rename. Returns nonzero (and removes the temporary) on failure. */
@@ -24,8 +28,9 @@ int sf_atomic_commit(sf_atomic_file *f, sf_error *err);
 /* Abandons the temporary; the destination is left as it was. */
 void sf_atomic_abort(sf_atomic_file *f);
 /* Whether path can be written (its folder exists and takes a temporary;
- * path is not a folder), checked before long work whose result goes
- * there; SF_ERR_INPUT naming the path otherwise. Writes nothing. */
+ * path is not a folder; or path is a writable device or FIFO), checked
+ * before long work whose result goes there; SF_ERR_INPUT naming the path
+ * otherwise. Writes nothing. */
 int sf_atomic_check(const char *path, sf_error *err);
 /* The status of a failed write with this errno: a full disk or a failing
  * device (ENOSPC, EDQUOT, EIO, ENOMEM) is not bad input (SF_ERR_INTERNAL,
