@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "codegen/baseline_part.h"
 #include "codegen/codegen_file.h"
@@ -318,6 +319,10 @@ int sf_cmd_codegen(int argc, char **argv) {
   }
   sf_error err;
   sf_error_clear(&err);
+  /* a signal leaves no header's temporary (cli/interrupt_cleanup.h) */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_folder(&outputs, o.out_dir);
+  sf_cli_supervise_outputs(&outputs);
   int status = run(&o, job, &err);
   if (status != SF_OK) fprintf(stderr, "skyfit codegen: %s\n", err.message);
   else if (!o.quiet) {

@@ -9,6 +9,7 @@
 
 #include "cli/cmd_eval_tables.h"
 #include "cli/csv_points.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
@@ -138,6 +139,12 @@ int sf_cmd_eval_tables(int argc, char **argv) {
     o.set.note = sf_progress_bar_note;
     o.set.note_ctx = &bar;
   }
+  /* a signal leaves no table's temporary in the tables' folder
+   * (cli/interrupt_cleanup.h); stdin is read, so the work process needs
+   * none of it */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_folder(&outputs, tables_dir);
+  if (tables_dir) sf_cli_supervise_outputs(&outputs);
   sf_table_set set;
   int status = sf_table_set_make(&set, &atm, &o.set, &err);
   sf_progress_bar_finish(&bar);

@@ -8,6 +8,7 @@
 
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/fit_commands.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/table_options.h"
@@ -357,6 +358,17 @@ static int run_sky(int argc, char **argv, int scattering) {
       goto done;
   }
 
+  /* a signal leaves no temporary of the weights, a checkpoint, the dump or
+   * a table (cli/interrupt_cleanup.h); Ctrl-C still checkpoints, in the
+   * child that trains */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_file(&outputs, job.mlp.out);
+  sf_cli_outputs_add_file(&outputs, job.mlp.out ? ckpt : NULL);
+  sf_cli_outputs_add_file(&outputs, job.mlp.out && scattering ? checkpoint_g : NULL);
+  sf_cli_outputs_add_file(&outputs, job.dump_path);
+  sf_cli_outputs_add_folder(&outputs, job.tables_dir);
+  sf_cli_supervise_outputs(&outputs);
+
   /* tables */
   sf_table_set_options *so = &job.tables.set;
   so->kind = SF_PARAM_BRUNETON;
@@ -692,6 +704,10 @@ int sf_cmd_fit_mlp(int argc, char **argv) {
   /* before the CSV is read (seconds for a million rows) */
   if (t->resume && sf_mlp_cli_check_resume(command, t->checkpoint_path, NULL)) return 2;
   if (sf_mlp_cli_check_run(command, &o, t->checkpoint_path, inputs, 2)) return 2;
+  sf_cli_outputs outputs = {0};   /* as above */
+  sf_cli_outputs_add_file(&outputs, o.out);
+  sf_cli_outputs_add_file(&outputs, t->checkpoint_path);
+  sf_cli_supervise_outputs(&outputs);
   sf_dataset data, train, val;
   memset(&train, 0, sizeof train);
   memset(&val, 0, sizeof val);

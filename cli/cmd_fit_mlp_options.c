@@ -318,7 +318,14 @@ const volatile sig_atomic_t *sf_mlp_catch_interrupt(void) {
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_interrupt;
   sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
+  /* SIGTERM and SIGHUP too (a `timeout`, a closed terminal): they had
+   * ended the training with nothing kept. One the process ignores (nohup's
+   * SIGHUP) stays ignored. */
+  const int stops[] = {SIGINT, SIGTERM, SIGHUP};
+  for (int i = 0; i < 3; ++i) {
+    struct sigaction was;
+    if (sigaction(stops[i], NULL, &was) == 0 && was.sa_handler != SIG_IGN) sigaction(stops[i], &sa, NULL);
+  }
   return &interrupted_flag;
 }
 

@@ -73,7 +73,8 @@ void sf_mlp_progress_finish(sf_mlp_progress *p);
  * (sf_mlp_lm_progress_fn; ctx an sf_mlp_progress). */
 void sf_mlp_progress_polish(void *ctx, int step, int n_steps, double train_loss, double validation_loss);
 
-/* Installs a SIGINT handler that sets the returned flag (training then
+/* Installs a SIGINT, SIGTERM and SIGHUP handler (where the signal is not
+ * ignored) that sets the returned flag (training then
  * stops after the epoch and writes its checkpoint; the polish stops before
  * its next step, and the trained state stays in the checkpoint). */
 const volatile sig_atomic_t *sf_mlp_catch_interrupt(void);

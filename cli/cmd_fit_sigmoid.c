@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/fit_commands.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
@@ -124,6 +125,10 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
     sf_cli_scene_files(scene_path, atm_path, scene, inputs);
     status = sf_cli_output_problem("--out", out, inputs, 3, &err);
   }
+  /* a signal leaves no temporary of the weights (cli/interrupt_cleanup.h) */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_file(&outputs, out);
+  if (status == SF_OK) sf_cli_supervise_outputs(&outputs);
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !quiet);
   opt.progress = sf_progress_bar_update;

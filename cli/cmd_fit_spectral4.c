@@ -10,6 +10,7 @@
 
 #include "cli/cache_limit_option.h"
 #include "cli/fit_commands.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
@@ -181,6 +182,12 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
     status = sf_cli_output_problem("--out", out, inputs, 3, &err);
   }
   if (status == SF_OK) status = sf_make_folders(cache_dir, "--cache", &err);
+  /* a signal leaves no temporary of the weights or a cached table
+   * (cli/interrupt_cleanup.h) */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_file(&outputs, out);
+  sf_cli_outputs_add_folder(&outputs, cache_dir);
+  if (status == SF_OK) sf_cli_supervise_outputs(&outputs);
   opt.cache_dir = cache_dir;
   sf_progress_bar bar;
   sf_progress_bar_init(&bar, stderr, !quiet);

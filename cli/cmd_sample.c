@@ -45,16 +45,14 @@ static void sample_usage(FILE *out) {
   fprintf(out, "  --help                  this text\n");
 }
 
-/* mkdir -p, then proves the folder writable with a temporary file. */
+/* mkdir -p, then proves DIR/tables.json writable (a temporary file; a
+ * folder there is refused now, not after the sampling). */
 static int prepare_folder(const char *dir, sf_error *err) {
   if (sf_make_folders(dir, "--out", err)) return SF_ERR_INPUT;
   char path[4096];
   snprintf(path, sizeof path, "%s/tables.json", dir);
-  sf_atomic_file probe;
   sf_error inner = {0};
-  if (sf_atomic_open(&probe, path, &inner) != SF_OK)
-    return sf_fail(err, SF_ERR_INPUT, "--out: folder %s is not writable: %s", dir, inner.message);
-  sf_atomic_abort(&probe);
+  if (sf_atomic_check(path, &inner) != SF_OK) return sf_fail(err, inner.status, "--out: %s", inner.message);
   return SF_OK;
 }
 

@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli/csv_points.h"
+#include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
 #include "cli/output_file_check.h"
 #include "cli/progress_bar.h"
@@ -333,6 +334,12 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
     sf_cli_scene_files(scene_path, o->atmosphere_path, scene, inputs);
     status = sf_cli_output_problem("--out", out_path, inputs, 3, &err);
   }
+  /* a signal leaves no temporary of the weights or a table
+   * (cli/interrupt_cleanup.h) */
+  sf_cli_outputs outputs = {0};
+  sf_cli_outputs_add_file(&outputs, out_path);
+  sf_cli_outputs_add_folder(&outputs, tables_dir);
+  if (status == SF_OK) sf_cli_supervise_outputs(&outputs);
   if (status == SF_OK) status = sf_hosek_dataset_load_default(published, &err);
   if (status == SF_OK) {
     *atm = scene->atmosphere;

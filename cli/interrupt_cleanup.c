@@ -6,6 +6,8 @@
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "util/atomic_file.h"
 #if defined(__linux__)
 #include <sys/prctl.h>
 #endif
@@ -88,4 +90,22 @@ int sf_cli_supervise(sf_cli_cleanup_fn cleanup, void *ctx) {
   sigprocmask(SIG_UNBLOCK, &stop, NULL);
   raise(sig);
   _exit(128 + sig);
+}
+
+void sf_cli_outputs_add_file(sf_cli_outputs *o, const char *path) {
+  if (path && path[0] && o->n_files < SF_CLI_MAX_OUTPUTS) o->files[o->n_files++] = path;
+}
+
+void sf_cli_outputs_add_folder(sf_cli_outputs *o, const char *path) {
+  if (path && path[0] && o->n_folders < SF_CLI_MAX_OUTPUTS) o->folders[o->n_folders++] = path;
+}
+
+static void remove_output_leftovers(void *ctx) {
+  const sf_cli_outputs *o = ctx;
+  for (int i = 0; i < o->n_files; ++i) sf_atomic_remove_stale(o->files[i]);
+  for (int i = 0; i < o->n_folders; ++i) sf_atomic_remove_stale_in(o->folders[i]);
+}
+
+int sf_cli_supervise_outputs(const sf_cli_outputs *outputs) {
+  return sf_cli_supervise(remove_output_leftovers, (void *)outputs);
 }

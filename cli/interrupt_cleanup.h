@@ -23,4 +23,26 @@ typedef void (*sf_cli_cleanup_fn)(void *ctx);
  * fork). */
 int sf_cli_supervise(sf_cli_cleanup_fn cleanup, void *ctx);
 
+/* The files and folders a command writes: where a killed writer's
+ * temporaries ("NAME.tmp.PID.XXXXXX", util/atomic_file.h) may be left. The
+ * paths are borrowed. */
+#define SF_CLI_MAX_OUTPUTS 8
+typedef struct sf_cli_outputs {
+  const char *files[SF_CLI_MAX_OUTPUTS];     /* each file's own temporaries */
+  const char *folders[SF_CLI_MAX_OUTPUTS];   /* any temporary in them (tables, caches) */
+  int n_files, n_folders;
+} sf_cli_outputs;
+
+/* Adds a file or a folder (NULL or "" ignored; beyond SF_CLI_MAX_OUTPUTS
+ * too, which a caller's fixed set never reaches). */
+void sf_cli_outputs_add_file(sf_cli_outputs *o, const char *path);
+void sf_cli_outputs_add_folder(sf_cli_outputs *o, const char *path);
+
+/* sf_cli_supervise with a cleanup that removes those temporaries: for the
+ * commands that write a few known files (fit, codegen, eval from the
+ * tables). A SIGTERM of `fit preetham --tables T` had left a table's
+ * temporary in T, one of `codegen` a header's. outputs must live until the
+ * command ends (the caller's frame: this process never returns). */
+int sf_cli_supervise_outputs(const sf_cli_outputs *outputs);
+
 #endif

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "cli/commands.h"
+#include "cli/output_file_check.h"
 
 typedef struct command {
   const char *name;
@@ -32,6 +33,13 @@ static void usage(FILE *out) {
   fprintf(out, "\n'skyfit <command> --help' describes a command's options.\n");
 }
 
+/* A command that succeeded but whose stdout could not be written (a help
+ * text to a full disk had exited 0) exits 1. */
+static int finished(int status) {
+  if (status == 0 && sf_cli_stdout_written("skyfit")) return 1;
+  return status;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2) {
     usage(stderr);
@@ -39,14 +47,14 @@ int main(int argc, char **argv) {
   }
   if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
     usage(stdout);
-    return 0;
+    return finished(0);
   }
   if (strcmp(argv[1], "--version") == 0) {
     printf("skyfit %s\n", SKYFIT_VERSION);
-    return 0;
+    return finished(0);
   }
   for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
-    if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    if (strcmp(argv[1], commands[i].name) == 0) return finished(commands[i].run(argc - 1, argv + 1));
   fprintf(stderr, "skyfit: unknown command '%s'\n", argv[1]);
   usage(stderr);
   return 2;

@@ -9,6 +9,7 @@
 #include "codegen/emit_helpers.h"
 #include "util/atomic_file.h"
 #include "util/hash64.h"
+#include "util/signal_defer.h"
 
 /* Comment text must not close the comment, nor open one inside it (GCC's
  * -Wcomment, an error under -Werror). */
@@ -311,7 +312,13 @@ int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char
                            const char *prefix, sf_error *err) {
   sf_codegen_files files;
   if (sf_codegen_prepare_files(parts, n_parts, c_path, glsl_path, prefix, &files, err) != SF_OK) return err->status;
-  return sf_codegen_commit_files(&files, err);
+  /* a signal between the two renames had left a new C header beside an
+   * old GLSL one */
+  sf_signal_defer hold;
+  sf_signal_defer_begin(&hold);
+  int status = sf_codegen_commit_files(&files, err);
+  sf_signal_defer_end(&hold);
+  return status;
 }
 
 int sf_codegen_write(const sf_codegen_part *parts, int n_parts, int want_c, int want_glsl,

@@ -70,7 +70,9 @@ void sf_codegen_abort_files(sf_codegen_files *f);
 /* Writes the C header to c_path and the GLSL to glsl_path, exactly those
  * paths (either may be NULL), atomically as a pair: both rendered and
  * written to temporaries before either is renamed into place, so on
- * failure neither file is touched. */
+ * failure neither file is touched, and a user's signal waits until both
+ * renames are done (util/signal_defer.h; not inside another such stretch:
+ * a caller holding one calls sf_codegen_commit_files). */
 int sf_codegen_write_files(const sf_codegen_part *parts, int n_parts, const char *c_path, const char *glsl_path,
                            const char *prefix, sf_error *err);
 

@@ -23,6 +23,23 @@ expect() {  # expect CODE DESCRIPTION PATTERN -- command...
 }
 
 expect 0 "sigmoid fit" "wrote" -- "$bin" fit sigmoid --grid 12x24 --out "$tmp/s.json"
+# SIGTERM while `fit preetham --tables T` writes a table (polled for its
+# temporary): the command ends by the signal and leaves no temporary in T
+# (cli/interrupt_cleanup.h: only sample and build had cleaned up; one had
+# stayed in T for good, under a cache key no later run writes).
+env --default-signal=INT "$bin" fit preetham --tables "$tmp/term" --resolution 64x16,16x64x16x8 --elevations 6 \
+  --grid 8x8 --out "$tmp/term-w.json" --quiet &
+pid=$!
+while kill -0 $pid 2>/dev/null && ! compgen -G "$tmp/term/*.tmp.*" >/dev/null; do :; done
+kill -TERM $pid 2>/dev/null
+rc=0
+wait $pid || rc=$?
+left=$(find "$tmp/term" -name '*.tmp.*' 2>/dev/null | wc -l)
+if { [ $rc -eq 143 ] || [ $rc -eq 0 ]; } && [ "$left" -eq 0 ]; then
+  echo "ok   SIGTERM while fit preetham writes a table: exit $rc (143, or 0 had it finished), no temporary left"
+else
+  echo "FAIL SIGTERM while fit preetham writes a table: exit $rc, $left temporaries left"; fail=1
+fi
 
 # --out is checked before any work: an input file of the run (the
 # atmosphere, the scene, the scene's atmosphere, the training data) is

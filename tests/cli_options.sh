@@ -60,5 +60,16 @@ rc=0
 if [ $rc -eq 0 ] && [ -s "$tmp/dash/--w.json" ]; then
   echo "ok   --out ./--w.json writes --w.json"; passed=$((passed + 1))
 else echo "FAIL --out ./--w.json: exit $rc, $(cat "$tmp/err")"; failed=$((failed + 1)); fi
+# A help text that cannot be written (a full disk) exits 1, naming stdout
+# (it had exited 0).
+if [ -w /dev/full ]; then
+  for cmd in "" build "fit sigmoid" eval; do
+    rc=0
+    "$bin" $cmd --help >/dev/full 2>"$tmp/err" || rc=$?
+    if [ $rc -eq 1 ] && grep -q "writing to stdout failed" "$tmp/err"; then
+      echo "ok   skyfit $cmd --help to a full disk: exit 1"; passed=$((passed + 1))
+    else echo "FAIL skyfit $cmd --help to a full disk: exit $rc, $(cat "$tmp/err")"; failed=$((failed + 1)); fi
+  done
+fi
 echo "$passed passed, $failed failed"
 [ $failed -eq 0 ]

@@ -191,6 +191,13 @@ printf '{"base": "default"}\n' > "$tmp/clash/tables.json"
 rc=$?
 check "--out over its --atmosphere: exit $rc, message: $(cat "$tmp/err")" \
   "[ $rc -eq 2 ] && grep -q 'would overwrite the input' '$tmp/err' && grep -q base '$tmp/clash/tables.json'"
+# A folder where tables.json goes: refused before the sampling, nothing
+# written (it had been found after all 5 tables were written).
+mkdir -p "$tmp/taken/tables.json"
+"$BIN" sample --out "$tmp/taken" --resolution $small --quiet 2>"$tmp/err"
+rc=$?
+check "a folder at --out's tables.json: exit $rc, $(cat "$tmp/err")" \
+  "[ $rc -eq 2 ] && grep -q 'tables.json: is a folder' '$tmp/err' && [ \$(ls -A '$tmp/taken' | wc -l) -eq 1 ]"
 # SIGTERM while a table is being written (polled for its temporary): the
 # run ends by the signal and leaves no temporary (cli/interrupt_cleanup.h;
 # one had stayed). A background job ignores SIGINT, hence env.
