@@ -17,7 +17,9 @@ int sf_build_weights_name(const char *file);
 /* Removes from work_dir every file named as sf_build_weights_name says
  * whose path is not among written[0..n_written-1] (paths as the build
  * wrote them: work_dir "/" name). *n_removed counts the files removed; on
- * a failure the rest are still tried and err names the first. */
+ * a failure the rest are still tried and err names the first. A missing
+ * work_dir holds nothing stale (SF_OK: a run that fitted nothing makes
+ * none). */
 int sf_build_remove_stale_weights(const char *work_dir, const char *const *written, int n_written,
                                   int *n_removed, sf_error *err);
 

@@ -101,10 +101,20 @@ int main(void) {
     remove(path);
   }
   CHECK(rmdir(dir) == 0);
-  /* A missing folder is an error that names it. */
+  /* A missing folder holds nothing stale: a build that fitted nothing
+   * makes none (DIR/weights is made when a run publishes weights). */
   sf_error missing = {0};
-  CHECK(sf_build_remove_stale_weights(dir, written, 3, &removed, &missing) == SF_ERR_INPUT);
-  CHECK(strstr(missing.message, dir) != NULL);
-  printf("missing folder: %s\n", missing.message);
+  removed = -1;
+  CHECK(sf_build_remove_stale_weights(dir, written, 3, &removed, &missing) == SF_OK && removed == 0);
+  /* a path that is no folder is still an error naming it */
+  char file_path[600];
+  snprintf(file_path, sizeof file_path, "%s.file", dir);
+  FILE *fp = fopen(file_path, "w");
+  CHECK(fp != NULL);
+  if (fp) fclose(fp);
+  CHECK(sf_build_remove_stale_weights(file_path, written, 3, &removed, &missing) == SF_ERR_INPUT);
+  CHECK(strstr(missing.message, file_path) != NULL);
+  printf("not a folder: %s\n", missing.message);
+  remove(file_path);
   return check_summary();
 }
