@@ -20,7 +20,9 @@ int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_option
     return 0;
   snprintf(text, n,
            "multiple scattering: after order %d, the most asked for, the orders left would still add about %.3g of "
-           "the sky radiance in its slowest channel (the stop fraction is %g): the tables lack it",
+           "the sky radiance in its slowest channel (the stop fraction is %g), summed over all the tables' entries "
+           "and estimated as a geometric tail: the tables lack it, and their dim parts (the ground under an "
+           "optically thick atmosphere, where each order is nearly the last) lack far more",
            r->highest_order, r->remaining_fraction[r->highest_order], o->stop_fraction);
   return 1;
 }
@@ -221,7 +223,7 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
       status = sf_precompute_multiple(&setup, p, singles, &mo, &o->run, &set->multiple, &set->irradiance,
                                       &set->report, err);
     set->multiple_computed = status == SF_OK;
-    char text[400];
+    char text[640];
     if (status == SF_OK && o->note && sf_table_set_orders_short(set, o, text, sizeof text)) o->note(o->note_ctx, text);
     if (status == SF_OK && o->note && o->orders >= 2 && sf_phase_peaks_note(atm, text, sizeof text))
       o->note(o->note_ctx, text);

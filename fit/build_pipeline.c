@@ -388,7 +388,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   }
   notes->forward = o->note;
   notes->forward_ctx = o->note_ctx;
-  char orders_short[400];
+  char orders_short[640];
   if (sf_table_set_orders_short(&set, &topt, orders_short, sizeof orders_short)) log_note(notes, orders_short);
   /* the atmosphere's, so a rerun from the cache says it too */
   if (topt.orders >= 2 && sf_phase_peaks_note(&scene->atmosphere, orders_short, sizeof orders_short))
