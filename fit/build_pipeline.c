@@ -355,6 +355,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   /* Bad input (an impossible resolution, tables larger than memory allows)
    * is refused before anything is created: nothing written on bad input. */
   if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;
+  if (sf_build_spectral4_check(scene, err) != SF_OK) return err->status;
   struct stat out_stat;
   int out_existed = stat(o->out_dir, &out_stat) == 0;
   if (sf_make_folders(o->out_dir, "--out", err) != SF_OK) return err->status;

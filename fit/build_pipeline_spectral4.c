@@ -135,3 +135,15 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
   out->present = 1;
   return SF_OK;
 }
+
+int sf_build_spectral4_check(const sf_scene *scene, sf_error *err) {
+  if (scene->color != SF_COLOR_SPECTRAL4 || !(scene->quantities & SF_QUANTITY_SKY_RADIANCE)) return SF_OK;
+  sf_spectral4_run_options ro;
+  sf_spectral4_run_options_default(&ro);
+  sf_error inner = {0};
+  int status = sf_spectral4_check_scene(scene, &ro, &inner);
+  if (status == SF_OK) return SF_OK;
+  if (status != SF_ERR_INPUT) return sf_fail(err, status, "%s", inner.message);
+  return sf_fail(err, SF_ERR_INPUT, "%s: %s (the scene's \"color\": \"spectral4\")",
+                 scene->atmosphere_path[0] ? scene->atmosphere_path : "the built-in atmosphere", inner.message);
+}

@@ -23,4 +23,11 @@ typedef struct sf_build_spectral4_options {
 int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *o, sf_report_spectral4 *out,
                        sf_error *err);
 
+/* What the fit needs of the scene's atmosphere and sun range
+ * (sf_spectral4_check_scene), checked before the build's tables: SF_OK for
+ * a scene that is not spectral4; else SF_ERR_INPUT naming the atmosphere
+ * file (an atmosphere whose sky without aerosols is black had failed
+ * after the tables, exit 1). */
+int sf_build_spectral4_check(const sf_scene *scene, sf_error *err);
+
 #endif

@@ -322,7 +322,12 @@ int sf_spectral4_fit(const sf_spectral4_kernel *k, const sf_spectral4_fit_option
   r->grid_seconds = sf_wall_seconds() - t0;
   if (n_best == 0) {
     free(best);
-    return sf_fail(err, SF_ERR_INTERNAL, "spectral4 grid search: no finite loss");
+    /* every quadruple has a wavelength the sky is black at (a sun or a
+     * scatterer confined to a band narrower than the 4 wavelengths'
+     * spread): the weights are singular there */
+    return sf_fail(err, SF_ERR_INPUT,
+                   "spectral4: no 4 wavelengths of the grid all see light in the sky (a sun_irradiance or a "
+                   "scattering confined to a narrow band): the 4 weights are undetermined");
   }
   r->grid_best = grid_params(o, best[0].index);
   r->grid_loss = sf_spectral4_optimal_weights(k, &r->grid_best);

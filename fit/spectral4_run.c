@@ -230,6 +230,25 @@ static int check_sun_luminance(double luminance, sf_error *err) {
   return sf_fail(err, SF_ERR_INPUT, "sun_irradiance: the sun has no luminance (its spectrum is 0 where the eye sees)");
 }
 
+/* The fit is to the sky without aerosols (seed 003 §5: every scatterer
+ * whose phase is not Rayleigh's is left out); with nothing left that
+ * scatters, that sky is black and every loss infinite ("no finite loss",
+ * exit 1, after the tables: an isotropic-only or an ozone-only atmosphere). */
+static int check_clean_sky_scatters(const sf_atmosphere *full, sf_error *err) {
+  sf_atmosphere *clean = malloc(sizeof *clean);
+  if (!clean) return sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+  sf_atmosphere_without_aerosols(full, clean);
+  int scatters = 0;
+  for (int i = 0; i < clean->n_constituents; ++i)
+    scatters |= sf_constituent_scatters(&clean->constituents[i], clean->n_channels);
+  free(clean);
+  if (scatters) return SF_OK;
+  return sf_fail(err, SF_ERR_INPUT,
+                 "constituents: none scatters with the \"rayleigh\" phase: the 4 wavelengths are fitted to the sky "
+                 "without aerosols (seed 003; a constituent of another phase counts as an aerosol), which would be "
+                 "black");
+}
+
 int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_options *o, sf_error *err) {
   double nm[SF_MAX_CHANNELS];
   int n = sf_spectral_grid(o->min_nm, o->max_nm, o->step_nm, nm);
@@ -239,6 +258,7 @@ int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_optio
   if (!rc) rc = sf_cmf_load(cmf, err);
   if (!rc) rc = sf_spectral_atmosphere(&scene->atmosphere, n, nm, full, err);
   if (!rc) rc = check_sun_luminance(sf_spectral_sun_luminance(full, cmf), err);
+  if (!rc) rc = check_clean_sky_scatters(full, err);
   double lo, hi;
   if (!rc) rc = sf_spectral4_sun_range(scene, &lo, &hi, err);
   free(full);

@@ -53,6 +53,24 @@ JSON
 expect_error "spectral atmosphere too narrow" "$TMP/narrow.json: atmosphere \"narrow\": channels.wavelengths_nm cover 400-600 nm; the spectral reference needs coefficients over 360-830 nm" --atmosphere "$TMP/narrow.json" --out "$TMP/w.json" --cache "$TMP/cache"
 sed 's/"name": "narrow",/"name": "dark", "sun_irradiance": [0, 0, 0],/; s/\[400, 500, 600\]/[300, 600, 900]/' "$TMP/narrow.json" >"$TMP/dark.json"
 expect_error "a sun the eye cannot see" "$TMP/dark.json: sun_irradiance: the sun has no luminance" --atmosphere "$TMP/dark.json" --out "$TMP/w.json" --cache "$TMP/cache"
+# The fit is to the sky without aerosols (seed 003), every scatterer whose
+# phase is not Rayleigh's left out: with none left that sky is black (the
+# fit had exited 1, "no finite loss", after the tables; build too, with
+# nothing but its cache written).
+cat >"$TMP/iso.json" <<'JSON'
+{"name": "iso", "bottom_radius_km": 6360, "top_radius_km": 6460,
+ "constituents": [{"name": "haze", "scattering": [0.01, 0.02, 0.04], "absorption": 0,
+   "phase": {"kind": "isotropic"}, "density": [{"exp_term": 1, "exp_scale_per_km": -0.125}]}]}
+JSON
+expect_error "no Rayleigh scatterer" "$TMP/iso.json: constituents: none scatters with the \"rayleigh\" phase" \
+  --atmosphere "$TMP/iso.json" --out "$TMP/w.json" --cache "$TMP/cache"
+printf '{"atmosphere": "iso.json", "viewer_altitude_km": [0, 2], "quantities": ["sky_radiance"], "color": "spectral4"}\n' \
+  >"$TMP/iso_scene.json"
+rc=0
+"$BIN" build "$TMP/iso_scene.json" --quick --no-views --out "$TMP/iso_out" >/dev/null 2>"$TMP/err" || rc=$?
+if [[ $rc -eq 2 && ! -e $TMP/iso_out ]] && grep -q 'none scatters with the "rayleigh" phase' "$TMP/err"; then
+  pass "build of a spectral4 scene without a Rayleigh scatterer: exit 2 before the tables, nothing written"
+else fail "build of a spectral4 scene without a Rayleigh scatterer: exit $rc, $(cat "$TMP/err")"; fi
 if [[ -e $TMP/cache ]]; then fail "input errors left the --cache folder"; else pass "input errors leave no --cache folder"; fi
 
 expect_error "bad cache limit" "--cache-limit: expected a size in MiB" --cache-limit 12x --out "$TMP/w.json"
