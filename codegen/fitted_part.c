@@ -54,6 +54,21 @@ static void metrics_line(const sf_weights *w, char *out, size_t n) {
              over->valuestring);
     return;
   }
+  /* spectral4's error is a colour difference against the full spectrum
+   * (seed 003); its loss had been stated alone */
+  const cJSON *m = sf_json_get(w->root, "metrics");
+  const cJSON *clean = sf_json_get(sf_json_get(m, "without_aerosols"), "spectral4");
+  const cJSON *hazy = sf_json_get(sf_json_get(m, "with_aerosols"), "spectral4");
+  const cJSON *de_mean = sf_json_get(clean, "mean_delta_e2000"), *de_p99 = sf_json_get(clean, "p99_delta_e2000");
+  const cJSON *de_max = sf_json_get(clean, "max_delta_e2000");
+  if (cJSON_IsNumber(de_mean) && cJSON_IsNumber(de_p99) && cJSON_IsNumber(de_max)) {
+    int k = snprintf(out, n, "CIEDE2000 against the full spectrum, sky without aerosols: mean %.3g, p99 %.3g, max %.3g",
+                     de_mean->valuedouble, de_p99->valuedouble, de_max->valuedouble);
+    const cJSON *h_mean = sf_json_get(hazy, "mean_delta_e2000"), *h_max = sf_json_get(hazy, "max_delta_e2000");
+    if (k > 0 && (size_t)k < n && cJSON_IsNumber(h_mean) && cJSON_IsNumber(h_max))
+      snprintf(out + k, n - (size_t)k, "; with aerosols: mean %.3g, max %.3g", h_mean->valuedouble, h_max->valuedouble);
+    return;
+  }
   static const char *const names[] = {"rmse", "max_abs", "mean_rel", "rel_rmse", "loss", "train_loss",
                                       "validation_loss"};
   size_t k = 0;

@@ -114,6 +114,20 @@ assert t['seed'] == 0 and t['epochs'] == w['metrics']['evaluations'] >= 1, t" "$
   pass "training: seed 0, epochs = the Nelder-Mead evaluations"
 else fail "training seed/epochs"; fi
 
+# The header states the weights' colour error against the full spectrum,
+# the file's own figures (it had stated the fit's loss alone).
+mkdir -p "$TMP/s4_gen"
+if "$BIN" codegen --weights "$TMP/fit/w.json" --lang c --out "$TMP/s4_gen" --quiet &&
+   python3 - "$TMP/fit/w.json" "$TMP/s4_gen/skyfit.h" <<'PY'
+import json, re, sys
+m = json.load(open(sys.argv[1]))["metrics"]["without_aerosols"]["spectral4"]
+line = [l for l in open(sys.argv[2]) if "measured error" in l][0]
+want = "mean %.3g, p99 %.3g, max %.3g" % (m["mean_delta_e2000"], m["p99_delta_e2000"], m["max_delta_e2000"])
+assert "CIEDE2000 against the full spectrum" in line and want in line, (line, want)
+PY
+then pass "the spectral4 header states its CIEDE2000 against the full spectrum"
+else fail "the spectral4 header's measured error"; fi
+
 # A parameter the model does not take (it had been ignored): codegen refuses it.
 python3 -c "
 import json, sys
