@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
+#include "cli/output_file_check.h"
 #include "codegen/baseline_part.h"
 #include "codegen/codegen_file.h"
 #include "codegen/fitted_part.h"
@@ -198,6 +199,25 @@ static int parse_options(int argc, char **argv, codegen_options *o) {
               o->name);
       return 2;
     }
+  /* A header may not be one of the inputs: a header path that is a link
+   * to a --weights file had replaced the weights with the header (outputs
+   * follow links, util/atomic_file.h). */
+  const char *inputs[MAX_INPUTS + 2];
+  int n_inputs = 0;
+  for (int i = 0; i < o->n_weights; ++i) inputs[n_inputs++] = o->weights[i];
+  inputs[n_inputs++] = o->atmosphere_path;
+  inputs[n_inputs++] = o->scene_path;
+  for (int k = 0; k < 2; ++k) {
+    if (!(k ? o->want_glsl : o->want_c)) continue;
+    char header[4200];
+    snprintf(header, sizeof header, "%s/%s.%s", o->out_dir, o->name, k ? "glsl" : "h");
+    const char *clash = sf_cli_same_as_any(header, inputs, n_inputs);
+    if (clash) {
+      fprintf(stderr, "skyfit codegen: %s is the same file as the input %s; give another --out or --name\n", header,
+              clash);
+      return 2;
+    }
+  }
   return 0;
 }
 

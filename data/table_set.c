@@ -225,11 +225,14 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     set->multiple_computed = status == SF_OK;
     char text[640];
     if (status == SF_OK && o->note && sf_table_set_orders_short(set, o, text, sizeof text)) o->note(o->note_ctx, text);
-    if (status == SF_OK && o->note && o->orders >= 2 && sf_phase_peaks_note(atm, text, sizeof text))
-      o->note(o->note_ctx, text);
     for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&internal_single[k]);
   }
   sf_scattering_setup_free(&setup);
+  /* the atmosphere's, so said whether the tables were computed or cached */
+  char peak_text[640];
+  if (status == SF_OK && o->note && !o->transmittance_only && o->orders >= 2 &&
+      sf_phase_peaks_note(atm, peak_text, sizeof peak_text))
+    o->note(o->note_ctx, peak_text);
 
   /* Finite numbers of float32 only, before anything is stored: a sun of
    * 1e39 passes the atmosphere file's checks, and its tables held inf:

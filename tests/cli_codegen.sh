@@ -283,4 +283,14 @@ if command -v glslangValidator >/dev/null; then
 fi
 "$SKYFIT_BIN" codegen --baselines naive --lang c --out "$tmp/two" --name bad --prefix 9x 2>/dev/null
 check "--prefix 9x exits 2, nothing written" "[ $? -eq 2 ] && [ ! -e $tmp/two/bad.h ]"
+# A header path that is a link to a --weights file: refused, the weights
+# kept (outputs follow links; the header had replaced the weights, exit 0).
+mkdir -p "$tmp/linked/gen"
+"$SKYFIT_BIN" fit sigmoid --grid 8x16 --out "$tmp/linked/sig.json" --quiet
+cp "$tmp/linked/sig.json" "$tmp/linked/sig.before"
+ln -s ../sig.json "$tmp/linked/gen/skyfit.h"
+"$SKYFIT_BIN" codegen --weights "$tmp/linked/sig.json" --lang c --out "$tmp/linked/gen" 2>"$tmp/linked/err"
+rc=$?
+check "a header linked to its --weights: exit $rc, the weights kept ($(cat "$tmp/linked/err"))" \
+  "[ $rc -eq 2 ] && grep -q 'is the same file as the input' $tmp/linked/err && cmp -s $tmp/linked/sig.json $tmp/linked/sig.before"
 exit $fail

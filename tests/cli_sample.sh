@@ -191,6 +191,18 @@ printf '{"base": "default"}\n' > "$tmp/clash/tables.json"
 rc=$?
 check "--out over its --atmosphere: exit $rc, message: $(cat "$tmp/err")" \
   "[ $rc -eq 2 ] && grep -q 'would overwrite the input' '$tmp/err' && grep -q base '$tmp/clash/tables.json'"
+# A phase function the multiple scattering cannot resolve is named, from
+# the cache too (data/phase_peak.h): Henyey-Greenstein 0.99.
+cat > "$tmp/haze99.json" <<'EOF'
+{"base": "default", "constituents": [{"name": "mie", "phase": {"kind": "henyey_greenstein", "g": 0.99}}]}
+EOF
+n_noted=0
+for run in 1 2; do
+  "$BIN" sample --atmosphere "$tmp/haze99.json" --out "$tmp/haze99" --resolution $small --orders 2 2>"$tmp/err" >/dev/null
+  grep -q "mie's phase function puts 0.93 of its scattering in a peak within 12 deg of forward" "$tmp/err" &&
+    n_noted=$((n_noted + 1))
+done
+check "a g-0.99 haze's unresolved peak is named on both runs (computed, cached): $n_noted" "[ $n_noted -eq 2 ]"
 # A folder where tables.json goes: refused before the sampling, nothing
 # written (it had been found after all 5 tables were written).
 mkdir -p "$tmp/taken/tables.json"

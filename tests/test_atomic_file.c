@@ -102,6 +102,39 @@ static void test_other_kinds(const char *dir) {
     printf("skip a character device (mknod needs root)\n");
   }
 
+  /* one of the process's descriptors (/dev/fd/N, /proc/self/fd/N; and so
+   * /dev/stdout): written through a copy of it, after what the file
+   * holds. Reopened, a file there had been written from its start, and a
+   * pipe's link ("pipe:[N]") read as a relative path. */
+  char through[600];
+  snprintf(through, sizeof through, "%s/through.txt", dir);
+  FILE *held = fopen(through, "w");
+  CHECK(held != NULL);
+  if (held) {
+    fputs("PRE\n", held);
+    fflush(held);
+    char fd_path[64];
+    snprintf(fd_path, sizeof fd_path, "/dev/fd/%d", fileno(held));
+    CHECK(write_text(fd_path, "one\n") == 0);
+    snprintf(fd_path, sizeof fd_path, "/proc/self/fd/%d", fileno(held));
+    CHECK(write_text(fd_path, "two\n") == 0);
+    fclose(held);
+    CHECK(file_is(through, "PRE\none\ntwo\n"));
+    CHECK(count_prefixed(dir, "through.txt.tmp.") == 0);
+  }
+  int ends[2];
+  CHECK(pipe(ends) == 0);
+  char pipe_path[64];
+  snprintf(pipe_path, sizeof pipe_path, "/dev/fd/%d", ends[1]);
+  sf_error_clear(&err);
+  CHECK(sf_atomic_check(pipe_path, &err) == SF_OK);
+  CHECK(write_text(pipe_path, "piped") == 0);
+  close(ends[1]);
+  char got[16] = {0};
+  CHECK(read(ends[0], got, sizeof got - 1) == 5 && strcmp(got, "piped") == 0);
+  close(ends[0]);
+  unlink(through);
+
   /* a folder: refused naming it, before anything is written */
   CHECK(mkdir(folder, 0777) == 0);
   sf_atomic_file f;

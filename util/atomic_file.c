@@ -121,6 +121,7 @@ int sf_write_error_status(int errno_value) {
     case EDQUOT:
 #endif
     case ENOMEM:
+    case EINTR:   /* a stop signal while waiting (a FIFO's reader): not bad input */
       return SF_ERR_INTERNAL;
     default:
       return SF_ERR_INPUT;
@@ -131,20 +132,40 @@ int sf_write_error_status(int errno_value) {
  * the file a link names is replaced and the link stays: renaming over the
  * link had replaced it with a file of its own. */
 typedef enum output_kind {
-  OUTPUT_NEW,       /* nothing there yet */
-  OUTPUT_FILE,      /* a regular file: written beside and renamed over */
-  OUTPUT_STREAM,    /* a character device or a FIFO (/dev/null, a pipe): written into */
+  OUTPUT_NEW,         /* nothing there yet */
+  OUTPUT_FILE,        /* a regular file: written beside and renamed over */
+  OUTPUT_STREAM,      /* a character device or a FIFO (/dev/null, a pipe): written into */
+  OUTPUT_DESCRIPTOR,  /* one of this process's open files (/dev/stdout, /dev/fd/N): written through it */
   OUTPUT_FOLDER,
-  OUTPUT_OTHER      /* a block device or a socket */
+  OUTPUT_OTHER        /* a block device or a socket */
 } output_kind;
 
-static int resolve_output(const char *path, char *target, size_t n, output_kind *kind, sf_error *err) {
+/* The descriptor a path names (/dev/stdout, /dev/stderr, /dev/fd/N,
+ * /proc/self/fd/N), or -1. The kernel's links there are not paths (a
+ * pipe's reads "pipe:[N]"), and a file opened anew through them would be
+ * written from its start: `--out /dev/stdout >> log` had replaced log. */
+static int descriptor_named(const char *path) {
+  if (strcmp(path, "/dev/stdout") == 0) return 1;
+  if (strcmp(path, "/dev/stderr") == 0) return 2;
+  const char *number = NULL;
+  if (strncmp(path, "/dev/fd/", 8) == 0) number = path + 8;
+  else if (strncmp(path, "/proc/self/fd/", 14) == 0) number = path + 14;
+  if (!number || *number < '0' || *number > '9') return -1;
+  char *end;
+  long fd = strtol(number, &end, 10);
+  return *end == '\0' && fd <= 1 << 20 ? (int)fd : -1;
+}
+
+static int resolve_output(const char *path, char *target, size_t n, output_kind *kind, int *fd, sf_error *err) {
   char current[4096], link[4096];
   if (snprintf(current, sizeof current, "%s", path) >= (int)sizeof current || strlen(path) + 1 > n)
     return sf_fail(err, SF_ERR_INPUT, "%s: output path is too long", path);
+  *fd = -1;
   for (int hops = 0; hops <= 40; ++hops) {
     struct stat st;
-    if (lstat(current, &st) != 0) {
+    if ((*fd = descriptor_named(current)) >= 0) {
+      *kind = OUTPUT_DESCRIPTOR;
+    } else if (lstat(current, &st) != 0) {
       *kind = OUTPUT_NEW;   /* a missing folder is found when the temporary is made */
     } else if (S_ISLNK(st.st_mode)) {
       ssize_t len = readlink(current, link, sizeof link - 1);
@@ -179,15 +200,25 @@ static int refuse_kind(const char *path, output_kind kind, sf_error *err) {
                  path);
 }
 
+int sf_atomic_resolve(const char *path, char *target, size_t n) {
+  output_kind kind;
+  int fd;
+  sf_error ignored = {0};
+  return resolve_output(path, target, n, &kind, &fd, &ignored);
+}
+
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
   memset(f, 0, sizeof *f);
   output_kind kind;
-  if (resolve_output(path, f->final_path, sizeof f->final_path, &kind, err) != SF_OK) return err->status;
+  int descriptor;
+  if (resolve_output(path, f->final_path, sizeof f->final_path, &kind, &descriptor, err) != SF_OK)
+    return err->status;
   if (kind == OUTPUT_FOLDER || kind == OUTPUT_OTHER) return refuse_kind(path, kind, err);
-  if (kind == OUTPUT_STREAM) {
+  if (kind == OUTPUT_STREAM || kind == OUTPUT_DESCRIPTOR) {
     /* a device or a pipe is written into, in place: renaming a file over
      * it had replaced /dev/null itself (as root) with a regular file */
-    int fd = open(f->final_path, O_WRONLY | O_CLOEXEC);
+    int fd = kind == OUTPUT_DESCRIPTOR ? fcntl(descriptor, F_DUPFD_CLOEXEC, 3)
+                                       : open(f->final_path, O_WRONLY | O_CLOEXEC);
     if (fd < 0) {
       int saved = errno;
       return sf_fail(err, sf_write_error_status(saved), "%s: cannot write here: %s", path, strerror(saved));
@@ -250,8 +281,15 @@ void sf_atomic_abort(sf_atomic_file *f) {
 int sf_atomic_check(const char *path, sf_error *err) {
   char target[4096];
   output_kind kind;
-  if (resolve_output(path, target, sizeof target, &kind, err) != SF_OK) return err->status;
+  int descriptor;
+  if (resolve_output(path, target, sizeof target, &kind, &descriptor, err) != SF_OK) return err->status;
   if (kind == OUTPUT_FOLDER || kind == OUTPUT_OTHER) return refuse_kind(path, kind, err);
+  if (kind == OUTPUT_DESCRIPTOR) {
+    int flags = fcntl(descriptor, F_GETFL);
+    if (flags >= 0 && (flags & O_ACCMODE) != O_RDONLY) return SF_OK;
+    return sf_fail(err, SF_ERR_INPUT, "%s: cannot write here: %s", path,
+                   flags < 0 ? strerror(errno) : "open for reading only");
+  }
   if (kind == OUTPUT_STREAM) {   /* opening a FIFO to check it would wait for its reader */
     if (access(target, W_OK) == 0) return SF_OK;
     int saved = errno;

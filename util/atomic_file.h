@@ -18,7 +18,9 @@ typedef struct sf_atomic_file {
  * output gets mode 0666 less the process's umask, like any new file. A
  * link at path is followed: the file it names is replaced, the link stays.
  * A character device or a FIFO there (/dev/null, a pipe) is written into
- * in place; a folder, a block device or a socket is refused. On failure
+ * in place, and a descriptor (/dev/stdout, /dev/fd/N) through a copy of it
+ * (from where its file stands); a folder, a block device or a socket is
+ * refused. On failure
  * sets err (SF_ERR_INPUT: the folder is missing or unwritable, or what is
  * at path cannot take the output) and returns nonzero. */
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err);
@@ -41,6 +43,10 @@ int sf_write_error_status(int errno_value);
  * staging folder) can go; 0 for this process, pid <= 0, or one that may
  * exist. */
 int sf_process_gone(long pid);
+/* The file an output at path goes to (its links followed, as
+ * sf_atomic_open does), whose folder holds the output's temporary; 0, or
+ * -1 with target holding what could be resolved. */
+int sf_atomic_resolve(const char *path, char *target, size_t n);
 /* Removes temporaries of path ("PATH.tmp.PID.XXXXXX") whose writing process
  * no longer exists (killed before it could commit or abort), so an
  * interrupted run leaves nothing behind once the file is written again.
