@@ -27,14 +27,9 @@ expect 0 "sigmoid fit" "wrote" -- "$bin" fit sigmoid --grid 12x24 --out "$tmp/s.
 # temporary): the command ends by the signal and leaves no temporary in T
 # (cli/interrupt_cleanup.h: only sample and build had cleaned up; one had
 # stayed in T for good, under a cache key no later run writes).
-env --default-signal=INT "$bin" fit preetham --tables "$tmp/term" --resolution 64x16,16x64x16x8 --elevations 6 \
-  --grid 8x8 --out "$tmp/term-w.json" --quiet &
-pid=$!
-while kill -0 $pid 2>/dev/null && ! compgen -G "$tmp/term/*.tmp.*" >/dev/null; do :; done
-kill -TERM $pid 2>/dev/null
-rc=0
-wait $pid || rc=$?
-left=$(find "$tmp/term" -name '*.tmp.*' 2>/dev/null | wc -l)
+source "$(dirname "$0")/lib/term_while_writing.sh"
+read -r rc left < <(term_while_writing "$tmp/term" "$bin" fit preetham --tables "$tmp/term" \
+  --resolution 64x16,16x64x16x8 --elevations 6 --grid 8x8 --out "$tmp/term-w.json" --quiet)
 if { [ $rc -eq 143 ] || [ $rc -eq 0 ]; } && [ "$left" -eq 0 ]; then
   echo "ok   SIGTERM while fit preetham writes a table: exit $rc (143, or 0 had it finished), no temporary left"
 else

@@ -212,14 +212,9 @@ check "a folder at --out's tables.json: exit $rc, $(cat "$tmp/err")" \
   "[ $rc -eq 2 ] && grep -q 'tables.json: is a folder' '$tmp/err' && [ \$(ls -A '$tmp/taken' | wc -l) -eq 1 ]"
 # SIGTERM while a table is being written (polled for its temporary): the
 # run ends by the signal and leaves no temporary (cli/interrupt_cleanup.h;
-# one had stayed). A background job ignores SIGINT, hence env.
-env --default-signal=INT "$BIN" sample --out "$tmp/term" --resolution 64x16,16x64x16x8 --quiet &
-pid=$!
-while kill -0 $pid 2>/dev/null && ! compgen -G "$tmp/term/*.tmp.*" >/dev/null; do :; done
-kill -TERM $pid 2>/dev/null
-rc=0
-wait $pid || rc=$?
-left=$(find "$tmp/term" -name '*.tmp.*' 2>/dev/null | wc -l)
+# one had stayed).
+source "$(dirname "$0")/lib/term_while_writing.sh"
+read -r rc left < <(term_while_writing "$tmp/term" "$BIN" sample --out "$tmp/term" --resolution 64x16,16x64x16x8 --quiet)
 check "SIGTERM while writing: exit $rc (143, or 0 had it finished), $left temporaries left" \
   "{ [ $rc -eq 143 ] || [ $rc -eq 0 ]; } && [ $left -eq 0 ]"
 
