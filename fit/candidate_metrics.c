@@ -105,12 +105,8 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
   if (n_non_finite) *n_non_finite = bad;
 }
 
-int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s, int repetitions,
-                              sf_cost *out, sf_error *err) {
-  memset(out, 0, sizeof *out);
-  if (repetitions < 1 || repetitions > 1000) return sf_fail(err, SF_ERR_INPUT, "repetitions must be in 1..1000");
+int sf_candidate_time_pass(const sf_candidate *c, const sf_domain_samples *s, double *ns, sf_error *err) {
   size_t n = s->n, ni = (size_t)s->n_inputs, nc = (size_t)c->n_channels;
-  double *times = malloc(sizeof(double) * (size_t)repetitions);
   float *in_f = NULL, *out_f = NULL;
   double *out_d = NULL;
   if (c->eval_f32) {
@@ -119,35 +115,37 @@ int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s,
   } else {
     out_d = malloc(sizeof(double) * nc);
   }
-  if (!times || (c->eval_f32 && (!in_f || !out_f)) || (!c->eval_f32 && !out_d)) {
-    free(times); free(in_f); free(out_f); free(out_d);
+  if ((c->eval_f32 && (!in_f || !out_f)) || (!c->eval_f32 && !out_d)) {
+    free(in_f); free(out_f); free(out_d);
     return sf_fail(err, SF_ERR_INTERNAL, "out of memory timing %s", c->name);
   }
   if (in_f)
     for (size_t i = 0; i < n * ni; ++i) in_f[i] = (float)s->inputs[i];
   volatile double sink = 0.0;
-  for (int r = 0; r < repetitions; ++r) {
-    double t0 = sf_wall_seconds();
-    if (c->eval_f32) {
-      c->eval_f32(c->ctx, n, in_f, out_f);
-      sink += out_f[(size_t)r % (n * nc)];
-    } else {
-      double acc = 0.0;
-      for (size_t i = 0; i < n; ++i) {
-        c->eval(c->ctx, s->inputs + i * ni, out_d);
-        acc += out_d[0];
-      }
-      sink += acc;
+  double t0 = sf_wall_seconds();
+  if (c->eval_f32) {
+    c->eval_f32(c->ctx, n, in_f, out_f);
+    sink += out_f[n * nc - 1];
+  } else {
+    double acc = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      c->eval(c->ctx, s->inputs + i * ni, out_d);
+      acc += out_d[0];
     }
-    times[r] = (sf_wall_seconds() - t0) * 1e9 / (double)n;
+    sink += acc;
   }
+  *ns = (sf_wall_seconds() - t0) * 1e9 / (double)n;
   (void)sink;
-  out->ns_median = sf_median_doubles(times, (size_t)repetitions);   /* sorts times */
-  out->ns_min = times[0];
-  out->ns_max = times[repetitions - 1];
-  out->repetitions = repetitions;
-  out->n_points = n;
-  out->precision_bits = c->eval_f32 ? 32 : 64;
-  free(times); free(in_f); free(out_f); free(out_d);
+  free(in_f); free(out_f); free(out_d);
   return SF_OK;
+}
+
+void sf_cost_from_passes(const sf_candidate *c, const sf_domain_samples *s, double *ns, int passes, sf_cost *out) {
+  memset(out, 0, sizeof *out);
+  out->ns_median = sf_median_doubles(ns, (size_t)passes);   /* sorts ns */
+  out->ns_min = ns[0];
+  out->ns_max = ns[passes - 1];
+  out->repetitions = passes;
+  out->n_points = s->n;
+  out->precision_bits = c->eval_f32 ? 32 : 64;
 }

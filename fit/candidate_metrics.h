@@ -63,8 +63,10 @@ typedef struct sf_cost {
   int precision_bits;                 /* 32: float32 batch; 64: double eval */
 } sf_cost;
 
-/* Times c on the inputs of s (converted to float for the float32 path). */
-int sf_candidate_measure_cost(const sf_candidate *c, const sf_domain_samples *s, int repetitions,
-                              sf_cost *out, sf_error *err);
+/* One timed pass of c over the inputs of s (converted to float for the
+ * float32 path, outside the timing): ns per evaluation in *ns. */
+int sf_candidate_time_pass(const sf_candidate *c, const sf_domain_samples *s, double *ns, sf_error *err);
+/* The cost of c from its passes' times ns[0..passes) (sorted in place). */
+void sf_cost_from_passes(const sf_candidate *c, const sf_domain_samples *s, double *ns, int passes, sf_cost *out);
 
 #endif
