@@ -105,14 +105,15 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, doubl
 static int check_dark_slices(const sf_mlp_output_norm *n, const sf_dataset *d, sf_error *err) {
   double worst = 0.0;
   long at = -1;
-  for (long i = 0; i < d->n; ++i) {
+  for (long i = 0; i < d->n && !isnan(worst); ++i) {   /* a NaN (0 times inf) is the worst */
     const double *x = d->x + i * d->n_in;
     double f = exp(-sf_mlp_output_norm_log_brightness(n, x[0], x[2]));
     for (int o = 0; o < d->n_out; ++o) {
       double scaled = fabs(d->y[i * d->n_out + o]) * f;
-      if (!(scaled <= worst)) {   /* NaN too */
+      if (!(scaled <= worst)) {
         worst = scaled;
         at = i;
+        if (isnan(scaled)) break;
       }
     }
   }

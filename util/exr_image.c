@@ -52,13 +52,13 @@ static void quiet_errors(exr_const_context_t ctxt, exr_result_t code, const char
   (void)ctxt; (void)code; (void)msg;
 }
 
-/* OpenEXR writes through the atomic file's descriptor, so the image gets
- * the same temporary-then-rename, fsync and permissions as every output. */
 typedef struct image_stream {
   int fd;
   int write_errno;   /* the first failed write's errno, 0 if none */
 } image_stream;
 
+/* OpenEXR writes through the atomic file's descriptor, so the image gets
+ * the same temporary-then-rename, fsync and permissions as every output. */
 static int64_t write_to_fd(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz, uint64_t offset,
                            exr_stream_error_func_ptr_t error_cb) {
   image_stream *s = (image_stream *)user;
