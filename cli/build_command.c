@@ -215,10 +215,8 @@ static void remove_build_leftovers(void *ctx) {
     snprintf(path, sizeof path, "%s/cache%s%s", l->out_dir, sub[0] ? "/" : "", sub);
     sf_atomic_remove_stale_in(path);
   }
-  char target[4096];   /* a header's temporary sits beside the file its links name */
   for (int k = 0; k < 2; ++k)
-    if (l->headers[k][0])
-      sf_atomic_remove_stale(sf_atomic_resolve(l->headers[k], target, sizeof target) == 0 ? target : l->headers[k]);
+    if (l->headers[k][0]) sf_atomic_remove_stale(l->headers[k]);
 }
 
 int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command) {

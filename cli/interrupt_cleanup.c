@@ -102,10 +102,7 @@ void sf_cli_outputs_add_folder(sf_cli_outputs *o, const char *path) {
 
 static void remove_output_leftovers(void *ctx) {
   const sf_cli_outputs *o = ctx;
-  char target[4096];
-  /* a file's temporary sits beside the file its links name */
-  for (int i = 0; i < o->n_files; ++i)
-    sf_atomic_remove_stale(sf_atomic_resolve(o->files[i], target, sizeof target) == 0 ? target : o->files[i]);
+  for (int i = 0; i < o->n_files; ++i) sf_atomic_remove_stale(o->files[i]);
   for (int i = 0; i < o->n_folders; ++i) sf_atomic_remove_stale_in(o->folders[i]);
 }
 

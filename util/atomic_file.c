@@ -77,7 +77,8 @@ static long temp_writer_pid(const char *suffix) {
   return pid;
 }
 
-void sf_atomic_remove_stale(const char *path) {
+/* The temporaries of the file at path (links already followed). */
+static void remove_stale_beside(const char *path) {
   char dir[4096], prefix[1024];
   const char *slash = strrchr(path, '/');
   if (slash) snprintf(dir, sizeof dir, "%.*s", (int)(slash - path + 1), path);
@@ -200,11 +201,13 @@ static int refuse_kind(const char *path, output_kind kind, sf_error *err) {
                  path);
 }
 
-int sf_atomic_resolve(const char *path, char *target, size_t n) {
+void sf_atomic_remove_stale(const char *path) {
+  /* a temporary sits beside the file the path's links name */
+  char target[4096];
   output_kind kind;
   int fd;
   sf_error ignored = {0};
-  return resolve_output(path, target, n, &kind, &fd, &ignored);
+  remove_stale_beside(resolve_output(path, target, sizeof target, &kind, &fd, &ignored) == SF_OK ? target : path);
 }
 
 int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
@@ -231,7 +234,7 @@ int sf_atomic_open(sf_atomic_file *f, const char *path, sf_error *err) {
     f->in_place = 1;
     return 0;
   }
-  sf_atomic_remove_stale(f->final_path);
+  remove_stale_beside(f->final_path);
   int fd = create_temp(f->final_path, f->temp_path, sizeof f->temp_path);
   if (fd < 0) {
     int saved = errno;

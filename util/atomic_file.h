@@ -43,11 +43,8 @@ int sf_write_error_status(int errno_value);
  * staging folder) can go; 0 for this process, pid <= 0, or one that may
  * exist. */
 int sf_process_gone(long pid);
-/* The file an output at path goes to (its links followed, as
- * sf_atomic_open does), whose folder holds the output's temporary; 0, or
- * -1 with target holding what could be resolved. */
-int sf_atomic_resolve(const char *path, char *target, size_t n);
-/* Removes temporaries of path ("PATH.tmp.PID.XXXXXX") whose writing process
+/* Removes temporaries of path ("PATH.tmp.PID.XXXXXX", beside the file its
+ * links name, as sf_atomic_open makes them) whose writing process
  * no longer exists (killed before it could commit or abort), so an
  * interrupted run leaves nothing behind once the file is written again.
  * Temporaries of live processes, this one included, are kept. */
