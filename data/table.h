@@ -57,11 +57,21 @@ typedef struct sf_table_desc {
                              what determined the table (data/table_cache.h) */
 } sf_table_desc;
 
+/* How a multiple-scattering table's orders ended (data/precompute_multiple.h),
+ * kept with the table (the EXR header's skyfit:orders) so that a table
+ * from the cache says what the computed one said. */
+typedef struct sf_table_orders {
+  int highest;              /* last order computed; 0: not known (any other table) */
+  double left_fraction;     /* what the orders after it would add, as a fraction
+                               of the sky radiance; may be INFINITY */
+} sf_table_orders;
+
 typedef struct sf_table {
   sf_table_desc desc;
   int width, height;        /* image layout above, derived from desc */
   char *atmosphere_json;    /* canonical atmosphere JSON ("" if none), owned */
   float *data;              /* memory layout above, owned */
+  sf_table_orders orders;
 } sf_table;
 
 /* Copies the channel names of an atmosphere into desc (n_channels too). */

@@ -109,6 +109,30 @@ static const char *const attr_names[ATTR_COUNT] = {
   "skyfit:format", "skyfit:quantity", "skyfit:parameterization", "skyfit:axes",
   "skyfit:channels", "skyfit:tiling", "skyfit:atmosphere", "skyfit:content_hash"};
 #define ATTR_CHECKSUM "skyfit:checksum"
+/* Optional (multiple scattering only): "HIGHEST LEFT", data/table.h's
+ * sf_table_orders, e.g. "6 0.00123" or "2 inf". */
+#define ATTR_ORDERS "skyfit:orders"
+
+/* The skyfit:orders text of o in text (at most n bytes), or NULL if the
+ * table has none. */
+static const char *orders_text(const sf_table_orders *o, char *text, size_t n) {
+  if (o->highest < 1) return NULL;
+  snprintf(text, n, "%d %.17g", o->highest, o->left_fraction);
+  return text;
+}
+
+/* Parses an orders text; returns NULL or what is wrong. */
+static const char *parse_orders(const char *text, sf_table_orders *o) {
+  char *end = NULL;
+  long highest = strtol(text, &end, 10);
+  if (end == text || *end != ' ' || highest < 1 || highest > INT_MAX) return "does not start with an order >= 1";
+  const char *number = end + 1;
+  double left = strtod(number, &end);
+  if (end == number || *end != '\0' || !(left >= 0.0)) return "does not end with a fraction >= 0 (or inf)";
+  o->highest = (int)highest;
+  o->left_fraction = left;
+  return NULL;
+}
 
 static cJSON *exact_number(double v) {
   /* cJSON prints 15 digits when they compare "close enough"; 17 are needed
@@ -146,9 +170,10 @@ static char *channels_json(const sf_table_desc *d) {
   return text;
 }
 
-static uint64_t checksum(const char *const strings[ATTR_COUNT], const float *data, size_t n) {
+static uint64_t checksum(const char *const strings[ATTR_COUNT], const char *orders, const float *data, size_t n) {
   uint64_t h = SF_FNV1A64_OFFSET;
   for (int i = 0; i < ATTR_COUNT; ++i) h = sf_fnv1a64_field(h, strings[i]);
+  if (orders) h = sf_fnv1a64_field(h, orders);
   for (size_t i = 0; i < n; ++i) {
     uint32_t bits;
     memcpy(&bits, &data[i], sizeof bits);
@@ -265,8 +290,8 @@ static int write_pixels(exr_context_t ctx, int part, const sf_table *t, const ch
   return status;
 }
 
-static int write_header(exr_context_t ctx, int *part, const sf_table *t,
-                        const char *const strings[ATTR_COUNT], const char *checksum_hex) {
+static int write_header(exr_context_t ctx, int *part, const sf_table *t, const char *const strings[ATTR_COUNT],
+                        const char *orders, const char *checksum_hex) {
   const sf_table_desc *d = &t->desc;
   exr_result_t rv = exr_add_part(ctx, "table", EXR_STORAGE_SCANLINE, part);
   if (rv == EXR_ERR_SUCCESS)
@@ -276,6 +301,7 @@ static int write_header(exr_context_t ctx, int *part, const sf_table *t,
     rv = exr_add_channel(ctx, *part, d->channel_names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
   for (int i = 0; rv == EXR_ERR_SUCCESS && i < ATTR_COUNT; ++i)
     rv = exr_attr_set_string(ctx, *part, attr_names[i], strings[i]);
+  if (rv == EXR_ERR_SUCCESS && orders) rv = exr_attr_set_string(ctx, *part, ATTR_ORDERS, orders);
   if (rv == EXR_ERR_SUCCESS) rv = exr_attr_set_string(ctx, *part, ATTR_CHECKSUM, checksum_hex);
   if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctx);
   return rv;
@@ -301,8 +327,10 @@ int sf_table_write_exr(const sf_table *t, const char *path, sf_error *err) {
   strings[ATTR_TILING] = SF_TABLE_EXR_TILING;
   strings[ATTR_ATMOSPHERE] = t->atmosphere_json ? t->atmosphere_json : "";
   strings[ATTR_CONTENT_HASH] = t->desc.content_hash;
+  char orders_buf[64];
+  const char *orders = orders_text(&t->orders, orders_buf, sizeof orders_buf);
   char checksum_hex[17];
-  sf_hash64_hex(checksum(strings, t->data, sf_table_desc_points(&t->desc) * (size_t)t->desc.n_channels),
+  sf_hash64_hex(checksum(strings, orders, t->data, sf_table_desc_points(&t->desc) * (size_t)t->desc.n_channels),
                 checksum_hex);
 
   int status = SF_OK;
@@ -318,7 +346,7 @@ int sf_table_write_exr(const sf_table *t, const char *path, sf_error *err) {
     init.zip_level = TABLE_ZIP_LEVEL;
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     int part = 0;
-    if (rv == EXR_ERR_SUCCESS) rv = write_header(ctx, &part, t, strings, checksum_hex);
+    if (rv == EXR_ERR_SUCCESS) rv = write_header(ctx, &part, t, strings, orders, checksum_hex);
     char why[300];
     if (rv != EXR_ERR_SUCCESS) {
       write_reason(&stream, rv, why, sizeof why);
@@ -458,9 +486,19 @@ static int read_description(exr_context_t ctx, const char *path, size_t max_byte
     return sf_fail(err, SF_ERR_INPUT, "%s: header attribute %s %s", path, attr_names[ATTR_AXES], why);
   if ((why = parse_channels(strings[ATTR_CHANNELS], &desc)))
     return sf_fail(err, SF_ERR_INPUT, "%s: header attribute %s %s", path, attr_names[ATTR_CHANNELS], why);
+  sf_table_orders orders = {0, 0.0};
+  char *orders_attr = get_string_attr(ctx, ATTR_ORDERS, &why);
+  if (orders_attr) {
+    const char *bad = parse_orders(orders_attr, &orders);
+    free(orders_attr);
+    if (bad) return sf_fail(err, SF_ERR_INPUT, "%s: header attribute %s %s", path, ATTR_ORDERS, bad);
+  } else if (strcmp(why, "is missing") != 0) {
+    return sf_fail(err, SF_ERR_INPUT, "%s: header attribute %s %s", path, ATTR_ORDERS, why);
+  }
   sf_error inner = {0};
   if (sf_table_init(out, &desc, strings[ATTR_ATMOSPHERE], max_bytes, &inner) != SF_OK)
     return sf_fail(err, inner.status, "%s: %s", path, inner.message);
+  out->orders = orders;
   return SF_OK;
 }
 
@@ -592,8 +630,9 @@ int sf_table_read_exr(const char *path, size_t max_bytes, sf_table *out, sf_erro
     }
   }
   if (status == SF_OK) {
-    char actual[17];
-    sf_hash64_hex(checksum((const char *const *)strings, out->data,
+    char actual[17], orders_buf[64];
+    sf_hash64_hex(checksum((const char *const *)strings, orders_text(&out->orders, orders_buf, sizeof orders_buf),
+                           out->data,
                            sf_table_desc_points(&out->desc) * (size_t)out->desc.n_channels),
                   actual);
     if (strcmp(actual, stored_sum) != 0)

@@ -13,9 +13,12 @@
  *   skyfit:tiling            "x=i0+n0*i2,y=i1+n1*i3" (data/table.h)
  *   skyfit:atmosphere        the atmosphere JSON text
  *   skyfit:content_hash      desc.content_hash ("" if none)
+ *   skyfit:orders            only where t.orders.highest >= 1 (multiple
+ *                            scattering): "HIGHEST LEFT", e.g. "6 0.00123"
  *   skyfit:checksum          16 hex digits: FNV-1a 64 (util/hash64.h) over
  *                            the eight strings above, in that order, each
  *                            as (8-byte little-endian length, bytes), then
+ *                            skyfit:orders the same way where present, then
  *                            every value's float32 bits, little-endian, in
  *                            the memory order of data/table.h.
  *

@@ -14,16 +14,16 @@
 #include "util/memory_limit.h"
 
 int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_options *o, char *text, size_t n) {
-  const sf_multiple_report *r = &set->report;
-  if (!set->multiple_computed || !(o->stop_fraction > 0.0) || r->highest_order != o->orders || o->orders < 3 ||
-      r->remaining_fraction[r->highest_order] < o->stop_fraction)
+  /* the multiple table's own record, so a cached table says it too */
+  const sf_table_orders *r = &set->multiple.orders;
+  if (!(o->stop_fraction > 0.0) || r->highest != o->orders || o->orders < 3 || r->left_fraction < o->stop_fraction)
     return 0;
   snprintf(text, n,
            "multiple scattering: after order %d, the most asked for, the orders left would still add about %.3g of "
            "the sky radiance in its slowest channel (the stop fraction is %g), summed over all the tables' entries "
            "and estimated as a geometric tail: the tables lack it, and their dim parts (the ground under an "
            "optically thick atmosphere, where each order is nearly the last) lack far more",
-           r->highest_order, r->remaining_fraction[r->highest_order], o->stop_fraction);
+           r->highest, r->left_fraction, o->stop_fraction);
   return 1;
 }
 
@@ -223,11 +223,16 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
       status = sf_precompute_multiple(&setup, p, singles, &mo, &o->run, &set->multiple, &set->irradiance,
                                       &set->report, err);
     set->multiple_computed = status == SF_OK;
-    char text[640];
-    if (status == SF_OK && o->note && sf_table_set_orders_short(set, o, text, sizeof text)) o->note(o->note_ctx, text);
+    if (set->multiple_computed && set->report.highest_order >= 2)
+      set->multiple.orders = (sf_table_orders){set->report.highest_order,
+                                               set->report.remaining_fraction[set->report.highest_order]};
     for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&internal_single[k]);
   }
   sf_scattering_setup_free(&setup);
+  /* computed or cached: the multiple table keeps how its orders ended */
+  char orders_text[640];
+  if (status == SF_OK && o->note && !o->transmittance_only && sf_table_set_orders_short(set, o, orders_text, sizeof orders_text))
+    o->note(o->note_ctx, orders_text);
   /* the atmosphere's, so said whether the tables were computed or cached */
   char peak_text[640];
   if (status == SF_OK && o->note && !o->transmittance_only && o->orders >= 2 &&

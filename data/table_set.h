@@ -94,8 +94,8 @@ void sf_table_set_free(sf_table_set *set);
 
 /* Whether the multiple scattering just computed ran out of orders (o's
  * most) before the orders left fell below o's stop fraction; if so, says
- * what the tables lack in text (at most n bytes). 0 for tables from the
- * cache. */
+ * what the tables lack in text (at most n bytes). Tables from the cache
+ * say the same: the multiple table keeps its orders (data/table.h). */
 int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_options *o, char *text, size_t n);
 
 #endif

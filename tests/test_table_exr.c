@@ -6,6 +6,7 @@
  * tiling formula written out here, and the picture is inspected with the
  * OpenEXR C API directly, independently of data/table_exr.c. */
 #include <errno.h>
+#include <math.h>
 #include <float.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -643,6 +644,56 @@ static void failed_writes(void) {
   sf_table_free(&t);
 }
 
+/* A multiple-scattering table's orders (skyfit:orders) come back bit for
+ * bit, infinity too; a table without them has no such attribute; the
+ * checksum covers the text, and a malformed one is named. */
+static void orders_record(void) {
+  printf("-- skyfit:orders\n");
+  sf_table t = small_table();
+  char path[512], bad[512];
+  path_in(path, sizeof path, "orders.exr");
+  path_in(bad, sizeof bad, "orders_bad.exr");
+  const sf_table_orders cases[3] = {{6, 0.00123}, {2, INFINITY}, {0, 0.0}};
+  for (int k = 0; k < 3; ++k) {
+    t.orders = cases[k];
+    sf_error err = {0};
+    sf_table back;
+    CHECK(sf_table_write_exr(&t, path, &err) == SF_OK);
+    char *attrs[N_SKYFIT_ATTRS];
+    raw_attrs(path, attrs);
+    CHECK(attrs[N_SKYFIT_ATTRS - 1] != NULL);   /* a complete file */
+    for (int i = 0; i < N_SKYFIT_ATTRS; ++i) free(attrs[i]);
+    size_t n = 0;
+    unsigned char *bytes = slurp(path, &n);
+    const char *needle = k == 0 ? "6 0.00123" : k == 1 ? "2 inf" : "skyfit:orders";
+    unsigned char *at = NULL;
+    for (size_t i = 0; !at && i + strlen(needle) <= n; ++i)
+      if (memcmp(bytes + i, needle, strlen(needle)) == 0) at = bytes + i;
+    CHECK(k < 2 ? at != NULL : at == NULL);
+    int ok = sf_table_read_exr(path, 0, &back, &err) == SF_OK;
+    CHECK(ok && same_table(&back, &t) && back.orders.highest == cases[k].highest &&
+          memcmp(&back.orders.left_fraction, &cases[k].left_fraction, sizeof(double)) == 0);
+    if (ok) sf_table_free(&back);
+    if (k < 2 && at) {
+      /* another order, same length: the checksum no longer matches */
+      at[0] = k == 0 ? '7' : '3';
+      spit(bad, bytes, n);
+      err = (sf_error){0};
+      CHECK(sf_table_read_exr(bad, 0, &back, &err) == SF_ERR_INPUT && strstr(err.message, "checksum mismatch"));
+      printf("orders edited: %s\n", err.message);
+      /* not a number: named before the checksum */
+      at[0] = 'x';
+      spit(bad, bytes, n);
+      err = (sf_error){0};
+      CHECK(sf_table_read_exr(bad, 0, &back, &err) == SF_ERR_INPUT && strstr(err.message, "skyfit:orders") &&
+            strstr(err.message, bad));
+      printf("orders malformed: %s\n", err.message);
+    }
+    free(bytes);
+  }
+  sf_table_free(&t);
+}
+
 int main(void) {
   const char *tmp = getenv("TMPDIR");
   snprintf(work_dir, sizeof work_dir, "%s/skyfit_table_exr_XXXXXX", tmp && *tmp ? tmp : "/tmp");
@@ -665,6 +716,7 @@ int main(void) {
   foreign_files();
   bad_descriptions();
   failed_writes();
+  orders_record();
 
   remove_work_dir();
   return check_summary();
