@@ -12,10 +12,12 @@
  *    a lambda^-alpha through them (least squares in log-log): Rayleigh's
  *    lambda^-4 triplet of the default gives alpha = 4 exactly, its grey Mie
  *    alpha = 0 (an Ångström law in general);
- *  - the absorption of a purely absorbing constituent (no scattering; ozone)
- *    becomes k sigma_O3(lambda) (ozone_cross_section.csv) with k the least
- *    squares fit to the three values: the default's ozone triplet is
- *    300 DU on its tent exactly;
+ *  - the absorption of a purely absorbing constituent (no scattering) whose
+ *    triplet has ozone's shape (k sigma_O3 at the three wavelengths within
+ *    SF_OZONE_SHAPE_TOLERANCE, relative) becomes k sigma_O3(lambda)
+ *    (ozone_cross_section.csv), k the least squares fit to the three
+ *    values: the default's ozone triplet is 300 DU on its tent exactly;
+ *    any other absorber is a coefficient array as below;
  *  - other arrays (some zero) and the ground albedo: piecewise linear
  *    through the three values, constant beyond;
  *  - the sun: the ASTM G173 extraterrestrial spectrum averaged over each
@@ -38,6 +40,9 @@
 #define SF_RGB_LAMBDA_R_NM 680.0
 #define SF_RGB_LAMBDA_G_NM 550.0
 #define SF_RGB_LAMBDA_B_NM 440.0
+/* How far (relative, in the 2-norm) an absorber's triplet may be from
+ * ozone's cross-sections times a constant and still be taken as ozone. */
+#define SF_OZONE_SHAPE_TOLERANCE 1e-2
 
 /* The n wavelengths from min_nm to max_nm at step_nm (n <= SF_MAX_CHANNELS);
  * returns n. */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "models/atmosphere_file.h"
+#include "models/spectral_atmosphere.h"
 #include "models/spectral_data.h"
 #include "models/spectral_recipes.h"
 #include "tests/check.h"
@@ -146,6 +147,34 @@ int main(void) {
                " \"constituents\": [{\"name\": \"o\", \"scattering\": 0, \"absorption\": {\"recipe\": \"angstrom\","
                " \"reference_nm\": 550, \"reference_per_km\": 1, \"colour\": 2}, \"density\": [{\"constant\": 1}]}]}",
                "colour");
+  /* An RGB atmosphere's spectral counterpart: the default's ozone triplet
+   * becomes ozone's spectrum, 300 DU (0.0405 at 600 nm, data README); a
+   * grey absorber beside it stays grey (it had been given ozone's
+   * spectrum too: 5.6e-5 at 440 nm for its 1e-3). */
+  sf_atmosphere_default(atm);
+  int i_ozone = -1;
+  for (int i = 0; i < atm->n_constituents; ++i)
+    if (strcmp(atm->constituents[i].name, "ozone") == 0) i_ozone = i;
+  CHECK(i_ozone >= 0 && atm->n_constituents < SF_MAX_CONSTITUENTS);
+  if (i_ozone >= 0 && atm->n_constituents < SF_MAX_CONSTITUENTS) {
+    sf_constituent *soot = &atm->constituents[atm->n_constituents++];
+    *soot = atm->constituents[i_ozone];
+    snprintf(soot->name, sizeof soot->name, "soot");
+    for (int ch = 0; ch < 3; ++ch) soot->absorption[ch] = 1e-3;
+    double nm[SF_MAX_CHANNELS];
+    int n = sf_spectral_grid(SF_SPECTRAL_MIN_NM, SF_SPECTRAL_MAX_NM, SF_SPECTRAL_STEP_NM, nm);
+    CHECK(sf_spectral_atmosphere(atm, n, nm, back, &err) == 0);
+    const sf_constituent *oz_spec = &back->constituents[i_ozone], *soot_spec = &back->constituents[atm->n_constituents - 1];
+    int i600 = (int)((600.0 - SF_SPECTRAL_MIN_NM) / SF_SPECTRAL_STEP_NM + 0.5);
+    CHECK(nm[i600] == 600.0);
+    printf("spectral counterpart: ozone tau(600 nm) = %.5f; grey absorber at 400/440/600/700 nm: %g %g %g %g\n",
+           oz_spec->absorption[i600] * sf_density_column_km(oz_spec, 100.0), soot_spec->absorption[8],
+           soot_spec->absorption[16], soot_spec->absorption[i600], soot_spec->absorption[68]);
+    CHECK_REL(oz_spec->absorption[i600] * sf_density_column_km(oz_spec, 100.0), 0.0405, 2e-3);
+    double worst = 0.0;
+    for (int ch = 0; ch < n; ++ch) worst = fmax(worst, fabs(soot_spec->absorption[ch] / 1e-3 - 1.0));
+    CHECK(worst < 1e-12);
+  }
   free(atm);
   free(atm2);
   free(back);
