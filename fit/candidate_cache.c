@@ -1,9 +1,12 @@
 #include "fit/candidate_cache.h"
 
+#include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "models/atmosphere_file.h"
 #include "util/atomic_file.h"
@@ -81,6 +84,20 @@ int sf_cache_path(const char *cache_dir, const char *sub, const char *model, con
   uint64_t h = sf_fnv1a64(SF_FNV1A64_OFFSET, k->text, strlen(k->text));
   int w = snprintf(path, n, "%s/%s-%016" PRIx64 ".json", dir, model, h);
   if (w < 0 || (size_t)w >= n) return sf_fail(err, SF_ERR_INPUT, "cache path too long: %s", dir);
+  return SF_OK;
+}
+
+int sf_folder_writable(const char *dir, const char *role, sf_error *err) {
+  char probe[4200];
+  int w = snprintf(probe, sizeof probe, "%s/.skyfit-probe-XXXXXX", dir);
+  if (w < 0 || (size_t)w >= sizeof probe) return sf_fail(err, SF_ERR_INPUT, "%s folder %s: path too long", role, dir);
+  int fd = mkstemp(probe);
+  if (fd < 0) {
+    int e = errno;
+    return sf_fail(err, sf_write_error_status(e), "%s folder %s cannot be written: %s", role, dir, strerror(e));
+  }
+  close(fd);
+  unlink(probe);
   return SF_OK;
 }
 

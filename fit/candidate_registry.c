@@ -4,7 +4,9 @@
 #include <string.h>
 
 #include "fit/candidate_builtin.h"
+#include "fit/candidate_cache.h"
 #include "fit/candidate_fitted.h"
+#include "util/make_folders.h"
 
 /* One line per fitted model, and per baseline fitted to the tables (the
  * published skies' turbidity and factors) (fit/candidate_fitted.h). */
@@ -173,6 +175,15 @@ static int add_unless_excluded(const sf_candidate_inputs *in, sf_candidate_list 
 
 int sf_candidates_make_all(const sf_candidate_inputs *in, sf_candidate_list *list, sf_candidate_note_fn note,
                            void *note_ctx, sf_error *err) {
+  /* the fits' cache and weights folders first: their failures are the
+   * build's, not fits to skip (make_fitted) */
+  if (in->cache_dir) {
+    char fits[4200];
+    snprintf(fits, sizeof fits, "%s/%s", in->cache_dir, SF_CACHE_FITS);
+    if (sf_make_folders(fits, "cache", err) != SF_OK || sf_folder_writable(fits, "cache", err) != SF_OK)
+      return err->status;
+  }
+  if (in->work_dir && sf_folder_writable(in->work_dir, "weights", err) != SF_OK) return err->status;
   sf_candidate c;
   if (sf_candidate_reference_transmittance(in->atm, &c, err) != SF_OK || add(list, &c, err) != SF_OK)
     return err->status;

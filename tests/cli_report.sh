@@ -190,6 +190,19 @@ print(f"timings after one was removed: {len(glob.glob(sys.argv[1] + '/*.json'))}
 assert len(runs) == 1 and None not in runs, f"FAIL the timings come from several runs: {runs}"
 PY
 
+# A cache whose fits folder cannot be made ends the build before any fit,
+# exit 2 naming it, the published weights kept: every fit had "failed"
+# and been skipped, the build had shipped other models, exited 0 and
+# removed the weights files of the models it no longer had.
+cp -a "$tmp/out/weights" "$tmp/weights-kept"
+mv "$tmp/out/cache/fits" "$tmp/fits-saved" && echo "not a folder" > "$tmp/out/cache/fits"
+rc=0
+"$bin" build "${small[@]}" --out "$tmp/out" > "$tmp/stdout4" 2> "$tmp/stderr4" || rc=$?
+echo "fits folder in the way: exit $rc: $(tail -1 "$tmp/stderr4")"
+[ "$rc" = 2 ] && grep -q "$tmp/out/cache/fits" "$tmp/stderr4" || { echo "FAIL a fits folder that cannot be made"; fail=1; }
+diff -r "$tmp/weights-kept" "$tmp/out/weights" > /dev/null || { echo "FAIL the published weights changed"; fail=1; }
+rm -f "$tmp/out/cache/fits" && mv "$tmp/fits-saved" "$tmp/out/cache/fits"
+
 # Headless Chromium: a screenshot that is not blank, and no script errors.
 if command -v chromium >/dev/null; then
   timeout 120 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --user-data-dir="$tmp/chrome" \
