@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "codegen/emit_spectral4.h"
 #include "fit/candidate_cache.h"
 #include "fit/spectral4_run.h"
 #include "models/atmosphere_file.h"
@@ -101,7 +102,17 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
   int loaded = 0;
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
-    loaded = sf_weights_load_file(path, "spectral4", &w, &lerr) == SF_OK && summarise(&w, out, &lerr) == SF_OK;
+    /* what the header will need (codegen checks it only when it emits, and
+     * a damaged entry had failed every build, naming a staging path long
+     * gone), and this atmosphere's fit */
+    sf_spectral4_emit emit;
+    loaded = sf_weights_load_file(path, "spectral4", &w, &lerr) == SF_OK && summarise(&w, out, &lerr) == SF_OK &&
+             sf_spectral4_emit_load(&w, &emit, &lerr) == SF_OK;
+    if (loaded && strcmp(w.atmosphere_hash, hash) != 0) {
+      sf_fail(&lerr, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", path,
+              w.atmosphere.name, w.atmosphere_hash, scene->atmosphere.name, hash);
+      loaded = 0;
+    }
     if (!loaded) {
       sf_weights_free(&w);
       memset(&w, 0, sizeof w);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "models/atmosphere_file.h"
+#include "models/weights_file.h"
 #include "util/atomic_file.h"
 #include "util/hash64.h"
 #include "util/make_folders.h"
@@ -99,6 +100,30 @@ int sf_folder_writable(const char *dir, const char *role, sf_error *err) {
   close(fd);
   unlink(probe);
   return SF_OK;
+}
+
+static int same_domain(const sf_scene_domain *a, const sf_scene_domain *b) {
+  const double x[6] = {a->h_min_km, a->h_max_km, a->mu_min, a->mu_max, a->mu_s_min, a->mu_s_max};
+  const double y[6] = {b->h_min_km, b->h_max_km, b->mu_min, b->mu_max, b->mu_s_min, b->mu_s_max};
+  return memcmp(x, y, sizeof x) == 0;
+}
+
+int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmosphere *atm,
+                         const sf_scene_domain *domain, sf_error *err) {
+  sf_weights w;
+  if (sf_weights_load_file(path, model, &w, err) != SF_OK) return err->status;
+  char hash[17];
+  sf_atmosphere_hash_hex(atm, hash);
+  int status = SF_OK;
+  if (strcmp(w.atmosphere_hash, hash) != 0)
+    status = sf_fail(err, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", path,
+                     w.atmosphere.name, w.atmosphere_hash, atm->name, hash);
+  else if (!same_domain(&w.domain, domain))
+    status = sf_fail(err, SF_ERR_INPUT, "%s: a fit over another domain (h %.17g..%.17g km, mu %.17g..%.17g, mu_s "
+                     "%.17g..%.17g)", path, w.domain.h_min_km, w.domain.h_max_km, w.domain.mu_min,
+                     w.domain.mu_max, w.domain.mu_s_min, w.domain.mu_s_max);
+  sf_weights_free(&w);
+  return status;
 }
 
 int sf_cache_exists(const char *path) {

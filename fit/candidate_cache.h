@@ -4,7 +4,8 @@
  * hashing everything its parameters depend on — the model, the candidate
  * code version, the atmosphere's canonical JSON (through its hash), the
  * scene's domain, the fit options and, for fits to the tables, the tables'
- * resolution. A cached file that fails to load is reported and refitted.
+ * resolution. A cached file that fails to load, or is the fit of another
+ * atmosphere or domain (sf_cache_fit_belongs), is reported and refitted.
  * Costs (ns per evaluation, fit/candidate_metrics.h) are cached the same
  * way under CACHE/costs/ by codegen/report_evaluate.c, so that a rerun's
  * report is byte-identical. A freshly fitted model is evaluated as loaded
@@ -58,6 +59,14 @@ int sf_cache_path(const char *cache_dir, const char *sub, const char *model, con
  * folder that cannot take the fits had made every fit "fail" and be
  * skipped, so a build shipped other models and exited 0. */
 int sf_folder_writable(const char *dir, const char *role, sf_error *err);
+
+/* SF_OK if the weights file at path is a fit of model for this atmosphere
+ * (its hash) over this domain; SF_ERR_INPUT saying what it is otherwise.
+ * A cached fit passes it before use: the key names the file, but a file
+ * copied from another project's cache had been used as it was (a Mars
+ * sigmoid shipped in a header labelled with Earth's atmosphere). */
+int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmosphere *atm,
+                         const sf_scene_domain *domain, sf_error *err);
 
 /* 1 when path names an existing regular file. */
 int sf_cache_exists(const char *path);

@@ -307,7 +307,9 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   int loaded = 0;
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
-    loaded = sf_mlp_sky_load(path, m, &lerr) == SF_OK;
+    const char *model = job->scattering ? "mlp-scattering" : "mlp-transmittance";
+    loaded = sf_cache_fit_belongs(path, model, in->atm, &in->domain, &lerr) == SF_OK &&
+             sf_mlp_sky_load(path, m, &lerr) == SF_OK;
     if (loaded) sf_cache_entry_used(path);
     if (loaded && job->scattering) note_raw_targets_of_file(in, job->name, path);
     if (!loaded) {

@@ -121,7 +121,8 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   int loaded = 0;
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
-    loaded = sf_sigmoid_model_load(path, &s->model, NULL, &lerr) == SF_OK;
+    loaded = sf_cache_fit_belongs(path, "sigmoid", in->atm, &in->domain, &lerr) == SF_OK &&
+             sf_sigmoid_model_load(path, &s->model, NULL, &lerr) == SF_OK;
     if (loaded) sf_cache_entry_used(path);
     if (!loaded && in->note) {
       char text[1200];

@@ -169,7 +169,8 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
   int loaded = 0;
   if (sf_cache_exists(path)) {
     sf_error lerr = {0};
-    loaded = sf_elevation_sky_load(path, form, m, NULL, &lerr) == SF_OK;
+    loaded = sf_cache_fit_belongs(path, name, in->atm, &valid, &lerr) == SF_OK &&
+             sf_elevation_sky_load(path, form, m, NULL, &lerr) == SF_OK;
     if (loaded) sf_cache_entry_used(path);
     if (!loaded && in->note) {
       char text[1200];

@@ -190,6 +190,19 @@ print(f"timings after one was removed: {len(glob.glob(sys.argv[1] + '/*.json'))}
 assert len(runs) == 1 and None not in runs, f"FAIL the timings come from several runs: {runs}"
 PY
 
+# A cached fit is used only if it is a fit of this atmosphere over this
+# domain: another scene's sigmoid, copied over the entry, had been shipped
+# as it was. Now it is refitted, and the outputs are those of the fit.
+cp "$tmp/out/sky.h" "$tmp/sky-before.h"
+cp "$tmp/out/weights/sigmoid.json" "$tmp/sigmoid-before.json"
+"$bin" fit sigmoid --scene "${SKYFIT_SOURCE_DIR:?}/examples/scenes/flight.json" --grid 12x24 --quiet --out "$tmp/other-sigmoid.json" &&
+  cp "$tmp/other-sigmoid.json" "$(ls "$tmp/out/cache/fits/"sigmoid-*.json | head -1)" &&
+  "$bin" build "${small[@]}" --out "$tmp/out" > "$tmp/stdout5" 2>&1 || { echo "FAIL the build over a foreign cached fit"; fail=1; }
+grep -o "sigmoid: cached fit unusable, refitting: .*" "$tmp/out/report.md" | head -1
+grep -q "sigmoid: cached fit unusable, refitting: .*a fit over another domain" "$tmp/out/report.md" &&
+  cmp -s "$tmp/sky-before.h" "$tmp/out/sky.h" && cmp -s "$tmp/sigmoid-before.json" "$tmp/out/weights/sigmoid.json" ||
+  { echo "FAIL a foreign cached fit was not refitted"; fail=1; }
+
 # A cache whose fits folder cannot be made ends the build before any fit,
 # exit 2 naming it, the published weights kept: every fit had "failed"
 # and been skipped, the build had shipped other models, exited 0 and
@@ -472,6 +485,22 @@ rm -rf "$tmp/s4-cg" && mkdir "$tmp/s4-cg"
 for f in "$tmp/s4/sky.h" "$tmp/s4/sky.glsl"; do
   grep -q "skyfit_spectral4_to_linear_srgb" "$f" || { echo "FAIL $f lacks the spectral4 functions"; fail=1; }
 done
+
+# A damaged cached spectral4 fit (valid JSON, matrices not the colour
+# pipeline's) is refitted: codegen's check had first run on the staged
+# copy, and every build exited 2 naming a staging folder long gone.
+cp "$tmp/s4/sky.h" "$tmp/s4-sky-before.h"
+python3 - "$(ls "$tmp/s4/cache/fits/"spectral4-*.json | head -1)" <<'PY'
+import json, sys
+w = json.load(open(sys.argv[1]))
+w["params"]["to_linear_srgb"][0][0] *= 3
+json.dump(w, open(sys.argv[1], "w"))
+PY
+"$bin" build "$src/examples/scenes/spectral4.json" "${tiny[@]}" --out "$tmp/s4" > "$tmp/s4-again.out" 2>&1
+rc=$?
+echo "damaged cached spectral4 fit: exit $rc, $(grep -o 'spectral4: cached fit unusable[^:]*' "$tmp/s4/report.md" | head -1)"
+[ $rc -eq 0 ] && grep -q "spectral4: cached fit unusable, refitting: .*to_linear_srgb" "$tmp/s4/report.md" &&
+  cmp -s "$tmp/s4-sky-before.h" "$tmp/s4/sky.h" || { echo "FAIL a damaged cached spectral4 fit: $(tail -2 "$tmp/s4-again.out")"; fail=1; }
 
 # An atmosphere of wavelengths has no pictures (they are linear sRGB): 3 of
 # them had been drawn as if 440 nm were red.
