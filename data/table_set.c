@@ -112,7 +112,8 @@ static int try_cache(const sf_table_set_options *o, sf_table_desc *desc, const c
   }
   if (problem.status != SF_OK) {
     snprintf(text, sizeof text, "%.1900s; recomputing it", problem.message);
-    if (o->note) o->note(o->note_ctx, text);
+    if (o->problem) o->problem(o->problem_ctx, text);
+    else if (o->note) o->note(o->note_ctx, text);
   }
   return 0;
 }

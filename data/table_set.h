@@ -49,6 +49,11 @@ typedef struct sf_table_set_options {
   sf_precompute_options run;
   void (*note)(void *ctx, const char *message);   /* may be NULL */
   void *note_ctx;
+  /* A cached table that could not be used (damaged; recomputed): said
+   * here when set, else through note. A build's notes are its report's,
+   * which say nothing of where a table came from; this is the run's news. */
+  void (*problem)(void *ctx, const char *message);
+  void *problem_ctx;
 } sf_table_set_options;
 
 /* kind bruneton, default resolution, 4 orders, no stop, no cache, the full

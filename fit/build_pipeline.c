@@ -352,6 +352,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
 
   sf_table_set_options topt;
   sf_build_table_options(scene, &domain, &o->tables, cache, &topt);
+  topt.problem = o->note;   /* a damaged cached table: said, not reported */
+  topt.problem_ctx = o->note_ctx;
   /* Bad input (an impossible resolution, tables larger than memory allows)
    * is refused before anything is created: nothing written on bad input. */
   if (sf_table_set_check(&scene->atmosphere, &topt, err) != SF_OK) return err->status;

@@ -203,6 +203,15 @@ grep -q "sigmoid: cached fit unusable, refitting: .*a fit over another domain" "
   cmp -s "$tmp/sky-before.h" "$tmp/out/sky.h" && cmp -s "$tmp/sigmoid-before.json" "$tmp/out/weights/sigmoid.json" ||
   { echo "FAIL a foreign cached fit was not refitted"; fail=1; }
 
+# A damaged cached table is said (SPEC §6: reported and recomputed) by
+# build as by sample; build had recomputed it without a word.
+loud=()
+for a in "${small[@]}"; do [ "$a" = --quiet ] || loud+=("$a"); done
+truncate -s 5000 "$(ls "$tmp/out/cache/"multiple-*.exr | head -1)"
+"$bin" build "${loud[@]}" --no-views --out "$tmp/out" > /dev/null 2> "$tmp/stderr6" || { echo "FAIL the build over a damaged table"; fail=1; }
+grep -o "cache file .*multiple-.* is corrupt: " "$tmp/stderr6" | head -1
+grep -q "cache file .*multiple-.*is corrupt: .*; recomputing it" "$tmp/stderr6" || { echo "FAIL a damaged cached table went unsaid"; fail=1; }
+
 # A cache whose fits folder cannot be made ends the build before any fit,
 # exit 2 naming it, the published weights kept: every fit had "failed"
 # and been skipped, the build had shipped other models, exited 0 and
