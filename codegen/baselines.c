@@ -457,6 +457,11 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
    * it had given T = 1 for a column of 8 (seed 000 §12.1.3's failure). */
   char ones[64] = "";
   for (int ch = 0; ch < n; ++ch) strcat(ones, ch ? ", 1.0f" : "1.0f");
+  /* A float32 altitude at the ground, length(p) - R, is often -1e-4 km: a
+   * viewer there is on the ground (the sigmoid's header clamps it too),
+   * not inside the planet, whose far side's air a downward ray had
+   * crossed (T 0.89 for a ray into the ground, 0.18 at mu -0.01). */
+  sf_cw_emit(w, "  h_km = @max(h_km, 0.0f);\n");
   sf_cw_emit(w,
              "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
              "  if (e.w < 0.0f || !(t1 > e.w)) return %C%s);\n"

@@ -299,7 +299,7 @@ void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const floa
 void sf_baseline_transmittance_f(const sf_baseline_f *b, float h_km, float mu, float *T) {
   const float R = b->bottom;
   float depth[SF_MAX_CONSTITUENTS] = {0}, seg[4];
-  float h = h_km;
+  float h = fmaxf(h_km, 0.0f);   /* as emitted (codegen/baselines.c) */
   if (sf_emitted_ray_enter_f(R, b->thickness, &h, &mu, NULL, 0.0f)) {
     sf_emitted_air_clip_between_f(R, b->thickness, h, mu, 0.0f, 3.4e38f, seg);
     sf_baseline_columns_f(b, h, mu, seg, depth);

@@ -120,6 +120,21 @@ static void check_candidate(const sf_candidate *c, const sf_atmosphere *atm, con
       }
       ++n;
     }
+  /* A float32 altitude at the ground, length(p) - R, is often a little
+   * below 0: such a viewer is on the ground. The analytic baselines had
+   * put it inside the planet, whose far side's air a ray into the ground
+   * crossed (T 0.89 at mu -0.5, 0.18 at mu -0.01, for 1 at h = 0). */
+  double worst_below = 0.0;
+  const float below[2] = {-1e-6f, -1e-4f}, mus[7] = {-1.0f, -0.5f, -0.01f, 0.0f, 0.01f, 0.5f, 1.0f};
+  for (int b = 0; b < 2; ++b)
+    for (int j = 0; j < 7; ++j) {
+      float at_ground[3], under[3], segment[3];
+      eval(0.0f, mus[j], 3.4e38f, at_ground, segment);
+      eval(below[b], mus[j], 3.4e38f, under, segment);
+      for (int k = 0; k < 3; ++k) worst_below = worst_of(worst_below, fabs(under[k] - at_ground[k]));
+    }
+  printf("viewers 1e-6 and 1e-4 km below the ground vs on it: emitted C max %.3g\n", worst_below);
+  CHECK(worst_below <= 1e-6);
   /* A viewer outside the atmosphere sees what a viewer where its ray
    * enters sees: the same ray. Straight down from 1000 km to 1e9 km, and
    * from 1000 and 10,000 km on rays through 30 km at their closest and
