@@ -31,7 +31,7 @@ static const planted files[] = {
     {"fits/sigmoid-1111111111111111.json", 3000, -1},     /* used by this run */
     /* not entries: never looked at */
     {"notes.txt", 20000, 9000},
-    {"tables.json", 20000, 9000},
+    {"weights.json", 20000, 9000},
     {"fits/hosek-0123.json", 20000, 9000},                 /* 4 hex digits */
     {"fits/hosek-0123456789ABCDEF.json", 20000, 9000},     /* upper case */
     {"fits/hosek-0123456789abcdef.exr", 20000, 9000},      /* a table's extension in fits/ */
@@ -137,6 +137,16 @@ int main(void) {
   tie[2] = 1;
   tie[3] = 0;
   prune_and_check(dir, 3100, since, tie, 2, 1050);
+
+  /* A folder holding tables.json is a `skyfit sample` output: its tables
+   * stay at limit 0, its other entries go as before. */
+  const planted listing = {"tables.json", 10, 9000};
+  CHECK(plant(dir, &files[0], now - 3600) == 0 && plant(dir, &files[2], now - 3600) == 0 && plant(dir, &listing, now) == 0);
+  int sample_folder[N_FILES];
+  memcpy(sample_folder, tie, sizeof tie);
+  sample_folder[0] = 1;   /* the table, an hour older than before */
+  sample_folder[2] = 0;   /* the fit */
+  prune_and_check(dir, 0, since, sample_folder, 1, 100);
 
   /* A missing folder holds no entries; a folder name too long is refused. */
   sf_cache_prune_result res;

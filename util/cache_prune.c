@@ -87,8 +87,13 @@ int sf_cache_prune(const char *cache_dir, long long limit_bytes, struct timespec
   memset(res, 0, sizeof *res);
   entry_list list = {0};
   char folder[4096];
+  /* a `skyfit sample` folder: its tables are outputs, listed there */
+  snprintf(folder, sizeof folder, "%s/tables.json", cache_dir);
+  struct stat listing;
+  int sample_outputs = lstat(folder, &listing) == 0;
   for (int s = 0; s < SF_CACHE_FOLDERS; ++s) {
     const sf_cache_folder *f = &sf_cache_folders[s];
+    if (sample_outputs && !f->sub[0]) continue;
     int w = snprintf(folder, sizeof folder, "%s%s%s", cache_dir, f->sub[0] ? "/" : "", f->sub);
     if (w < 0 || (size_t)w >= sizeof folder) {
       free(list.items);

@@ -12,7 +12,10 @@
  * An entry is a file named "<name>-<16 hex digits>.<ext>" (the keys of
  * data/table_cache.h and fit/candidate_cache.h): tables, .exr, in the folder
  * itself; fits and timings, .json, in its fits/ and costs/ folders. No other
- * file is looked at or removed. Its last use is its modification time: a
+ * file is looked at or removed, nor the tables of a folder that holds a
+ * tables.json: `skyfit sample`'s output folder, whose tables are its
+ * outputs (`fit spectral4 --cache` pointed there had removed them all,
+ * leaving tables.json listing missing files). Its last use is its modification time: a
  * cache hit marks the entry used (sf_cache_entry_used), a miss writes it
  * anew. */
 #ifndef SKYFIT_UTIL_CACHE_PRUNE_H
