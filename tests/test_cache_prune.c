@@ -36,7 +36,7 @@ static const planted files[] = {
     {"fits/hosek-0123456789ABCDEF.json", 20000, 9000},     /* upper case */
     {"fits/hosek-0123456789abcdef.exr", 20000, 9000},      /* a table's extension in fits/ */
     {"multiple-0123456789abcdef.json", 20000, 9000},       /* a fit's extension beside the tables */
-    {"multiple-0123456789abcdef.exr.tmp.42.abcdef", 20000, 9000},   /* an interrupted write */
+    {"multiple-0123456789abcdef.exr.tmp.1.abcdef", 20000, 9000},   /* a write in progress (pid 1 runs) */
     {"views/ground-0123456789abcdef.exr", 20000, 9000},   /* another folder */
 };
 #define N_FILES (int)(sizeof files / sizeof files[0])
@@ -147,6 +147,14 @@ int main(void) {
   sample_folder[0] = 1;   /* the table, an hour older than before */
   sample_folder[2] = 0;   /* the fit */
   prune_and_check(dir, 0, since, sample_folder, 1, 100);
+
+  /* A killed writer's temporaries go at any limit (pid 999999999 runs
+   * nowhere: Linux's pid_max is at most 4194304). */
+  const planted stale[2] = {{"multiple-0123456789abcdef.exr.tmp.999999999.abcdef", 30000, 9000},
+                            {"fits/sigmoid-1111111111111111.json.tmp.999999999.abcdef", 30000, 9000}};
+  CHECK(plant(dir, &stale[0], now) == 0 && plant(dir, &stale[1], now) == 0);
+  prune_and_check(dir, -1, since, sample_folder, 0, 0);
+  CHECK(!exists(dir, stale[0].rel) && !exists(dir, stale[1].rel));
 
   /* A missing folder holds no entries; a folder name too long is refused. */
   sf_cache_prune_result res;

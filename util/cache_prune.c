@@ -9,6 +9,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "util/atomic_file.h"
+
 void sf_cache_entry_used(const char *path) {
   if (path && path[0]) (void)utimensat(AT_FDCWD, path, NULL, 0);
 }
@@ -93,12 +95,15 @@ int sf_cache_prune(const char *cache_dir, long long limit_bytes, struct timespec
   int sample_outputs = lstat(folder, &listing) == 0;
   for (int s = 0; s < SF_CACHE_FOLDERS; ++s) {
     const sf_cache_folder *f = &sf_cache_folders[s];
-    if (sample_outputs && !f->sub[0]) continue;
     int w = snprintf(folder, sizeof folder, "%s%s%s", cache_dir, f->sub[0] ? "/" : "", f->sub);
     if (w < 0 || (size_t)w >= sizeof folder) {
       free(list.items);
       return sf_fail(err, SF_ERR_INPUT, "cache %s: folder name too long", cache_dir);
     }
+    /* a killed run's temporaries (tens of MB for a table) are counted
+     * nowhere and would stay for good */
+    sf_atomic_remove_stale_in(folder);
+    if (sample_outputs && !f->sub[0]) continue;
     int listed = list_entries(folder, f->ext, &list, err);
     if (listed != SF_OK) {
       free(list.items);

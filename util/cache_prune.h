@@ -17,7 +17,8 @@
  * outputs (`fit spectral4 --cache` pointed there had removed them all,
  * leaving tables.json listing missing files). Its last use is its modification time: a
  * cache hit marks the entry used (sf_cache_entry_used), a miss writes it
- * anew. */
+ * anew. Pruning also removes the temporaries of writers that no longer
+ * run (util/atomic_file.h), at any limit. */
 #ifndef SKYFIT_UTIL_CACHE_PRUNE_H
 #define SKYFIT_UTIL_CACHE_PRUNE_H
 
