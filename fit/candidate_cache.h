@@ -23,10 +23,13 @@
 #include "util/error.h"
 
 /* Bump whenever a change to a candidate's fit changes its parameters. The
- * key also holds the running executable's size and modification time
+ * key also holds a hash of the running executable's bytes
  * (sf_cache_code_identity): fitters and models live in other files that
- * change on their own, so any rebuild of skyfit refits and retimes rather
- * than reusing a result the new code would not produce. */
+ * change on their own, so any other skyfit refits and retimes rather than
+ * reusing a result the new code would not produce, and a copy of the same
+ * one (installed elsewhere) reuses them. Its size and modification time,
+ * the key before, had let a rebuild of the same size with a kept time
+ * reuse another build's fits, and made a plain copy refit everything. */
 #define SF_CANDIDATE_CODE_VERSION "skyfit-candidates 3"
 
 /* SF_CANDIDATE_CODE_VERSION plus the executable's identity ("" parts when

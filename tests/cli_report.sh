@@ -203,6 +203,21 @@ grep -q "sigmoid: cached fit unusable, refitting: .*a fit over another domain" "
   cmp -s "$tmp/sky-before.h" "$tmp/out/sky.h" && cmp -s "$tmp/sigmoid-before.json" "$tmp/out/weights/sigmoid.json" ||
   { echo "FAIL a foreign cached fit was not refitted"; fail=1; }
 
+# The fits and timings are keyed on the executable's bytes: a copy of it
+# (a new modification time) reuses them, another executable refits (here
+# the same one with a byte appended: its key changes, not its code). Its
+# size and modification time had been the key.
+n_fits() { ls "$tmp/out/cache/fits" "$tmp/out/cache/costs" | grep -c -- '-[0-9a-f]\{16\}\.json$'; }
+before=$(n_fits)
+cp "$bin" "$tmp/skyfit-copy" && touch -d '1 minute ago' "$tmp/skyfit-copy"
+"$tmp/skyfit-copy" build "${small[@]}" --out "$tmp/out" > /dev/null 2>&1 || { echo "FAIL a copy's build"; fail=1; }
+copied=$(n_fits)
+printf 'x' >> "$tmp/skyfit-copy"
+"$tmp/skyfit-copy" build "${small[@]}" --out "$tmp/out" > /dev/null 2>&1 || { echo "FAIL another executable's build"; fail=1; }
+other=$(n_fits)
+echo "fits and timings cached: $before; after a copy's build $copied; after another executable's $other"
+[ "$copied" = "$before" ] && [ "$other" -gt "$before" ] || { echo "FAIL the cache's code identity"; fail=1; }
+
 # A damaged cached table is said (SPEC §6: reported and recomputed) by
 # build as by sample; build had recomputed it without a word.
 loud=()

@@ -6,8 +6,8 @@
  * Why: every entry's key names what made it, so entries that can no longer
  * be hit stay behind: tables of each atmosphere tried (tens of MB each, the
  * mission being to retrain for new atmospheres), and fits and timings of
- * every rebuilt skyfit executable (fit/candidate_cache.h keys them on its
- * size and modification time). Nothing else ever removes them.
+ * every rebuilt skyfit executable (fit/candidate_cache.h keys them on a
+ * hash of its bytes). Nothing else ever removes them.
  *
  * An entry is a file named "<name>-<16 hex digits>.<ext>" (the keys of
  * data/table_cache.h and fit/candidate_cache.h): tables, .exr, in the folder
