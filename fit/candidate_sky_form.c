@@ -147,6 +147,33 @@ void sf_candidate_sky_options(const sf_candidate_inputs *in, sf_sky_form form, s
   valid->mu_s_max = sin(o->elevation_max_rad);
 }
 
+/* Says which channels' fit across elevations stopped at the iteration cap
+ * (training.elevation_fit_at_iteration_cap of the weights file, so a fit
+ * from the cache says it too): usable, but not converged. */
+static void note_iteration_cap(const sf_candidate_inputs *in, const char *name, const char *path) {
+  sf_weights w;
+  sf_error ignored = {0};
+  if (!in->note || sf_weights_load_file(path, NULL, &w, &ignored) != SF_OK) return;
+  const cJSON *tr = cJSON_GetObjectItemCaseSensitive(w.root, "training");
+  const cJSON *cap = cJSON_GetObjectItemCaseSensitive(tr, "elevation_fit_at_iteration_cap");
+  const cJSON *most = cJSON_GetObjectItemCaseSensitive(tr, "max_iterations");
+  char channels[256] = "";
+  const cJSON *c;
+  cJSON_ArrayForEach(c, cap) {
+    if (cJSON_IsString(c))
+      snprintf(channels + strlen(channels), sizeof channels - strlen(channels), "%s%s", channels[0] ? ", " : "",
+               c->valuestring);
+  }
+  if (channels[0] && cJSON_IsNumber(most)) {
+    char text[600];
+    snprintf(text, sizeof text,
+             "%s: the fit across sun elevations stopped at its %d-iteration cap in channel(s) %s, its cost still "
+             "falling: a usable fit, not a converged one", name, (int)most->valuedouble, channels);
+    in->note(in->note_ctx, text);
+  }
+  sf_weights_free(&w);
+}
+
 static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *out, sf_error *err) {
   const char *name = sf_sky_form_model_name(form);
   sf_sky_elevation_options o;
@@ -184,6 +211,7 @@ static int make(const sf_candidate_inputs *in, sf_sky_form form, sf_candidate *o
     free(m);
     return err->status;
   }
+  if (path[0]) note_iteration_cap(in, name, path);
   char weights[sizeof out->weights_path] = "";
   if (path[0] && in->work_dir &&
       sf_copy_weights_to_work_dir(path, in->work_dir, name, weights, sizeof weights, err) != SF_OK) {

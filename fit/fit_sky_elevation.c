@@ -422,6 +422,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         memcpy(best_Q, Q, sizeof Q);
         rep->global_initial_cost_channel[k] = sum.initial_cost;
         rep->global_iterations_channel[k] = sum.iterations;
+        rep->global_at_cap_channel[k] = sum.termination == SF_LSQ_NO_CONVERGENCE;
       }
     }
     sf_sky_bezier_gram_free(&bezier);
@@ -432,6 +433,8 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     rep->global_initial_cost += rep->global_initial_cost_channel[k];
     rep->global_final_cost += best_cost;
     rep->global_iterations += rep->global_iterations_channel[k];
+    rep->global_channels_at_cap += rep->global_at_cap_channel[k];
+    rep->global_max_iterations = o->lsq.max_iterations;
     for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
       for (int i = 0; i < nc; ++i) out->coefficients[k][j][i] = best_P[j * nc + i];
       out->scale[k][j] = best_Q[j];

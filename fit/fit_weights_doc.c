@@ -128,7 +128,13 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
     if (rep->global_iterations_channel[k] > most) most = rep->global_iterations_channel[k];
   add_least_squares_run(tr, most);
   cJSON_AddStringToObject(tr, "loss", "least squares, residuals normalised per elevation and channel");
-  cJSON_AddStringToObject(tr, "solver", "ceres levenberg-marquardt, dense qr, 1 thread");
+  cJSON_AddStringToObject(tr, "solver", o->lsq.normal_equations
+                                            ? "ceres levenberg-marquardt, dense normal cholesky (gram), 1 thread"
+                                            : "ceres levenberg-marquardt, dense qr, 1 thread");
+  cJSON_AddNumberToObject(tr, "max_iterations", o->lsq.max_iterations);
+  cJSON *cap = cJSON_AddArrayToObject(tr, "elevation_fit_at_iteration_cap");
+  for (int k = 0; k < rep->n_channels; ++k)
+    if (rep->global_at_cap_channel[k]) cJSON_AddItemToArray(cap, cJSON_CreateString(atm->channel_names[k]));
   cJSON_AddNumberToObject(tr, "elevations", o->n_elevations);
   cJSON_AddNumberToObject(tr, "n_theta", o->n_theta);
   cJSON_AddNumberToObject(tr, "n_phi", o->n_phi);
