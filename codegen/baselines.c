@@ -40,8 +40,8 @@ void sf_baseline_describe(const sf_baseline *b, char *out, size_t n) {
                        "non-exponential constituents as seed 000 eq. 59 shells");
       break;
     case SF_BASELINE_FLAT:
-      snprintf(out, n, "Leenman's flat model (seed 000 eq. 51; eq. 53 at the viewer; ground point "
-                       "as midpoint, 11.3.3; eq. 59 shells)");
+      snprintf(out, n, "Leenman's flat model (seed 000 eq. 51; eq. 53 about the closest point, Fig. 11; "
+                       "ground point as midpoint, 11.3.3; eq. 59 shells)");
       break;
     case SF_BASELINE_SPLINE:
       snprintf(out, n, "Galaj's spline transmittance (seed 002 IV.E, Hermite meshes %d x %d); "
@@ -95,7 +95,7 @@ void sf_baseline_depth(const sf_baseline *b, double r, double mu, double t0, dou
         double H, d0;
         depth[i] = sf_constituent_exponential(&atm->constituents[i], &H, &d0)
                        ? d0 * sf_flat_exponential_segment(atm->bottom_radius_km, atm->top_radius_km,
-                                                          H, SF_FLAT_DESCENT_VIEWER, r, mu, t0, t1)
+                                                          H, SF_FLAT_DESCENT_CLOSEST, r, mu, t0, t1)
                        : NAN;
       }
       break;
@@ -312,16 +312,15 @@ static void emit_taylor_depths(sf_code_writer *w, const sf_baseline *b) {
 }
 
 
-/* The flat model's pieces in float32 (seed 000 eq. 51, 53), each in units
- * of d0 = 1, emitted with the flat baseline behind their own guard. A point
+/* The flat model's pieces in float32 (seed 000 eq. 51), each in units of
+ * d0 = 1, emitted with the flat baseline behind their own guard. A point
  * is (altitude h, radius r, signed distance s = t + r mu from the line's
  * closest approach); eq. 51's r cos is s, A = (r + H)^2 - r^2 = H (2 r + H).
  * Differences between two points of one segment are formed from the exact
  * differences dh (= dr) and ds, so a short segment keeps its float32
  * precision instead of being a tiny difference of two columns:
  *   g = sqrt(A + s^2) - s = A / (q + s),
- *   g_a - g_b = (ds (g_a + g_b) - 2 H dh) / (q_a + q_b),  b = a + (dh, dh, ds),
- *   sqrt(A_a) - sqrt(A_b) = -2 H dh / (sqrt(A_a) + sqrt(A_b)). */
+ *   g_a - g_b = (ds (g_a + g_b) - 2 H dh) / (q_a + q_b),  b = a + (dh, dh, ds). */
 void sf_emit_flat_helpers(sf_code_writer *w) {
   sf_cw_emit(w,
       "#ifndef SKYFIT_HELPER_FLAT\n#define SKYFIT_HELPER_FLAT\n"
@@ -340,60 +339,8 @@ void sf_emit_flat_helpers(sf_code_writer *w) {
       "  float dg = (ds * (g_a + g_b) - 2.0f * H * dh) / (q_a + q_b);\n"
       "  return @exp(-h_a / H) * (dg - g_b * skyfit_expm1(-dh / H));\n"
       "}\n"
-      "/* twice the horizontal column (eq. 53's 2 sqrt(A)) at a minus at b = a + dh. */\n"
-      "@fn float skyfit_flat_horizontal_diff(float H, float h_a, float r_a, float dh) {\n"
-      "  float R_a = @sqrt(H * (2.0f * r_a + H)), R_b = @sqrt(H * (2.0f * (r_a + dh) + H));\n"
-      "  return 2.0f * @exp(-h_a / H) * (-2.0f * H * dh / (R_a + R_b) - R_b * skyfit_expm1(-dh / H));\n"
-      "}\n"
-      "/* the horizontal column at (h, r) minus the one along s >= 0:\n"
-      " * exp(-h/H) (sqrt(A) - (q - s)) = exp(-h/H) s (q + sqrt(A) - s) / (q + sqrt(A)). */\n"
-      "@fn float skyfit_flat_horizontal_minus_up(float H, float h, float r, float s) {\n"
-      "  float A = H * (2.0f * r + H), q = @sqrt(A + s * s), RA = @sqrt(A);\n"
-      "  return @exp(-h / H) * s * (q + RA - s) / (q + RA);\n"
-      "}\n"
       "#endif\n\n");
   sf_cw_need(w, SF_HELPER_EXPM1);
-}
-
-static void emit_flat_depths(sf_code_writer *w, const sf_baseline *b) {
-  const sf_atmosphere *atm = b->atmosphere;
-  emit_segment_ends(w, atm, 0);
-  sf_cw_emit(w,
-             "    float h0 = seg.z, h1 = seg.w;\n"
-             "    float r0 = %F + h0, r1 = %F + h1;\n"
-             "    /* h1 - h0 from the ends' distances s (r^2 = d^2 + s^2) */\n"
-             "    float ds = seg.y - seg.x;\n"
-             "    float dh01 = ds * (s1 + s0) / (r1 + r0);\n"
-             "    int ground = dd_bb <= 0.0f ? 1 : 0;  /* the line hits the ground */\n",
-             atm->bottom_radius_km, atm->bottom_radius_km);
-  for (int i = 0; i < atm->n_constituents; ++i) {
-    double H, d0;
-    if (!is_exponential(&atm->constituents[i], &H, &d0)) continue;
-    /* rising: eq. 51 at both ends; falling onto the ground: reversed with
-     * the ground point as midpoint (§11.3.3); falling otherwise: eq. 53 at
-     * both ends, 2 (sqrt(A_0) - sqrt(A_1)) - (up(0 reversed) - up(1 reversed)),
-     * each difference taken from the lower end 1 (exp(-h/H) times a
-     * bounded factor: no overflow for small H); through the closest point: eq. 53 at the start minus
-     * eq. 51 at the end (models/optical_depth_flat.c, descent VIEWER),
-     * 2 sqrt(A_0) - up(0 reversed) - up(1) regrouped as (sqrt(A_0) - up(0
-     * reversed)) + (sqrt(A_1) - up(1)) + (sqrt(A_0) - sqrt(A_1)): no
-     * cancellation of columns (it cost 6e-4 in T at 1000x extinction). */
-    sf_cw_emit(w,
-               "    {  /* %s */\n"
-               "      float H = %F;\n"
-               "      float tau = shape == 0 ? skyfit_flat_up_diff(H, h0, r0, s0, dh01, ds)\n"
-               "                : shape == 1 && ground != 0 ? skyfit_flat_up_diff(H, h1, r1, -s1, -dh01, ds)\n"
-               "                : shape == 1 ? skyfit_flat_up_diff(H, h1, r1, -s1, -dh01, ds)\n"
-               "                               - skyfit_flat_horizontal_diff(H, h1, r1, -dh01)\n"
-               "                : skyfit_flat_horizontal_minus_up(H, h0, r0, -s0)\n"
-               "                  + skyfit_flat_horizontal_minus_up(H, h1, r1, s1)\n"
-               "                  + (dh01 >= 0.0f ? 0.5f * skyfit_flat_horizontal_diff(H, h0, r0, dh01)\n"
-               "                                  : -0.5f * skyfit_flat_horizontal_diff(H, h1, r1, -dh01));\n"
-               "      d%d = tau > 0.0f ? %F * tau : 0.0f;\n"
-               "    }\n",
-               atm->constituents[i].name, H, i, d0);
-  }
-  emit_shells(w, atm);
 }
 
 void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm) {
@@ -452,9 +399,9 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
    * from far out, every distance and altitude along the ray would be a
    * small difference of two values of order r^2 (a float32 viewer 1e6 km
    * away lost the ground by kilometres). The flat model too, as seed 000
-   * moves its networks' viewers (§9.6): its descent (eq. 53) is taken at
-   * the viewer, and from a viewer far above the top, where exp(-h/H) is 0,
-   * it had given T = 1 for a column of 8 (seed 000 §12.1.3's failure). */
+   * moves its networks' viewers (§9.6): when it took eq. 53 at the viewer,
+   * from a viewer far above the top, where exp(-h/H) is 0, it had given
+   * T = 1 for a column of 8 (seed 000 §12.1.3's failure). */
   char ones[64] = "";
   for (int ch = 0; ch < n; ++ch) strcat(ones, ch ? ", 1.0f" : "1.0f");
   /* A float32 altitude at the ground, length(p) - R, is often -1e-4 km: a
@@ -481,7 +428,7 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b) {
   sf_cw_emit(w, "  if (seg.y > seg.x) {\n");
   if (b->kind == SF_BASELINE_NAIVE) emit_naive_depths(w, b);
   else if (b->kind == SF_BASELINE_CHAPMAN) sf_emit_chapman_columns(w, atm);
-  else if (b->kind == SF_BASELINE_FLAT) emit_flat_depths(w, b);
+  else if (b->kind == SF_BASELINE_FLAT) sf_emit_flat_columns_closest(w, atm);
   else if (b->kind == SF_BASELINE_SPLINE) emit_spline_depths(w, b);
   else emit_taylor_depths(w, b);
   sf_cw_emit(w, "  }\n");

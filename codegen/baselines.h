@@ -7,18 +7,22 @@
  *  - taylor:  Gałaj's Taylor transmittance, seed 002 eq. 17, a = b = 0.45
  *             (models/optical_depth_taylor.h);
  *  - flat:    Leenman's flat / DR-1 model, seed 000 §10.2-10.5, eq. 51, 53, 59
- *             and §11.3.3 (models/optical_depth_flat.h, SF_FLAT_DESCENT_VIEWER:
- *             eq. 53 as written; the ground point as midpoint on lines that
- *             hit the ground);
+ *             and §11.3.3 (models/optical_depth_flat.h, SF_FLAT_DESCENT_CLOSEST:
+ *             a descending ray's eq. 53 about its closest point c, Fig. 11's
+ *             "full view ray from c without the part behind the viewer"; the
+ *             ground point as midpoint on lines that hit the ground). eq. 53
+ *             at the viewer (SF_FLAT_DESCENT_VIEWER), the density of the
+ *             viewer for the whole line, had missed the dense air near c:
+ *             T 0.51 off from 15 km, 0.97 from 100 km, and 1 (a negative
+ *             column, clamped) on every segment ending before c;
  *  - spline:  Gałaj's spline transmittance, seed 002 §IV.E, Hermite meshes
  *             of 50 x 20 points (models/optical_depth_spline.h; the meshes
  *             become constant float arrays, codegen/baseline_spline.h).
  * Leenman's "raymarched" model (seed 000 §11.2.10) is no transmittance
  * baseline: it raymarches the *scattering* integral (eq. 54-57, 5 steps)
  * with the flat model's optical depths; it is the sky-radiance baseline
- * raymarched-sky (codegen/emit_sky_raymarched.h), whose columns take the
- * closest point as the midpoint of a descending ray
- * (sf_emit_flat_columns_closest) where "flat" takes eq. 53 at the viewer.
+ * raymarched-sky (codegen/emit_sky_raymarched.h), whose columns are the
+ * flat baseline's (sf_emit_flat_columns_closest).
  * Chapman, Taylor and spline exist only for exponential constituents; any other
  * (the ozone tent) is the constant shell of seed 000 §10.5 / eq. 59 with
  * the exact chord through it (models/optical_depth_flat.h), so the emitted

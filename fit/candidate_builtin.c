@@ -149,7 +149,7 @@ static void baseline_eval(const void *ctx, const double *in, double *out) {
   const char *why = NULL;
   double depth[SF_MAX_CONSTITUENTS] = {0}, mu_s_entry;
   /* a viewer above the top from where its ray enters, as the emitted code
-   * (codegen/baselines.c): the flat model's descent is taken there */
+   * (codegen/baselines.c) */
   if (sf_view_ray_make_at_entry(b->atm, in[0], in[1], 1.0, in[1], SF_RAY_END_NEAREST, -1.0, &ray, &mu_s_entry,
                                 &why) == 0 &&
       ray.t1 > ray.t0)
@@ -237,8 +237,8 @@ static const char *const baseline_texts[][3] = {
      "Taylor expansion of the altitude along the ray, a = b = 0.45 (seed 002 eq. 12-17); other constituents as "
      "a constant shell (seed 000 eq. 59)."},
     {"flat", "Leenman's flat model",
-     "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53); ozone as a constant-density "
-     "shell (eq. 59)."},
+     "Homogeneous shell of one scale height above each point (seed 000 eq. 48-53), a descending ray's about its "
+     "closest point (Fig. 11); ozone as a constant-density shell (eq. 59)."},
     {"spline", "Galaj's spline transmittance",
      "Tensor-product cubic Hermite meshes of the optical-depth integrand, 50 x 20 points per region (seed 002 "
      "IV.E, Table 3); other constituents as a constant shell (seed 000 eq. 59)."},
@@ -280,7 +280,7 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   b->atm = atm;
   b->kind = kind;
   b->steps = steps;
-  sf_flat_model_make(atm, SF_FLAT_DESCENT_VIEWER, &b->flat);
+  sf_flat_model_make(atm, SF_FLAT_DESCENT_CLOSEST, &b->flat);
   if (kind == SF_TB_SPLINE &&
       sf_spline_model_make(atm, SF_SPLINE_HEIGHT_POINTS, SF_SPLINE_DISTANCE_POINTS, &b->spline) != 0) {
     free(b);

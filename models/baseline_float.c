@@ -167,18 +167,6 @@ static float taylor_piece(const float line[4], float d, float bottom, float H, f
   return piece > 0.0f ? piece : 0.0f;
 }
 
-/* skyfit_flat_horizontal_diff */
-static float flat_horizontal_diff(float H, float h_a, float r_a, float dh) {
-  float R_a = sqrtf(H * (2.0f * r_a + H)), R_b = sqrtf(H * (2.0f * (r_a + dh) + H));
-  return 2.0f * expf(-h_a / H) * (-2.0f * H * dh / (R_a + R_b) - R_b * sf_emitted_expm1_f(-dh / H));
-}
-
-/* skyfit_flat_horizontal_minus_up */
-static float flat_horizontal_minus_up(float H, float h, float r, float s) {
-  float A = H * (2.0f * r + H), q = sqrtf(A + s * s), RA = sqrtf(A);
-  return expf(-h / H) * s * (q + RA - s) / (q + RA);
-}
-
 /* The ends of the piece seg of the ray (h, mu) (codegen/baselines.c
  * emit_segment_ends and the depths' own preambles). */
 typedef struct piece_ends {
@@ -240,18 +228,15 @@ static float taylor_column(const sf_baseline_f *b, const piece_ends *e, const fl
   return taylor_piece(line, e->d, R, H, t_min, u0, u0 - t_min) + taylor_piece(line, e->d, R, H, t_min, u1, u1 - t_min);
 }
 
-/* eq. 51 and eq. 53 at the viewer (models/optical_depth_flat.c, descent
- * VIEWER), as the emitted flat depths regroup them */
-static float flat_column(const piece_ends *e, float H) {
-  int ground = e->dd_bb <= 0.0f ? 1 : 0;
+/* eq. 51, and eq. 53 about the closest point c (models/optical_depth_flat.c,
+ * descent CLOSEST), as codegen/baselines.c sf_emit_flat_columns_closest
+ * regroups them */
+static float flat_column(const sf_baseline_f *b, const piece_ends *e, float H) {
+  float hc = e->dd_bb / (e->d + b->bottom);
   if (e->shape == 0) return sf_emitted_flat_up_diff_f(H, e->h0, e->r0, e->s0, e->dh01, e->ds);
-  if (e->shape == 1 && ground != 0) return sf_emitted_flat_up_diff_f(H, e->h1, e->r1, -e->s1, -e->dh01, e->ds);
-  if (e->shape == 1)
-    return sf_emitted_flat_up_diff_f(H, e->h1, e->r1, -e->s1, -e->dh01, e->ds) -
-           flat_horizontal_diff(H, e->h1, e->r1, -e->dh01);
-  return flat_horizontal_minus_up(H, e->h0, e->r0, -e->s0) + flat_horizontal_minus_up(H, e->h1, e->r1, e->s1) +
-         (e->dh01 >= 0.0f ? 0.5f * flat_horizontal_diff(H, e->h0, e->r0, e->dh01)
-                          : -0.5f * flat_horizontal_diff(H, e->h1, e->r1, -e->dh01));
+  if (e->shape == 1) return sf_emitted_flat_up_diff_f(H, e->h1, e->r1, -e->s1, -e->dh01, e->ds);
+  return sf_emitted_flat_up_diff_f(H, hc, e->d, 0.0f, e->s0 * e->s0 / (e->r0 + e->d), -e->s0) +
+         sf_emitted_flat_up_diff_f(H, hc, e->d, 0.0f, e->s1 * e->s1 / (e->r1 + e->d), e->s1);
 }
 
 /* the emitted spline depths (codegen/baseline_spline.c sf_emit_spline_depths):
@@ -290,7 +275,7 @@ void sf_baseline_columns_f(const sf_baseline_f *b, float h, float mu, const floa
       float tau = spline_column(b, i, &e);
       depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
     } else {
-      float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(&e, H);
+      float tau = b->kind == SF_BASELINE_F_CHAPMAN ? chapman_column(b, &e, H) : flat_column(b, &e, H);
       depth[i] = tau > 0.0f ? b->factor[i] * tau : 0.0f;
     }
   }

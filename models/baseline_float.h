@@ -4,7 +4,7 @@
  * (SPEC §12: the cost of the code that ships; they had been timed in
  * double): Schuler's Chapman approximation (seed 000 eq. 22-25), Gałaj's
  * Taylor transmittance (seed 002 eq. 12-17), Leenman's flat model (seed
- * 000 eq. 51, 53 at the viewer) and Gałaj's spline (seed 002 §IV.E, its
+ * 000 eq. 51, 53 about the closest point) and Gałaj's spline (seed 002 §IV.E, its
  * Hermite meshes as the emitted float arrays), the non-exponential
  * constituents as seed 000 eq. 59's shells. The whole ray only (what the
  * report times); tests/test_candidate_emit.c holds them to the compiled
