@@ -93,6 +93,21 @@ int main(void) {
   CHECK_REL(mie->absorption[2], 4.44e-4, 0.0);
   /* the tent's column is 15 km; N = 300 DU * 2.687e20 / 15 km = 5.374e18 / m³ */
   CHECK_REL(sf_density_column_km(oz, 100.0), 15.0, 1e-6);
+  /* exactly, the 7-digit tent's area: rising from 0 at 0.6666667 / 0.0666667
+   * km, clamped at 1 from 1.6666667 / 0.0666667 km to 25, then falling from
+   * 2.6666667 - 25 x 0.0666667 to 0 at 2.6666667 / 0.0666667 km */
+  double z0 = 0.6666667 / 0.0666667, z1 = 1.6666667 / 0.0666667, v25 = 2.6666667 - 25.0 * 0.0666667;
+  double tent = 0.5 * (z1 - z0) + (25.0 - z1) + 0.5 * v25 * (2.6666667 / 0.0666667 - 25.0);
+  CHECK_REL(sf_density_column_km(oz, 100.0), tent, 1e-12);
+  /* at any thickness: the tent in a 1e8 km atmosphere (a trapezoid over the
+   * whole thickness had stepped over it: "integrates to 0"), and a 10 m
+   * scale height in 100 km, 0.01 (1 - e^-10000) (it had been 1.2e-4 high) */
+  CHECK_REL(sf_density_column_km(oz, 1e8), tent, 1e-12);
+  sf_constituent thin;
+  memset(&thin, 0, sizeof thin);
+  thin.n_layers = 1;
+  thin.layers[0] = (sf_density_layer){0.0, 1.0, -100.0, 0.0, 0.0};
+  CHECK_REL(sf_density_column_km(&thin, 100.0), 0.01, 1e-12);
   CHECK_REL(sf_ozone_peak_number_density(300.0, 15.0), 5.374e18, 1e-12);
   CHECK_REL(oz->absorption[0], 0.085e-3, 2e-3);
   CHECK_REL(oz->absorption[1], 1.881e-3, 1e-3);
