@@ -14,7 +14,8 @@ int sf_cli_parse_cache_limit(const char *command, const char *value, long long *
   }
   char *end;
   long mib = strtol(value, &end, 10);
-  if (*value == '\0' || *end != '\0' || mib < 0 || mib > MAX_MIB) {
+  /* digits only: strtol also takes leading blanks and a sign (" 5", "+5") */
+  if (*value < '0' || *value > '9' || *end != '\0' || mib < 0 || mib > MAX_MIB) {
     fprintf(stderr, "%s: --cache-limit: expected a size in MiB (0..%ld) or none, got '%s'\n", command, MAX_MIB,
             value);
     return 2;
@@ -25,7 +26,8 @@ int sf_cli_parse_cache_limit(const char *command, const char *value, long long *
 
 void sf_cli_print_cache_pruned(const char *command, const sf_cache_prune_result *res, long long limit_bytes) {
   if (res->removed <= 0) return;
-  printf("%s: cache: removed %d entries unused the longest (%.1f MiB); %d kept (%.1f MiB, limit %lld MiB)\n",
-         command, res->removed, (double)res->removed_bytes / MIB, res->entries - res->removed,
-         (double)(res->bytes - res->removed_bytes) / MIB, limit_bytes / MIB);
+  long long kept = res->bytes - res->removed_bytes;
+  printf("%s: cache: removed %d entries unused the longest (%.1f MiB); %d kept (%.1f MiB, limit %lld MiB%s)\n",
+         command, res->removed, (double)res->removed_bytes / MIB, res->entries - res->removed, (double)kept / MIB,
+         limit_bytes / MIB, kept > limit_bytes ? ": this run's own entries, never removed, exceed it" : "");
 }

@@ -344,7 +344,8 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "  d = end.x;\n"
              "  float h_d = @min(@max(end.y, 0.0f), %F);\n"
              "  float mu_d = @min(@max((r * m + d) / @max(%F + end.y, 1e-6f), -1.0f), 1.0f);\n"
-             "  if (end.z >= 0.0f) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
+             "  /* reversed on the ground's rays, and before the closest point */\n"
+             "  if (end.z >= 0.0f || mu_d < 0.0f) return skyfit_mlp_transmittance_ratio(h_d, -mu_d, h, -m);\n"
              "  return skyfit_mlp_transmittance_ratio(h, m, h_d, mu_d);\n"
              "}\n\n",
              n, g.R, g.h_top, ones, g.R, g.h_top, g.R);

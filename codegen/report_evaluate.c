@@ -122,6 +122,11 @@ static int cost_cache_path(const sf_report *rep, const sf_candidate *c, const sf
   char code[256];
   sf_cache_code_identity(code, sizeof code);
   sf_cache_key_add_text(&k, "code", code);
+  /* timings are the machine's: an output folder copied with its cache to
+   * another had reported the first machine's */
+  char machine[256];
+  sf_cache_machine_identity(machine, sizeof machine);
+  sf_cache_key_add_text(&k, "machine", machine);
   sf_cache_key_add_text(&k, "candidate", c->name);
   sf_cache_key_add_text(&k, "quantity", sf_candidate_quantity_name(c->quantity));
   sf_cache_key_add_text(&k, "label", c->label);
@@ -166,7 +171,8 @@ static int cost_cache_read(const char *path, sf_cost *out, char *run, size_t run
   ok = ok && cJSON_IsString(id) && id->valuestring[0] && strlen(id->valuestring) < run_size;
   if (ok) snprintf(run, run_size, "%s", id->valuestring);
   cJSON_Delete(doc);
-  if (!ok || !(v[0] > 0.0) || (v[5] != 32.0 && v[5] != 64.0)) return 0;   /* unusable: time again */
+  /* unusable (damaged, edited): time again */
+  if (!ok || !(v[0] > 0.0) || !(v[1] <= v[0] && v[0] <= v[2]) || (v[5] != 32.0 && v[5] != 64.0)) return 0;
   out->ns_median = v[0];
   out->ns_min = v[1];
   out->ns_max = v[2];

@@ -158,6 +158,13 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     }
   }
   alias.sky_has_segment = sky_network && t_part >= 0;
+  if (!sky_network && alias.sky_radiance[0]) {
+    /* the single-scattering and fitted skies are of whole rays only */
+    sf_report_selection *s = &rep->selection[SF_CANDIDATE_SKY_RADIANCE];
+    snprintf(s->emit_note, sizeof s->emit_note,
+             "The selected sky model (%s) gives whole rays only, so skyfit_sky_radiance_segment (aerial "
+             "perspective) is not emitted; the sky network has one.", alias.sky_radiance);
+  }
   /* Two networks both emit skyfit_mlp_* functions: one part holds both. */
   sf_mlp_emit_pair pair;
   if (alias.sky_has_segment) {

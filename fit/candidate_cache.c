@@ -53,6 +53,21 @@ static void hash_exe(void) {
   }
 }
 
+void sf_cache_machine_identity(char *out, size_t n) {
+  char model[200] = "";
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  char line[512];
+  while (f && fgets(line, sizeof line, f)) {
+    const char *colon = strchr(line, ':');
+    if (strncmp(line, "model name", 10) != 0 || !colon) continue;
+    snprintf(model, sizeof model, "%s", colon + (colon[1] == ' ' ? 2 : 1));
+    model[strcspn(model, "\n")] = '\0';
+    break;
+  }
+  if (f) fclose(f);
+  snprintf(out, n, "%s; %ld processors", model, sysconf(_SC_NPROCESSORS_ONLN));
+}
+
 void sf_cache_code_identity(char *out, size_t n) {
   pthread_once(&exe_identity_once, hash_exe);
   if (exe_identity[0]) snprintf(out, n, "%s; exe %s", SF_CANDIDATE_CODE_VERSION, exe_identity);

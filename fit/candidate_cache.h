@@ -36,6 +36,11 @@
  * /proc/self/exe cannot be read). */
 void sf_cache_code_identity(char *out, size_t n);
 
+/* The CPU's model name and the processors online (/proc/cpuinfo, sysconf):
+ * part of the timings' key (codegen/report_evaluate.c). "" parts when
+ * unknown. */
+void sf_cache_machine_identity(char *out, size_t n);
+
 /* A key text being built: "name=value;" pairs. */
 typedef struct sf_cache_key {
   char text[2048];

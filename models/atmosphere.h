@@ -68,7 +68,8 @@ typedef struct sf_atmosphere {
 
 /* Density of one constituent at altitude h (km above the bottom radius),
  * Bruneton 2017: clamp(exp_term*exp(exp_scale*h) + linear*h + constant, 0, 1).
- * Zero above the top of the atmosphere. */
+ * The constituent alone does not know the atmosphere's top: callers stop
+ * their paths there (the last layer holds above it). */
 double sf_constituent_density(const sf_constituent *c, double h_km);
 /* One layer's unclamped value exp_term*exp(exp_scale*h) + linear*h + constant. */
 double sf_density_layer_value(const sf_density_layer *l, double h_km);

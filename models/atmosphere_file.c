@@ -217,7 +217,7 @@ static int read_g(const sf_json_ctx *c, const cJSON *phase, const char *path, co
   if (!v) return sf_json_fail(c, kpath, "missing required key (phase kind %s needs it)", kind);
   if (sf_json_read_finite(c, v, kpath, out)) return SF_ERR_INPUT;
   if (!(fabs(*out) < 1.0))
-    return sf_json_fail(c, kpath, "asymmetry |%s| must be < 1, got %.17g", key, *out);
+    return sf_json_fail(c, kpath, "|%s| must be < 1 (phase kind %s), got %.17g", key, kind, *out);
   return 0;
 }
 

@@ -45,10 +45,13 @@
  *       T = T_top(0, -mu_g) / T_top(h, -mu).
  *   Segment from the viewer to distance d, cut where the ray meets the
  *   ground (eq. 43, Bruneton 2017
- *   GetTransmittance): if the viewer's ray hits the ground
+ *   GetTransmittance): if the viewer's ray hits the ground, or the
+ *   segment ends before the line's closest point (mu_d < 0)
  *       T = T_top(h_d, -mu_d) / T_top(h, -mu)          (reversed)
  *     else
  *       T = T_top(h, mu) / T_top(h_d, mu_d).
+ *   (Forward, a descending segment's two rays both pass the closest point,
+ *   long and dark, and the network's errors on them do not cancel.)
  *
  * Scattering network: outputs the light scattered towards the viewer along
  * the ray to its end (the ground if it hits it, else the top), as in the

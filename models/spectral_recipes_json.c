@@ -69,6 +69,12 @@ int sf_read_recipe(const sf_json_ctx *c, const cJSON *v, const char *path, const
     if (sf_json_check_keys(c, v, path, keys) || read_param(c, v, path, "refractive_index", NAN, 1, &a) ||
         read_param(c, v, path, "number_density_per_m3", NAN, 1, &b))
       return SF_ERR_INPUT;
+    /* (n^2 - 1)^2 is positive below 1 too: n 0.5 gave a dense blue haze */
+    if (!(a > 1.0)) {
+      char kpath[SF_JSON_PATH_LEN];
+      sf_json_join_key(kpath, sizeof kpath, path, "refractive_index");
+      return sf_json_fail(c, kpath, "must be > 1 (a gas's refractive index), got %.17g", a);
+    }
     for (int i = 0; i < n; ++i) out[i] = sf_rayleigh_formula_per_km(nm[i], a, b);
     return 0;
   }

@@ -74,6 +74,9 @@ else fail "build of a spectral4 scene without a Rayleigh scatterer: exit $rc, $(
 if [[ -e $TMP/cache ]]; then fail "input errors left the --cache folder"; else pass "input errors leave no --cache folder"; fi
 
 expect_error "bad cache limit" "--cache-limit: expected a size in MiB" --cache-limit 12x --out "$TMP/w.json"
+# digits only: strtol had taken a blank and a sign
+expect_error "cache limit with a sign" "--cache-limit: expected a size in MiB" --cache-limit +5 --out "$TMP/w.json"
+expect_error "cache limit with a blank" "--cache-limit: expected a size in MiB" --cache-limit " 5" --out "$TMP/w.json"
 
 # The default cache beside W.json is kept under --cache-limit after a
 # successful run (util/cache_prune.h): entries unused the longest go first,

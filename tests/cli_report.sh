@@ -20,6 +20,20 @@ n_png=$(ls "$tmp/out/views/"*.png | wc -l); n_exr=$(ls "$tmp/out/views/"*-error.
 echo "views: $n_png PNG, $n_exr EXR error maps"
 [ "$n_png" -ge 12 ] && [ "$n_exr" -ge 5 ] || { echo "FAIL too few view files"; fail=1; }
 
+# A sky model of whole rays (any but the network) has no segment function:
+# the report says skyfit_sky_radiance_segment is not emitted (it had said
+# nothing, and the header simply lacked it).
+python3 - "$tmp/out" <<'PY' || fail=1
+import json, sys
+sel = json.load(open(sys.argv[1] + "/metrics.json"))["selection"]["sky_radiance"]
+has = "skyfit_sky_radiance_segment(" in open(sys.argv[1] + "/sky.h").read()
+if sel["model"] != "mlp-scattering":
+    assert not has and "gives whole rays only" in sel.get("emit_note", ""), f"FAIL {sel['model']}: {sel.get('emit_note')}"
+    print(f"sky model {sel['model']}: no segment function, and the report says so")
+else:
+    assert has, "FAIL the sky network's segment function is missing"
+PY
+
 # The reference check (data/sky_table_check.h; 1000 points with --quick): its direct value at its
 # worst point is eval single_scattering --phase's there, summed over the
 # constituents (tests/test_tables.c checks the tables' side at entries).

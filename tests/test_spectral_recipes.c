@@ -154,6 +154,12 @@ int main(void) {
                " \"constituents\": [{\"name\": \"r\", \"scattering\": {\"recipe\": \"rayleigh_bucholtz\"}, \"absorption\": 0,"
                " \"phase\": {\"kind\": \"rayleigh\"}, \"density\": [{\"exp_term\": 1}]}]}",
                "constituents[0].scattering: wavelength 5000 nm is outside rayleigh_bucholtz.csv");
+  /* a refractive index below 1 squares to the scattering of one above */
+  expect_error("{\"bottom_radius_km\": 6360, \"top_radius_km\": 6460, \"channels\": {\"wavelengths_nm\": [550]},"
+               " \"constituents\": [{\"name\": \"r\", \"scattering\": {\"recipe\": \"rayleigh_formula\", \"refractive_index\": 0.5,"
+               " \"number_density_per_m3\": 2.5e25}, \"absorption\": 0, \"phase\": {\"kind\": \"rayleigh\"},"
+               " \"density\": [{\"exp_term\": 1}]}]}",
+               "constituents[0].scattering.refractive_index: must be > 1");
   expect_error("{\"bottom_radius_km\": 6360, \"top_radius_km\": 6460, \"channels\": {\"wavelengths_nm\": [550]},"
                " \"constituents\": [{\"name\": \"o\", \"scattering\": 0, \"absorption\": {\"recipe\": \"ozone_cross_section\","
                " \"column_du\": -3}, \"density\": [{\"constant\": 1}]}]}",
