@@ -108,8 +108,13 @@ static void header_comment(sf_code_writer *w, const sf_codegen_part *parts, int 
       sf_cw_raw(w, line);
     }
     comment_safe(part->error, buffer, sizeof buffer);
-    snprintf(line, sizeof line, " *   measured error: %s\n *   functions:\n", buffer);
+    snprintf(line, sizeof line, " *   measured error: %s\n", buffer);
     sf_cw_raw(w, line);
+    /* what a renderer calls for aerial perspective is not what was measured */
+    if (strstr(part->quantity, "transmittance") || strstr(part->quantity, "sky_radiance"))
+      sf_cw_raw(w, " *     (of whole rays, the viewer to the ground or the top; the _segment functions,\n"
+                   " *     a ray's first t km, are not measured)\n");
+    sf_cw_raw(w, " *   functions:\n");
     sf_code_writer glsl;
     sf_cw_init(&glsl, SF_CODE_GLSL);
     part->emit(&glsl, part->model);
