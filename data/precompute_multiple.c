@@ -13,6 +13,7 @@
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
 #include "util/constants.h"
+#include "util/target_clones.h"
 
 #define N_DIRS_MU (SF_DENSITY_DIRS_UP + SF_DENSITY_DIRS_DOWN)
 #define N_HALF_PHI (SF_DENSITY_DIRS_PHI / 2)
@@ -138,19 +139,69 @@ static inline double hg_fast(double g, double c) {
   return (1.0 - g * g) / (4.0 * SF_PI * k * sqrt(k));
 }
 
+static inline double cs_fast(double g, double c) {
+  double k = 1.0 + g * g - 2.0 * g * c;
+  return 3.0 / (8.0 * SF_PI) * (1.0 - g * g) * (1.0 + c * c) / ((2.0 + g * g) * k * sqrt(k));
+}
+
 static inline double phase_fast(const sf_phase *p, double c) {
   switch (p->kind) {
     case SF_PHASE_HENYEY_GREENSTEIN: return hg_fast(p->g, c);
-    case SF_PHASE_CORNETTE_SHANKS: {
-      double g = p->g, k = 1.0 + g * g - 2.0 * g * c;
-      return 3.0 / (8.0 * SF_PI) * (1.0 - g * g) * (1.0 + c * c) / ((2.0 + g * g) * k * sqrt(k));
-    }
+    case SF_PHASE_CORNETTE_SHANKS: return cs_fast(p->g, c);
     case SF_PHASE_DOUBLE_HENYEY_GREENSTEIN: return (1.0 - p->f) * hg_fast(p->g1, c) + p->f * hg_fast(p->g2, c);
     default: return sf_phase_value(p, c);
   }
 }
 
 /* ---- step 1: scattering density (phase-convolved incoming radiance) ------ */
+
+/* wp[idx] = dw[idx] (p(cos1) + p(cos2)) for every direction, cos1 and cos2
+ * the cosines to the view direction (ex, ey, ez) of the direction and its
+ * mirror image y -> -y: the same operations as the scalar loop had, lane by
+ * lane (exactly rounded sqrt and division, nothing fused), so the same bits,
+ * computed apart from the sums so that they vectorise. */
+#define PHASE_WEIGHT_LOOP(PHASE)                                            \
+  for (int idx = 0; idx < n; ++idx) {                                       \
+    double common = ex * dx[idx] + ez * dz[idx], side = ey * dy[idx];       \
+    double cos1 = common + side, cos2 = common - side;                      \
+    cos1 = cos1 > 1.0 ? 1.0 : (cos1 < -1.0 ? -1.0 : cos1);                  \
+    cos2 = cos2 > 1.0 ? 1.0 : (cos2 < -1.0 ? -1.0 : cos2);                  \
+    wp[idx] = dw[idx] * (PHASE(cos1) + PHASE(cos2));                        \
+  }
+
+SF_X86_CLONES
+static void phase_weights(const sf_phase *p, int n, const double *restrict dx, const double *restrict dy,
+                          const double *restrict dz, const double *restrict dw, double ex, double ey,
+                          double ez, double *restrict wp) {
+  double g = p->g, g1 = p->g1, g2 = p->g2, f = p->f;
+  switch (p->kind) {
+    case SF_PHASE_HENYEY_GREENSTEIN: {
+#define PW_HG(c) hg_fast(g, c)
+      PHASE_WEIGHT_LOOP(PW_HG)
+#undef PW_HG
+      return;
+    }
+    case SF_PHASE_CORNETTE_SHANKS: {
+#define PW_CS(c) cs_fast(g, c)
+      PHASE_WEIGHT_LOOP(PW_CS)
+#undef PW_CS
+      return;
+    }
+    case SF_PHASE_DOUBLE_HENYEY_GREENSTEIN: {
+#define PW_DHG(c) ((1.0 - f) * hg_fast(g1, c) + f * hg_fast(g2, c))
+      PHASE_WEIGHT_LOOP(PW_DHG)
+#undef PW_DHG
+      return;
+    }
+    default: {
+#define PW_ANY(c) phase_fast(p, c)
+      PHASE_WEIGHT_LOOP(PW_ANY)
+#undef PW_ANY
+      return;
+    }
+  }
+}
+#undef PHASE_WEIGHT_LOOP
 
 static void density_row(void *ctx, int thread, long row) {
   multiple_run *m = ctx;
@@ -231,20 +282,34 @@ static void density_row(void *ctx, int thread, long row) {
       double ex = sin_v * cos_phi, ey = sin_v * sqrt(fmax(0.0, 1.0 - cos_phi * cos_phi)), ez = c.mu;
       double acc[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], norm[SF_MAX_CONSTITUENTS] = {0};
       for (int k = 0; k < ns * nch; ++k) acc[k] = 0.0;
-      for (int idx = 0; idx < N_DIRS && n_direct > 0; ++idx) {
-        double common = ex * dx[idx] + ez * dz[idx], side = ey * dy[idx];
-        double cos1 = common + side, cos2 = common - side;
-        cos1 = cos1 > 1.0 ? 1.0 : (cos1 < -1.0 ? -1.0 : cos1);
-        cos2 = cos2 > 1.0 ? 1.0 : (cos2 < -1.0 ? -1.0 : cos2);
-        const double *in = incoming + (size_t)idx * nch;
-        for (int j = 0; j < n_direct; ++j) {
-          int k = direct[j];
-          const sf_phase *ph = &atm->constituents[m->s->scattering[k]].phase;
-          double wp = dw[idx] * (phase_fast(ph, cos1) + phase_fast(ph, cos2));
-          norm[k] += wp;
-          double *ak = acc + k * nch;
-          for (int ch = 0; ch < nch; ++ch) ak[ch] += wp * in[ch];
+      /* per constituent, the sums over the directions in the same order
+       * as before (each sum on its own), held in registers */
+      for (int j = 0; j < n_direct; ++j) {
+        int k = direct[j];
+        double wp[N_DIRS];
+        phase_weights(&atm->constituents[m->s->scattering[k]].phase, N_DIRS, dx, dy, dz, dw, ex, ey, ez, wp);
+        double *ak = acc + k * nch, nk = 0.0;
+        if (nch == 3) {
+          double a0 = 0.0, a1 = 0.0, a2 = 0.0;
+          for (int idx = 0; idx < N_DIRS; ++idx) {
+            const double *in = incoming + (size_t)idx * 3;
+            nk += wp[idx];
+            a0 += wp[idx] * in[0];
+            a1 += wp[idx] * in[1];
+            a2 += wp[idx] * in[2];
+          }
+          ak[0] = a0;
+          ak[1] = a1;
+          ak[2] = a2;
+        } else {
+          for (int idx = 0; idx < N_DIRS; ++idx) nk += wp[idx];
+          for (int ch = 0; ch < nch; ++ch) {
+            double a = 0.0;
+            for (int idx = 0; idx < N_DIRS; ++idx) a += wp[idx] * incoming[(size_t)idx * nch + ch];
+            ak[ch] = a;
+          }
         }
+        norm[k] = nk;
       }
       /* (w . w_i)^2 summed = ex^2 Mxx + ey^2 Myy + ez^2 Mzz + 2 ex ez Mxz */
       double quad[5] = {1.0, ex * ex, ey * ey, ez * ez, 2.0 * ex * ez};
