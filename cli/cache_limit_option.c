@@ -25,8 +25,13 @@ int sf_cli_parse_cache_limit(const char *command, const char *value, long long *
 }
 
 void sf_cli_print_cache_pruned(const char *command, const sf_cache_prune_result *res, long long limit_bytes) {
-  if (res->removed <= 0) return;
   long long kept = res->bytes - res->removed_bytes;
+  if (res->removed <= 0) {
+    if (limit_bytes >= 0 && kept > limit_bytes)
+      printf("%s: cache: %d entries (%.1f MiB) over the limit of %lld MiB, all this run's own, never removed\n",
+             command, res->entries, (double)kept / MIB, limit_bytes / MIB);
+    return;
+  }
   printf("%s: cache: removed %d entries unused the longest (%.1f MiB); %d kept (%.1f MiB, limit %lld MiB%s)\n",
          command, res->removed, (double)res->removed_bytes / MIB, res->entries - res->removed, (double)kept / MIB,
          limit_bytes / MIB, kept > limit_bytes ? ": this run's own entries, never removed, exceed it" : "");

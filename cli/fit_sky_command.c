@@ -397,8 +397,8 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
             command, rep->global_start_wins[0], rep->global_start_wins[1], rep->global_start_wins[2],
             rep->global_start_wins[3], rep->n_channels);
     if (rep->global_channels_at_cap > 0)
-      fprintf(stderr, "%s: the elevation fit stopped at its %d-iteration cap in %d of %d channels, its cost still "
-              "falling (usable, not converged; training.elevation_fit_at_iteration_cap)\n", command,
+      fprintf(stderr, "%s: the elevation fit stopped at its %d-iteration cap in %d of %d channels before "
+              "converging (usable, not converged; training.elevation_fit_at_iteration_cap)\n", command,
               rep->global_max_iterations, rep->global_channels_at_cap, rep->n_channels);
     fprintf(stderr, "%s: wrote %s (%.2f s fitting)\n", command, out_path, rep->seconds);
   }

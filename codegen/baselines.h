@@ -88,9 +88,9 @@ void sf_emit_baseline(sf_code_writer *w, const sf_baseline *b);
  * (models/atmosphere.h); for the naive sky too (codegen/emit_sky_naive.h). */
 void sf_emit_constituent_density(sf_code_writer *w, const sf_constituent *c);
 
-/* The flat model's pieces (seed 000 eq. 51, 53) in float32, behind their
- * own guard: skyfit_flat_up, skyfit_flat_up_diff and the horizontal
- * columns; emitted with the flat baseline and the raymarched sky. */
+/* The flat model's pieces (seed 000 eq. 51) in float32, behind their own
+ * guard: skyfit_flat_up and skyfit_flat_up_diff; emitted with the flat
+ * baseline and the raymarched sky. */
 void sf_emit_flat_helpers(sf_code_writer *w);
 
 /* Statements setting float d<i> (declared 0 by the caller) to the flat
@@ -100,7 +100,8 @@ void sf_emit_flat_helpers(sf_code_writer *w);
  * ground (the raymarched sky's sun columns). Descent
  * SF_FLAT_DESCENT_CLOSEST (models/optical_depth_flat.h), whose columns add
  * up along a ray; shells for the non-exponential constituents. Needs
- * sf_emit_flat_helpers. For the raymarched sky (codegen/emit_sky_raymarched.h). */
+ * sf_emit_flat_helpers. The flat baseline's columns, and the raymarched
+ * sky's (codegen/emit_sky_raymarched.h). */
 void sf_emit_flat_columns_closest(sf_code_writer *w, const sf_atmosphere *atm);
 
 /* The same with Schuler's Chapman approximation (seed 000 eq. 22-25), the

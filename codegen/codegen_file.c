@@ -111,7 +111,7 @@ static void header_comment(sf_code_writer *w, const sf_codegen_part *parts, int 
     snprintf(line, sizeof line, " *   measured error: %s\n", buffer);
     sf_cw_raw(w, line);
     /* what a renderer calls for aerial perspective is not what was measured */
-    if (strstr(part->quantity, "transmittance") || strstr(part->quantity, "sky_radiance"))
+    if (strstr(part->quantity, "transmittance"))   /* the sky network's segments are in its part */
       sf_cw_raw(w, " *     (of whole rays, the viewer to the ground or the top; the _segment functions,\n"
                    " *     a ray's first t km, are not measured)\n");
     sf_cw_raw(w, " *   functions:\n");

@@ -332,7 +332,9 @@ void sf_emit_mlp_transmittance(sf_code_writer *w, const sf_mlp_sky *t) {
              "}\n\n",
              g.R, g.R, g.R, g.Rt, g.h_top, g.h_top, g.R);
   sf_cw_emit(w,
-             "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground) */\n"
+             "/* the first t_km of that ray (eq. 43; reversed when the ray hits the ground or the\n"
+             " * segment ends before the line's closest point: the two forms meet there up to\n"
+             " * the network's error) */\n"
              "@fn %V skyfit_mlp_transmittance_segment(float h_km, float mu, float t_km) {\n"
              "  @vec4 e = skyfit_ray_enter(%F, %F, h_km, mu, 0.0f, 0.0f);\n"
              "  float d = t_km - e.w;\n"

@@ -87,7 +87,7 @@ typedef struct sf_report_selection {
   const char *metric;              /* "rmse" or "rel_rmse" */
   char reason[1536];
   char emitted_c[SF_REPORT_PATH_LEN], emitted_glsl[SF_REPORT_PATH_LEN];
-  char emit_note[512];             /* why nothing was emitted, if so */
+  char emit_note[512];             /* what was not emitted and why, if so */
 } sf_report_selection;
 
 typedef struct sf_report_options {

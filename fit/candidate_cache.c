@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "models/atmosphere_file.h"
@@ -30,27 +31,47 @@ void sf_cache_key_add_number(sf_cache_key *k, const char *name, double v) {
 }
 
 /* The running executable's bytes, hashed once per process (about 5 ms for
- * 5 MB): a constant of the process, not state. "" if it cannot be read. */
-static char exe_identity[64];
+ * 5 MB): a constant of the process, not state. Where they cannot be read
+ * (an execute-only binary of another user), its file's identity (device,
+ * inode, size, modification time), and where not even that, this process
+ * alone: a cache that cannot tell executables apart is not reused. */
+static char exe_identity[128];
 static pthread_once_t exe_identity_once = PTHREAD_ONCE_INIT;
 
-static void hash_exe(void) {
+static int hash_exe_bytes(void) {
   int fd = open("/proc/self/exe", O_RDONLY);
-  if (fd < 0) return;
+  if (fd < 0) return 0;
   uint64_t h = SF_FNV1A64_OFFSET;
   long long size = 0;
   unsigned char buf[1 << 16];
   ssize_t got;
-  while ((got = read(fd, buf, sizeof buf)) > 0) {
+  while ((got = read(fd, buf, sizeof buf)) != 0) {
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) break;
     h = sf_fnv1a64(h, buf, (size_t)got);
     size += got;
   }
   close(fd);
-  if (got == 0) {
-    char hex[17];
-    sf_hash64_hex(h, hex);
-    snprintf(exe_identity, sizeof exe_identity, "%lld bytes, fnv1a64 %s", size, hex);
-  }
+  if (got != 0) return 0;
+  char hex[17];
+  sf_hash64_hex(h, hex);
+  snprintf(exe_identity, sizeof exe_identity, "%lld bytes, fnv1a64 %s", size, hex);
+  return 1;
+}
+
+static void identify_exe(void) {
+  if (hash_exe_bytes()) return;
+  struct stat st;
+  struct timespec now;
+  if (stat("/proc/self/exe", &st) == 0)
+    snprintf(exe_identity, sizeof exe_identity, "file %llu:%llu, %lld bytes, modified %lld.%09ld",
+             (unsigned long long)st.st_dev, (unsigned long long)st.st_ino, (long long)st.st_size,
+             (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec);
+  else if (clock_gettime(CLOCK_REALTIME, &now) == 0)
+    snprintf(exe_identity, sizeof exe_identity, "unknown, process %ld at %lld.%09ld", (long)getpid(),
+             (long long)now.tv_sec, now.tv_nsec);
+  else
+    snprintf(exe_identity, sizeof exe_identity, "unknown, process %ld", (long)getpid());
 }
 
 void sf_cache_machine_identity(char *out, size_t n) {
@@ -69,9 +90,8 @@ void sf_cache_machine_identity(char *out, size_t n) {
 }
 
 void sf_cache_code_identity(char *out, size_t n) {
-  pthread_once(&exe_identity_once, hash_exe);
-  if (exe_identity[0]) snprintf(out, n, "%s; exe %s", SF_CANDIDATE_CODE_VERSION, exe_identity);
-  else snprintf(out, n, "%s", SF_CANDIDATE_CODE_VERSION);
+  pthread_once(&exe_identity_once, identify_exe);
+  snprintf(out, n, "%s; exe %s", SF_CANDIDATE_CODE_VERSION, exe_identity);
 }
 
 void sf_cache_key_begin(sf_cache_key *k, const char *model, const sf_candidate_inputs *in) {
@@ -140,12 +160,6 @@ int sf_folder_writable(const char *dir, const char *role, sf_error *err) {
   return SF_OK;
 }
 
-static int same_domain(const sf_scene_domain *a, const sf_scene_domain *b) {
-  const double x[6] = {a->h_min_km, a->h_max_km, a->mu_min, a->mu_max, a->mu_s_min, a->mu_s_max};
-  const double y[6] = {b->h_min_km, b->h_max_km, b->mu_min, b->mu_max, b->mu_s_min, b->mu_s_max};
-  return memcmp(x, y, sizeof x) == 0;
-}
-
 int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmosphere *atm,
                          const sf_scene_domain *domain, sf_error *err) {
   sf_weights w;
@@ -156,7 +170,7 @@ int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmospher
   if (strcmp(w.atmosphere_hash, hash) != 0)
     status = sf_fail(err, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", path,
                      w.atmosphere.name, w.atmosphere_hash, atm->name, hash);
-  else if (!same_domain(&w.domain, domain))
+  else if (!sf_scene_domain_same(&w.domain, domain))
     status = sf_fail(err, SF_ERR_INPUT, "%s: a fit over another domain (h %.17g..%.17g km, mu %.17g..%.17g, mu_s "
                      "%.17g..%.17g)", path, w.domain.h_min_km, w.domain.h_max_km, w.domain.mu_min,
                      w.domain.mu_max, w.domain.mu_s_min, w.domain.mu_s_max);

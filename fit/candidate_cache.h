@@ -32,8 +32,9 @@
  * reuse another build's fits, and made a plain copy refit everything. */
 #define SF_CANDIDATE_CODE_VERSION "skyfit-candidates 3"
 
-/* SF_CANDIDATE_CODE_VERSION plus the executable's identity ("" parts when
- * /proc/self/exe cannot be read). */
+/* SF_CANDIDATE_CODE_VERSION plus the executable's identity: a hash of its
+ * bytes, its file's identity where they cannot be read, this process's
+ * where neither can. */
 void sf_cache_code_identity(char *out, size_t n);
 
 /* The CPU's model name and the processors online (/proc/cpuinfo, sysconf):

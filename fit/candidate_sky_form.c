@@ -167,8 +167,8 @@ static void note_iteration_cap(const sf_candidate_inputs *in, const char *name, 
   if (channels[0] && cJSON_IsNumber(most)) {
     char text[600];
     snprintf(text, sizeof text,
-             "%s: the fit across sun elevations stopped at its %d-iteration cap in channel(s) %s, its cost still "
-             "falling: a usable fit, not a converged one", name, (int)most->valuedouble, channels);
+             "%s: the fit across sun elevations stopped at its %d-iteration cap in channel(s) %s before "
+             "converging: a usable fit, not a converged one", name, (int)most->valuedouble, channels);
     in->note(in->note_ctx, text);
   }
   sf_weights_free(&w);

@@ -88,8 +88,8 @@ typedef struct sf_sky_elevation_report {
   int global_iterations;
   double global_initial_cost_channel[SF_MAX_CHANNELS];
   int global_iterations_channel[SF_MAX_CHANNELS];
-  /* the kept start's fit stopped at lsq.max_iterations, its cost still
-   * falling (a usable result, not a converged one) */
+  /* the kept start's fit stopped without converging (Ceres'
+   * NO_CONVERGENCE: at lsq.max_iterations, in practice; a usable result) */
   int global_at_cap_channel[SF_MAX_CHANNELS];
   int global_channels_at_cap, global_max_iterations;
   /* which start of the elevation fit won: 0 the curve through the

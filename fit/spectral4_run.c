@@ -158,15 +158,19 @@ static void add_stats(cJSON *obj, const char *name, const sf_delta_e_stats *st) 
   cJSON_AddNumberToObject(o, "samples", (double)st->n);
 }
 
+void sf_spectral4_weights_domain(const sf_scene *scene, sf_scene_domain *domain) {
+  sf_error derr = {0};
+  if (sf_scene_get_domain(scene, domain, &derr)) memset(domain, 0, sizeof *domain);
+  /* The samples' suns: the scene's range within the fit's
+   * (fit/spectral4_samples.h), not all of the scene's. */
+  domain->mu_s_min = fmax(domain->mu_s_min, sin(SF_SPECTRAL4_SUN_MIN_DEG * SF_PI / 180.0));
+  domain->mu_s_max = fmin(domain->mu_s_max, sin(SF_SPECTRAL4_SUN_MAX_DEG * SF_PI / 180.0));
+}
+
 static cJSON *weights_document(const sf_scene *scene, const sf_atmosphere *spectral, const sf_cmf *cmf,
                                const sf_spectral4_report *rep, const sf_spectral4_run_options *o) {
   sf_scene_domain domain;
-  sf_error derr = {0};
-  if (sf_scene_get_domain(scene, &domain, &derr)) memset(&domain, 0, sizeof domain);
-  /* The samples' suns: the scene's range within the fit's
-   * (fit/spectral4_samples.h), not all of the scene's. */
-  domain.mu_s_min = fmax(domain.mu_s_min, sin(SF_SPECTRAL4_SUN_MIN_DEG * SF_PI / 180.0));
-  domain.mu_s_max = fmin(domain.mu_s_max, sin(SF_SPECTRAL4_SUN_MAX_DEG * SF_PI / 180.0));
+  sf_spectral4_weights_domain(scene, &domain);
   cJSON *doc = sf_weights_new("spectral4", "sky_radiance", &scene->atmosphere, &domain);
   /* SPEC §8's "inputs": the model's functions take radiances, no
    * normalised input */

@@ -98,6 +98,10 @@ typedef struct sf_spectral4_report {
  * the key and the problem. */
 int sf_spectral4_check_scene(const sf_scene *scene, const sf_spectral4_run_options *o, sf_error *err);
 
+/* The domain its weights file states: the scene's, its suns within the
+ * fit's range. */
+void sf_spectral4_weights_domain(const sf_scene *scene, sf_scene_domain *domain);
+
 /* Runs everything; *doc_out (caller deletes) is the weights document. */
 int sf_spectral4_run(const sf_scene *scene, const sf_spectral4_run_options *o, sf_spectral4_report *rep,
                      cJSON **doc_out, sf_error *err);

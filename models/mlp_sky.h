@@ -51,7 +51,9 @@
  *     else
  *       T = T_top(h, mu) / T_top(h_d, mu_d).
  *   (Forward, a descending segment's two rays both pass the closest point,
- *   long and dark, and the network's errors on them do not cancel.)
+ *   long and dark, and the network's errors on them do not cancel. The
+ *   two forms meet at the closest point up to the network's error there:
+ *   a seam of at most 0.011 in T for weights/default, h 95 km, mu -0.138.)
  *
  * Scattering network: outputs the light scattered towards the viewer along
  * the ray to its end (the ground if it hits it, else the top), as in the
@@ -80,7 +82,8 @@
  *   Segment from the viewer to distance d (aerial perspective), eq. 44:
  *       S = S(h, mu, mu_s, nu) - T(viewer -> d) * S(h_d, mu_d, mu_s_d, nu)
  *     with T the transmittance segment above (reversed rays when the ray
- *     hits the ground, as the seed notes), clamped at 0.
+ *     hits the ground, as the seed notes, or the segment ends before the
+ *     line's closest point), clamped at 0.
  * Multiply by the atmosphere's sun irradiance per channel. */
 #ifndef SKYFIT_MODELS_MLP_SKY_H
 #define SKYFIT_MODELS_MLP_SKY_H

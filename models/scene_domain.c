@@ -1,6 +1,7 @@
 /* A scene's domain in table coordinates (h, mu, mu_s): the box that
  * `skyfit build` samples and fits (SPEC §5 "model only what a scene needs"). */
 #include <math.h>
+#include <string.h>
 
 #include "models/ray_geometry.h"
 #include "models/scene_file.h"
@@ -60,4 +61,10 @@ int sf_scene_domain_outside(const sf_scene_domain *d, double thickness_km, doubl
   if (outside(h < thickness_km ? h : thickness_km, d->h_min_km, d->h_max_km)) return 1;
   if (h <= thickness_km && outside(mu, d->mu_min, d->mu_max)) return 1;
   return has_sun && outside(mu_s, d->mu_s_min, d->mu_s_max);
+}
+
+int sf_scene_domain_same(const sf_scene_domain *a, const sf_scene_domain *b) {
+  const double x[6] = {a->h_min_km, a->h_max_km, a->mu_min, a->mu_max, a->mu_s_min, a->mu_s_max};
+  const double y[6] = {b->h_min_km, b->h_max_km, b->mu_min, b->mu_max, b->mu_s_min, b->mu_s_max};
+  return memcmp(x, y, sizeof x) == 0;
 }

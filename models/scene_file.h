@@ -91,6 +91,10 @@ int sf_scene_get_domain(const sf_scene *s, sf_scene_domain *out, sf_error *err);
 int sf_scene_domain_outside(const sf_scene_domain *d, double thickness_km, double h, double mu, int has_sun,
                             double mu_s);
 
+/* Whether a and b are the same box, bit for bit (a weights file's domain
+ * read back is its writer's exactly: numbers print round-trip). */
+int sf_scene_domain_same(const sf_scene_domain *a, const sf_scene_domain *b);
+
 const char *sf_view_range_name(sf_view_range v);
 const char *sf_scene_color_name(sf_scene_color c);
 

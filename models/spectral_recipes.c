@@ -27,7 +27,7 @@ static void density_at(void *ctx, double h_km, double *value) { *value = sf_cons
 
 double sf_density_column_km(const sf_constituent *c, double thickness_km) {
   /* Adaptive Gauss-Kronrod per layer, split where a linear layer's clamp to
-   * [0, 1] bends it: exact to rounding at any thickness. A trapezoid of
+   * [0, 1] bends it and 64 scale heights up a decaying exponential. A trapezoid of
    * 2^18 steps over the whole thickness had missed a 30 km ozone tent in a
    * 1e8 km atmosphere ("integrates to 0") and been 1.2e-4 high for a scale
    * height of 10 m. */
@@ -43,6 +43,10 @@ double sf_density_column_km(const sf_constituent *c, double thickness_km) {
       double at = (bound - layer->constant) / layer->linear_per_km;
       if (at > lo && at < hi) cuts[n++] = at;
     }
+    /* a decaying exponential's mass within 64 scale heights of the layer's
+     * foot: over 3e6 km at once, every node saw 0 and so did the error */
+    if (layer->exp_term != 0.0 && layer->exp_scale_per_km < 0.0 && lo - 64.0 / layer->exp_scale_per_km < hi)
+      cuts[n++] = lo - 64.0 / layer->exp_scale_per_km;
     if (n == 3 && cuts[1] > cuts[2]) {
       double swap = cuts[1];
       cuts[1] = cuts[2];

@@ -108,6 +108,10 @@ int main(void) {
   thin.n_layers = 1;
   thin.layers[0] = (sf_density_layer){0.0, 1.0, -100.0, 0.0, 0.0};
   CHECK_REL(sf_density_column_km(&thin, 100.0), 0.01, 1e-12);
+  /* Earth's Rayleigh profile, 8 km, in 3e6 km: a single panel over it all
+   * had seen 0 at every node ("integrates to 0") */
+  thin.layers[0].exp_scale_per_km = -0.125;
+  CHECK_REL(sf_density_column_km(&thin, 3e6), 8.0, 1e-12);
   CHECK_REL(sf_ozone_peak_number_density(300.0, 15.0), 5.374e18, 1e-12);
   CHECK_REL(oz->absorption[0], 0.085e-3, 2e-3);
   CHECK_REL(oz->absorption[1], 1.881e-3, 1e-3);

@@ -98,9 +98,12 @@ static void remove_stale_beside(const char *path) {
   closedir(d);
 }
 
-void sf_atomic_remove_stale_in(const char *folder) {
+void sf_atomic_remove_stale_in(const char *folder) { sf_atomic_remove_stale_older(folder, 0); }
+
+void sf_atomic_remove_stale_older(const char *folder, long min_age_seconds) {
   DIR *d = opendir(folder);
   if (!d) return;
+  time_t now = time(NULL);
   for (struct dirent *e; (e = readdir(d)) != NULL;) {
     const char *tmp = strstr(e->d_name, ".tmp.");
     if (!tmp || tmp == e->d_name) continue;
@@ -108,7 +111,10 @@ void sf_atomic_remove_stale_in(const char *folder) {
     if (!sf_process_gone(temp_writer_pid(tmp + 5))) continue;
     char stale[4096 + 256];
     int w = snprintf(stale, sizeof stale, "%s/%s", folder, e->d_name);
-    if (w > 0 && (size_t)w < sizeof stale) unlink(stale);
+    struct stat st;
+    if (w <= 0 || (size_t)w >= sizeof stale) continue;
+    if (min_age_seconds > 0 && (lstat(stale, &st) != 0 || now - st.st_mtime < min_age_seconds)) continue;
+    unlink(stale);
   }
   closedir(d);
 }

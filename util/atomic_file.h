@@ -53,5 +53,9 @@ void sf_atomic_remove_stale(const char *path);
  * writing process no longer exists (an interrupted writer's, where the
  * names it wrote are not known: cli/interrupt_cleanup.h). */
 void sf_atomic_remove_stale_in(const char *folder);
+/* The same, of those not written for min_age_seconds: where the folder may
+ * be shared (a cache on a network file system), a pid that runs nowhere
+ * here may be a writer on another machine, still writing. */
+void sf_atomic_remove_stale_older(const char *folder, long min_age_seconds);
 
 #endif

@@ -102,7 +102,7 @@ int sf_cache_prune(const char *cache_dir, long long limit_bytes, struct timespec
     }
     /* a killed run's temporaries (tens of MB for a table) are counted
      * nowhere and would stay for good */
-    sf_atomic_remove_stale_in(folder);
+    sf_atomic_remove_stale_older(folder, SF_CACHE_STALE_TEMP_SECONDS);
     if (sample_outputs && !f->sub[0]) continue;
     int listed = list_entries(folder, f->ext, &list, err);
     if (listed != SF_OK) {

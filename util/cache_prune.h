@@ -11,14 +11,16 @@
  *
  * An entry is a file named "<name>-<16 hex digits>.<ext>" (the keys of
  * data/table_cache.h and fit/candidate_cache.h): tables, .exr, in the folder
- * itself; fits and timings, .json, in its fits/ and costs/ folders. No other
- * file is looked at or removed, nor the tables of a folder that holds a
- * tables.json: `skyfit sample`'s output folder, whose tables are its
- * outputs (`fit spectral4 --cache` pointed there had removed them all,
- * leaving tables.json listing missing files). Its last use is its modification time: a
- * cache hit marks the entry used (sf_cache_entry_used), a miss writes it
- * anew. Pruning also removes the temporaries of writers that no longer
- * run (util/atomic_file.h), at any limit. */
+ * itself; fits and timings, .json, in its fits/ and costs/ folders. No
+ * other file is removed (but the temporaries below), nor the tables of a
+ * folder that holds a tables.json: `skyfit sample`'s output folder, whose
+ * tables are its outputs (`fit spectral4 --cache` pointed there had
+ * removed them all, leaving tables.json listing missing files). An
+ * entry's last use is its modification time: a cache hit marks the entry
+ * used (sf_cache_entry_used), a miss writes it anew. Pruning also
+ * removes, at any limit, the temporaries of writers that
+ * do not run here and have not written for SF_CACHE_STALE_TEMP_SECONDS
+ * (util/atomic_file.h: a shared cache's other writers are other hosts'). */
 #ifndef SKYFIT_UTIL_CACHE_PRUNE_H
 #define SKYFIT_UTIL_CACHE_PRUNE_H
 
@@ -29,6 +31,8 @@
 /* The default limit of a build's cache: 2 GiB, about sixty atmospheres'
  * tables at the build's default resolution (34 MB each). */
 #define SF_CACHE_LIMIT_DEFAULT_BYTES (2048LL * 1024 * 1024)
+/* A dead writer's temporary is removed once this old (above). */
+#define SF_CACHE_STALE_TEMP_SECONDS 3600
 
 /* The cache's folders, relative to the cache folder ("" the folder
  * itself), and the extension of the entries each holds: tables; fits
