@@ -232,7 +232,8 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   sf_scattering_setup_free(&setup);
   /* computed or cached: the multiple table keeps how its orders ended */
   char orders_text[640];
-  if (status == SF_OK && o->note && !o->transmittance_only && sf_table_set_orders_short(set, o, orders_text, sizeof orders_text))
+  if (status == SF_OK && o->note && !o->transmittance_only &&
+      sf_table_set_orders_short(set, o, orders_text, sizeof orders_text))
     o->note(o->note_ctx, orders_text);
   /* the atmosphere's, so said whether the tables were computed or cached */
   char peak_text[640];
