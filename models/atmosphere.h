@@ -9,8 +9,12 @@
 
 #define SF_MAX_CHANNELS 128     /* 360..830 nm at 5 nm is 95 wavelengths */
 #define SF_MAX_CONSTITUENTS 8
-#define SF_MAX_LAYERS 4
-#define SF_MAX_KINKS 64
+/* 8 layers: the data's 9 km ozone distribution is 6 steps (4 had refused it) */
+#define SF_MAX_LAYERS 8
+/* every corner there can be: per layer its top and, on each side of the
+ * layer's one stationary point, where it crosses 0 and 1 (the clamp);
+ * fewer had dropped the rest of a many-layered atmosphere's corners */
+#define SF_MAX_KINKS (SF_MAX_CONSTITUENTS * SF_MAX_LAYERS * 5)
 #define SF_NAME_LEN 48
 #define SF_KINK_MERGE_KM 1e-5
 

@@ -509,6 +509,7 @@ static void test_invalid_files(void) {
                "constituents", "too many");
   expect_error("too many layers",
                ATM("", AIR("0.1", "0", AIR_PHASE, "'density': [{'width_km': 1}, {'width_km': 1}, "
+                           "{'width_km': 1}, {'width_km': 1}, {'width_km': 1}, {'width_km': 1}, "
                            "{'width_km': 1}, {'width_km': 1}, {}]")),
                "constituents[0].density", "too many");
   expect_error("no layers", ATM("", AIR("0.1", "0", AIR_PHASE, "'density': []")),

@@ -81,6 +81,56 @@ static void test_constant_shell(void) {
   CHECK_REL(got[0], (double)want, 1e-12);
 }
 
+/* The data's 9 km ozone distribution (ozone_vertical_distribution_9km.csv:
+ * 9, 14, 111, 64, 6, 6 parts of 210 in 9 km steps from the ground) as 7
+ * layers, peak 1, then nothing: the vertical column is 9 km x 210 / 111,
+ * and a ray's is the chords of the steps. 4 layers had been the most. Also
+ * 8 constituents of 8 ramped layers, 135 corners: every one kept (64 had
+ * been the most, the rest dropped). */
+static void test_many_layers(void) {
+  printf("-- the 9 km ozone distribution as 7 layers; 8 x 8 layers' corners\n");
+  static const double parts[6] = {9, 14, 111, 64, 6, 6};
+  sf_atmosphere atm;
+  memset(&atm, 0, sizeof atm);
+  atm.bottom_radius_km = 6360.0;
+  atm.top_radius_km = 6460.0;
+  atm.n_channels = 1;
+  atm.n_constituents = 1;
+  sf_constituent *c = &atm.constituents[0];
+  strcpy(c->name, "ozone");
+  c->n_layers = 7;
+  for (int l = 0; l < 6; ++l) c->layers[l] = (sf_density_layer){9.0, 0.0, 0.0, 0.0, parts[l] / 111.0};
+  sf_atmosphere_finalize(&atm);
+  double up[1];
+  sf_optical_depth_ray(&atm, 0.0, 1.0, SF_RAY_END_NEAREST, up);
+  CHECK_REL(up[0], 9.0 * 210.0 / 111.0, 1e-12);
+  /* from 30 km straight down: 3 km of the 27-36 km step, then 27 km */
+  double down[1];
+  sf_optical_depth_ray(&atm, 30.0, -1.0, SF_RAY_END_NEAREST, down);
+  CHECK_REL(down[0], (3.0 * 64.0 + 9.0 * (9.0 + 14.0 + 111.0)) / 111.0, 1e-12);
+
+  sf_atmosphere many;
+  memset(&many, 0, sizeof many);
+  many.bottom_radius_km = 6360.0;
+  many.top_radius_km = 6460.0;
+  many.n_channels = 1;
+  many.n_constituents = SF_MAX_CONSTITUENTS;
+  for (int i = 0; i < SF_MAX_CONSTITUENTS; ++i) {
+    sf_constituent *k = &many.constituents[i];
+    snprintf(k->name, sizeof k->name, "c%d", i);
+    k->n_layers = SF_MAX_LAYERS;
+    for (int l = 0; l < SF_MAX_LAYERS; ++l) {   /* in each 1.5 km layer a ramp from 0 to 1 over 0.5 km */
+      double rise = 1.5 * l + 0.1 + 0.01 * i;
+      k->layers[l] = (sf_density_layer){1.5, 0.0, 0.0, 2.0, -2.0 * rise};
+    }
+  }
+  sf_atmosphere_finalize(&many);
+  /* each layer's ramp starts and ends inside it (2 x 64), and the 7 layer
+   * tops, the same for every constituent: 135 */
+  printf("corners of 8 x 8 layers: %d\n", many.n_kinks);
+  CHECK(many.n_kinks == 2 * 64 + 7);
+}
+
 /* Chapman function at 90 degrees: x e^x K1(x) with K1's asymptotic series;
  * for x = r/H = 6360 the series is exact to ~1e-16. */
 static void test_chapman_asymptotics(void) {
@@ -290,6 +340,7 @@ int main(void) {
   test_deep_atmospheres();
   test_vertical_exponential();
   test_constant_shell();
+  test_many_layers();
   test_chapman_asymptotics();
   test_against_independent(&atm);
   test_identities(&atm);
