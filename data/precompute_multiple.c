@@ -427,6 +427,30 @@ static inline int split_position(double pos, int n, double *frac) {
   return i;
 }
 
+/* One node's contribution to an entry of step 3: the lookup of G at the
+ * node (8 corner pairs of the multilinear interpolation) times the node's
+ * coefficients, added to l. Inlined with constant sizes for the usual
+ * case; the same operations in the same order either way. */
+static inline __attribute__((always_inline)) void gather_node(const double *corner, const double *coef,
+                                                              const float *g, const long *nu_off,
+                                                              const double *nu_w, int j_s, double f_s, int nv,
+                                                              int ns, int nch, double *l) {
+  double v[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  for (int k = 0; k < nv; ++k) v[k] = 0.0;
+  for (int a = 0; a < 4; ++a) {
+    if (corner[4 + a] == 0.0) continue;
+    for (int b = 0; b < 2; ++b) {
+      double w = corner[4 + a] * nu_w[b];
+      if (w == 0.0) continue;
+      const float *lo = g + ((long)corner[a] + nu_off[b] + j_s) * nv, *hi = lo + nv;
+      double w_lo = w * (1.0 - f_s), w_hi = w * f_s;
+      for (int k = 0; k < nv; ++k) v[k] += w_lo * lo[k] + w_hi * hi[k];
+    }
+  }
+  for (int k = 0; k < ns; ++k)
+    for (int ch = 0; ch < nch; ++ch) l[ch] += coef[k * nch + ch] * v[k * nch + ch];
+}
+
 static void gather_row(void *ctx, int thread, long row) {
   multiple_run *m = ctx;
   const sf_scattering_setup *s = m->s;
@@ -504,20 +528,10 @@ static void gather_row(void *ctx, int thread, long row) {
         int j_s = split_position(mu_s_position(&map, mu_s_p), m->n_mus, &f_s);
         const double *corner = sc->node_pos + (size_t)q * 8;
         const double *coef = sc->node_coef + (size_t)q * nv;
-        double v[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
-        for (int k = 0; k < nv; ++k) v[k] = 0.0;
-        for (int a = 0; a < 4; ++a) {
-          if (corner[4 + a] == 0.0) continue;
-          for (int b = 0; b < 2; ++b) {
-            double w = corner[4 + a] * nu_w[b];
-            if (w == 0.0) continue;
-            const float *lo = g + ((long)corner[a] + nu_off[b] + j_s) * nv, *hi = lo + nv;
-            double w_lo = w * (1.0 - f_s), w_hi = w * f_s;
-            for (int k = 0; k < nv; ++k) v[k] += w_lo * lo[k] + w_hi * hi[k];
-          }
-        }
-        for (int k = 0; k < ns; ++k)
-          for (int ch = 0; ch < nch; ++ch) l[ch] += coef[k * nch + ch] * v[k * nch + ch];
+        if (nv == 6 && nch == 3)   /* two scattering constituents, RGB: unrolled */
+          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, 6, 2, 3, l);
+        else
+          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, nv, ns, nch, l);
       }
       size_t off = 0;
       for (int k = 3; k >= 0; --k) off = off * (size_t)size[k] + (size_t)index[k];
