@@ -62,7 +62,8 @@ void sf_cache_key_add_tables(sf_cache_key *k, const sf_candidate_inputs *in);
 int sf_cache_path(const char *cache_dir, const char *sub, const char *model, const sf_cache_key *k,
                   char *path, size_t n, sf_error *err);
 
-/* SF_OK if a file can be made in dir (a probe file, made and removed);
+/* SF_OK if this process may make files in dir (faccessat with its
+ * effective ids: a read-only file system or folder, a missing permission);
  * otherwise the reason (sf_write_error_status of the errno), naming the
  * folder and its role ("cache", "weights"). Checked before any fit: a
  * folder that cannot take the fits had made every fit "fail" and be
