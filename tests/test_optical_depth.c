@@ -42,17 +42,24 @@ static void test_vertical_exponential(void) {
   }
 }
 
-/* Constant-density shell: the optical depth is the chord inside it. */
-static void test_constant_shell(void) {
-  printf("-- constant-density shell 10..20 km: chord lengths\n");
+/* An empty Earth-sized atmosphere (6360-6460 km, one channel) of n
+ * constituents named c0, c1, ..., their layers for the caller to fill. */
+static sf_atmosphere bare_atmosphere(int n) {
   sf_atmosphere atm;
   memset(&atm, 0, sizeof atm);
   atm.bottom_radius_km = 6360.0;
   atm.top_radius_km = 6460.0;
   atm.n_channels = 1;
-  atm.n_constituents = 1;
+  atm.n_constituents = n;
+  for (int i = 0; i < n; ++i) snprintf(atm.constituents[i].name, sizeof atm.constituents[i].name, "c%d", i);
+  return atm;
+}
+
+/* Constant-density shell: the optical depth is the chord inside it. */
+static void test_constant_shell(void) {
+  printf("-- constant-density shell 10..20 km: chord lengths\n");
+  sf_atmosphere atm = bare_atmosphere(1);
   sf_constituent *c = &atm.constituents[0];
-  strcpy(c->name, "shell");
   c->n_layers = 3;
   c->layers[0].width_km = 10.0;
   c->layers[1].width_km = 10.0;
@@ -90,14 +97,8 @@ static void test_constant_shell(void) {
 static void test_many_layers(void) {
   printf("-- the 9 km ozone distribution as 7 layers; 8 x 8 layers' corners\n");
   static const double parts[6] = {9, 14, 111, 64, 6, 6};
-  sf_atmosphere atm;
-  memset(&atm, 0, sizeof atm);
-  atm.bottom_radius_km = 6360.0;
-  atm.top_radius_km = 6460.0;
-  atm.n_channels = 1;
-  atm.n_constituents = 1;
+  sf_atmosphere atm = bare_atmosphere(1);
   sf_constituent *c = &atm.constituents[0];
-  strcpy(c->name, "ozone");
   c->n_layers = 7;
   for (int l = 0; l < 6; ++l) c->layers[l] = (sf_density_layer){9.0, 0.0, 0.0, 0.0, parts[l] / 111.0};
   sf_atmosphere_finalize(&atm);
@@ -109,15 +110,9 @@ static void test_many_layers(void) {
   sf_optical_depth_ray(&atm, 30.0, -1.0, SF_RAY_END_NEAREST, down);
   CHECK_REL(down[0], (3.0 * 64.0 + 9.0 * (9.0 + 14.0 + 111.0)) / 111.0, 1e-12);
 
-  sf_atmosphere many;
-  memset(&many, 0, sizeof many);
-  many.bottom_radius_km = 6360.0;
-  many.top_radius_km = 6460.0;
-  many.n_channels = 1;
-  many.n_constituents = SF_MAX_CONSTITUENTS;
+  sf_atmosphere many = bare_atmosphere(SF_MAX_CONSTITUENTS);
   for (int i = 0; i < SF_MAX_CONSTITUENTS; ++i) {
     sf_constituent *k = &many.constituents[i];
-    snprintf(k->name, sizeof k->name, "c%d", i);
     k->n_layers = SF_MAX_LAYERS;
     for (int l = 0; l < SF_MAX_LAYERS; ++l) {   /* in each 1.5 km layer a ramp from 0 to 1 over 0.5 km */
       double rise = 1.5 * l + 0.1 + 0.01 * i;
