@@ -106,18 +106,11 @@ int sf_build_spectral4(const sf_scene *scene, const sf_build_spectral4_options *
      * a damaged entry had failed every build, naming a staging path long
      * gone), and this atmosphere's fit */
     sf_spectral4_emit emit;
-    loaded = sf_weights_load_file(path, "spectral4", &w, &lerr) == SF_OK && summarise(&w, out, &lerr) == SF_OK &&
-             sf_spectral4_emit_load(&w, &emit, &lerr) == SF_OK;
     sf_scene_domain domain;
     sf_spectral4_weights_domain(scene, &domain);
-    if (loaded && strcmp(w.atmosphere_hash, hash) != 0) {
-      sf_fail(&lerr, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", path,
-              w.atmosphere.name, w.atmosphere_hash, scene->atmosphere.name, hash);
-      loaded = 0;
-    } else if (loaded && !sf_scene_domain_same(&w.domain, &domain)) {
-      sf_fail(&lerr, SF_ERR_INPUT, "%s: a fit over another domain", path);
-      loaded = 0;
-    }
+    loaded = sf_weights_load_file(path, "spectral4", &w, &lerr) == SF_OK && summarise(&w, out, &lerr) == SF_OK &&
+             sf_spectral4_emit_load(&w, &emit, &lerr) == SF_OK &&
+             sf_cache_weights_belong(&w, &scene->atmosphere, &domain, &lerr) == SF_OK;
     if (!loaded) {
       sf_weights_free(&w);
       memset(&w, 0, sizeof w);

@@ -74,7 +74,11 @@ static void identify_exe(void) {
     snprintf(exe_identity, sizeof exe_identity, "unknown, process %ld", (long)getpid());
 }
 
-void sf_cache_machine_identity(char *out, size_t n) {
+/* The machine's, read once per process as the executable's is. */
+static char machine_identity[256];
+static pthread_once_t machine_identity_once = PTHREAD_ONCE_INIT;
+
+static void identify_machine(void) {
   char model[200] = "";
   FILE *f = fopen("/proc/cpuinfo", "r");
   char line[512];
@@ -86,7 +90,12 @@ void sf_cache_machine_identity(char *out, size_t n) {
     break;
   }
   if (f) fclose(f);
-  snprintf(out, n, "%s; %ld processors", model, sysconf(_SC_NPROCESSORS_ONLN));
+  snprintf(machine_identity, sizeof machine_identity, "%s; %ld processors", model, sysconf(_SC_NPROCESSORS_ONLN));
+}
+
+void sf_cache_machine_identity(char *out, size_t n) {
+  pthread_once(&machine_identity_once, identify_machine);
+  snprintf(out, n, "%s", machine_identity);
 }
 
 void sf_cache_code_identity(char *out, size_t n) {
@@ -157,20 +166,25 @@ int sf_folder_writable(const char *dir, const char *role, sf_error *err) {
   return SF_OK;
 }
 
+int sf_cache_weights_belong(const sf_weights *w, const sf_atmosphere *atm, const sf_scene_domain *domain,
+                            sf_error *err) {
+  char hash[17];
+  sf_atmosphere_hash_hex(atm, hash);
+  if (strcmp(w->atmosphere_hash, hash) != 0)
+    return sf_fail(err, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", w->source,
+                   w->atmosphere.name, w->atmosphere_hash, atm->name, hash);
+  if (!sf_scene_domain_same(&w->domain, domain))
+    return sf_fail(err, SF_ERR_INPUT, "%s: a fit over another domain (h %.17g..%.17g km, mu %.17g..%.17g, mu_s "
+                   "%.17g..%.17g)", w->source, w->domain.h_min_km, w->domain.h_max_km, w->domain.mu_min,
+                   w->domain.mu_max, w->domain.mu_s_min, w->domain.mu_s_max);
+  return SF_OK;
+}
+
 int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmosphere *atm,
                          const sf_scene_domain *domain, sf_error *err) {
   sf_weights w;
   if (sf_weights_load_file(path, model, &w, err) != SF_OK) return err->status;
-  char hash[17];
-  sf_atmosphere_hash_hex(atm, hash);
-  int status = SF_OK;
-  if (strcmp(w.atmosphere_hash, hash) != 0)
-    status = sf_fail(err, SF_ERR_INPUT, "%s: the fit of atmosphere %s (hash %s), not of %s (hash %s)", path,
-                     w.atmosphere.name, w.atmosphere_hash, atm->name, hash);
-  else if (!sf_scene_domain_same(&w.domain, domain))
-    status = sf_fail(err, SF_ERR_INPUT, "%s: a fit over another domain (h %.17g..%.17g km, mu %.17g..%.17g, mu_s "
-                     "%.17g..%.17g)", path, w.domain.h_min_km, w.domain.h_max_km, w.domain.mu_min,
-                     w.domain.mu_max, w.domain.mu_s_min, w.domain.mu_s_max);
+  int status = sf_cache_weights_belong(&w, atm, domain, err);
   sf_weights_free(&w);
   return status;
 }

@@ -19,6 +19,7 @@
 #include <stddef.h>
 
 #include "fit/candidate_registry.h"
+#include "models/weights_file.h"
 #include "util/cache_prune.h"
 #include "util/error.h"
 
@@ -77,6 +78,9 @@ int sf_folder_writable(const char *dir, const char *role, sf_error *err);
  * sigmoid shipped in a header labelled with Earth's atmosphere). */
 int sf_cache_fit_belongs(const char *path, const char *model, const sf_atmosphere *atm,
                          const sf_scene_domain *domain, sf_error *err);
+/* The same test of a weights document already loaded (named by its source). */
+int sf_cache_weights_belong(const sf_weights *w, const sf_atmosphere *atm, const sf_scene_domain *domain,
+                            sf_error *err);
 
 /* 1 when path names an existing regular file. */
 int sf_cache_exists(const char *path);
