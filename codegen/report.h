@@ -157,6 +157,12 @@ void sf_report_free(sf_report *rep);
  * selected / on_front: the front is of the models that can ship). */
 void sf_report_select(sf_report *rep, const sf_scene *scene);
 
+/* Where near-zero references make most of m's mean relative error (over
+ * SF_METRICS_FLOOR_SHARE_NOTE of it: fit/candidate_metrics.h), that in
+ * words (one sentence, plain text, no newline), for report.md and
+ * report.html; "" otherwise. */
+void sf_report_mean_rel_note(const sf_report_model *m, char *buf, size_t n);
+
 /* The reference check in words (one paragraph, plain text, no newline),
  * for report.md and report.html; "" when it is not present. */
 void sf_report_reference_check_text(const sf_report *rep, char *buf, size_t n);

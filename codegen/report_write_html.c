@@ -64,6 +64,15 @@ static void model_table(FILE *f, const sf_report *rep, int q) {
             m->candidate->name, m->errors_domain.h_min_km, m->errors_domain.h_max_km, m->errors_domain.mu_min,
             m->errors_domain.mu_max, m->errors_domain.mu_s_min, m->errors_domain.mu_s_max);
   }
+  for (int i = 0; i < rep->n_models; ++i) {
+    char note[512];
+    if ((int)rep->models[i].candidate->quantity != q) continue;
+    sf_report_mean_rel_note(&rep->models[i], note, sizeof note);
+    if (!note[0]) continue;
+    fputs("<p class=\"note\">", f);
+    esc(f, note);
+    fputs("</p>\n", f);
+  }
 }
 
 static void views_section(FILE *f, const sf_report *rep, int q) {

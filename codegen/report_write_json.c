@@ -34,6 +34,10 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
     add_number(e, "mean_rel", m->errors.mean_rel);
     add_number(e, "rel_rmse", m->errors.rel_rmse);
     add_number(e, "reference_rms", m->errors.reference_rms);
+    /* mean_rel's floor: how many references lie below it and what share
+     * of mean_rel they make (fit/candidate_metrics.h) */
+    add_number(e, "values_below_rel_floor", (double)m->errors.n_below_floor);
+    add_number(e, "mean_rel_share_below_floor", m->errors.mean_rel_floor_share);
     add_number(e, "values", (double)m->errors.n_values);
     add_number(e, "non_finite_values", (double)m->non_finite);
     cJSON_AddStringToObject(e, "over", m->errors_over_valid_part ? "its valid part of the domain" : "the domain");

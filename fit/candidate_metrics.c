@@ -80,7 +80,8 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
     if (isfinite(reference[i])) ref_sq += reference[i] * reference[i];
   double ref_rms = n_values ? sqrt(ref_sq / (double)n_values) : 0.0;
   double floor = ref_rms > 0.0 ? 1e-3 * ref_rms : 1e-300;
-  double sq = 0.0, rel = 0.0, mx = 0.0;
+  double sq = 0.0, rel = 0.0, rel_below = 0.0, mx = 0.0;
+  size_t below = 0;
   for (size_t i = 0; i < n_values; ++i) {
     /* |value| > SF_METRICS_MAX_VALUE counts as non-finite: its square
      * would overflow the sums (a model that blew up). */
@@ -91,10 +92,17 @@ void sf_error_metrics_compute(const double *model, const double *reference, size
     double e = fabs(model[i] - reference[i]);
     sq += e * e;
     if (e > mx) mx = e;
-    rel += e / fmax(fabs(reference[i]), floor);
+    double r = e / fmax(fabs(reference[i]), floor);
+    rel += r;
+    if (fabs(reference[i]) < floor) {
+      rel_below += r;
+      ++below;
+    }
     ++n;
   }
   out->n_values = n;
+  out->n_below_floor = below;
+  out->mean_rel_floor_share = rel > 0.0 ? rel_below / rel : 0.0;
   out->reference_rms = ref_rms;
   if (n > 0) {
     out->rmse = sqrt(sq / (double)n);   /* seed 000 eq. 61 */
