@@ -55,6 +55,9 @@ typedef struct sf_report_view {
   int rendered;              /* 0: no pixel of the view is compared (codegen/report_views.h) */
   double compared_fraction;  /* share of the view's pixels compared: both pictures hold data */
   double rmse, mean_delta_e; /* over those pixels */
+  size_t non_finite_pixels;  /* compared pixels with a NaN or infinite channel: such a
+                                channel is 0 in the figures and the picture, and the note
+                                names the view */
   char png[128], error_exr[128];   /* file names in the report folder */
 } sf_report_view;
 

@@ -116,12 +116,16 @@ static int compare_view(sf_report_view *v, const float *model, const float *trut
                         int w, int h, int tonemap, const char *dir, float *scratch, sf_error *err) {
   size_t n = (size_t)w * (size_t)h, compared = 0;
   double sq = 0.0, de = 0.0;
+  v->non_finite_pixels = 0;
   for (size_t p = 0; p < n; ++p) {
     if (!both[p]) {
       scratch[3 * p] = scratch[3 * p + 1] = scratch[3 * p + 2] = 0.0f;
       continue;
     }
     double a[3], b[3], la[3], lb[3];
+    int finite = 1;
+    for (int k = 0; k < 3; ++k) finite &= isfinite(model[3 * p + k]) != 0;
+    v->non_finite_pixels += !finite;
     for (int k = 0; k < 3; ++k) {
       double mv = isfinite(model[3 * p + k]) ? model[3 * p + k] : 0.0;
       double e = mv - truth[3 * p + k];
@@ -153,6 +157,24 @@ static int compare_view(sf_report_view *v, const float *model, const float *trut
 static void note_view(sf_report *rep, const char *opening, const char *view) {
   size_t len = strlen(rep->views_note);
   snprintf(rep->views_note + len, sizeof rep->views_note - len, "%s%s", len ? ", " : opening, view);
+}
+
+/* A model that gives NaN or infinity somewhere in a view must not pass
+ * for a good one there: those pixels count as 0 in its figures, so the
+ * note names them. */
+static void note_non_finite_pixels(sf_report *rep) {
+  int first = 1;
+  for (int i = 0; i < rep->n_models; ++i)
+    for (int v = 0; v < rep->models[i].n_views; ++v) {
+      const sf_report_view *rv = &rep->models[i].views[v];
+      if (rv->non_finite_pixels == 0) continue;
+      size_t len = strlen(rep->views_note);
+      const char *lead = !first ? ", " : len ? ". Not finite, 0 in the figures: " : "Not finite, 0 in the figures: ";
+      snprintf(rep->views_note + len, sizeof rep->views_note - len, "%s%s's %s view %s (%zu pixels)", lead,
+               rep->models[i].candidate->name, sf_candidate_quantity_name(rep->models[i].candidate->quantity),
+               rv->name, rv->non_finite_pixels);
+      first = 0;
+    }
 }
 
 int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_report_options *o, sf_error *err) {
@@ -222,6 +244,7 @@ int sf_report_render_views(sf_report *rep, const sf_scene *scene, const sf_repor
     }
   }
   free(truth); free(model); free(scratch); free(truth_mask); free(model_mask); free(both);
+  note_non_finite_pixels(rep);
   int partial = 0;
   for (int i = 0; i < rep->n_models; ++i)
     for (int v = 0; v < rep->models[i].n_views; ++v)

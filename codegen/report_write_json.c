@@ -71,6 +71,7 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
     cJSON_AddStringToObject(j, "png", rv->png);
     add_number(j, "compared_fraction", rv->compared_fraction);
     if (c->role != SF_ROLE_REFERENCE) {
+      add_number(j, "non_finite_pixels", (double)rv->non_finite_pixels);
       add_number(j, "rmse", rv->rmse);
       add_number(j, "mean_delta_e2000", rv->mean_delta_e);
       cJSON_AddStringToObject(j, "error_exr", rv->error_exr);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "codegen/report.h"
+#include "fit/candidate_builtin.h"
 #include "fit/candidate_cache.h"
 #include "fit/candidate_metrics.h"
 #include "models/atmosphere_file.h"
@@ -218,6 +219,77 @@ static void cache_keys(void) {
 /* A fitted model's weights copied into the build's weights folder: the
  * copy and its path, or, when the path does not fit, a clear failure and no
  * file at a truncated name. */
+/* The reference transmittance, but NaN for rays more than 30 degrees below
+ * the horizontal: a model that blows up in part of the views. */
+static void nan_looking_down(const void *ctx, const double *in, double *out) {
+  const sf_candidate *reference = ctx;
+  reference->eval(reference->ctx, in, out);
+  if (in[1] < -0.5)
+    for (int k = 0; k < reference->n_channels; ++k) out[k] = NAN;
+}
+
+/* Pixels a model gives as NaN count as 0 in the view's figures; the view
+ * says how many there are (an independent count: the pixels whose centre
+ * ray, from the camera, looks below mu = -0.5). */
+static void views_count_non_finite_pixels(void) {
+  sf_scene scene;
+  sf_scene_default(&scene);
+  scene.quantities = SF_QUANTITY_TRANSMITTANCE;
+  sf_candidate_list list;
+  sf_candidate_list_init(&list);
+  sf_candidate ref, bad;
+  sf_error err = {0};
+  CHECK(sf_candidate_reference_transmittance(&scene.atmosphere, &ref, &err) == SF_OK);
+  CHECK(sf_candidate_list_add(&list, &ref) == 0);
+  sf_candidate_init(&bad, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_BASELINE, "nan-down", "NaN looking down");
+  bad.n_channels = list.items[0].n_channels;
+  bad.eval = nan_looking_down;
+  bad.ctx = &list.items[0];
+  CHECK(sf_candidate_list_add(&list, &bad) == 0);
+  char dir[] = "/tmp/skyfit-views-nan-XXXXXX";
+  if (!mkdtemp(dir)) { CHECK(0); return; }
+  sf_report_options o;
+  sf_report_options_default(&o);
+  o.domain_samples = 200;
+  o.timing_points = 0;
+  o.view_width = 24;
+  o.view_height = 14;
+  sf_report rep;
+  CHECK(sf_report_evaluate(&rep, &scene, &list, &o, dir, &err) == SF_OK);
+  const sf_report_model *m = &rep.models[1];
+  int views_with_nan = 0;
+  for (int v = 0; v < m->n_views; ++v) {
+    const sf_report_view *rv = &m->views[v];
+    if (!rv->rendered) continue;
+    const sf_view_def *defs;
+    int nv = sf_standard_transmittance_views(&defs), d = 0;
+    while (d < nv && strcmp(defs[d].name, rv->name) != 0) ++d;
+    if (d == nv) { CHECK(0); continue; }
+    sf_view_camera cam;
+    sf_view_camera_make(&defs[d], &scene.atmosphere, o.view_width, o.view_height, &cam);
+    size_t down = 0;
+    for (int y = 0; y < o.view_height; ++y)
+      for (int x = 0; x < o.view_width; ++x) {
+        double in[4];
+        sf_view_pixel_inputs(&cam, &scene.atmosphere, x, y, in);
+        down += in[1] < -0.5;
+      }
+    printf("view %s: %zu non-finite pixels, %zu looking below mu -0.5\n", rv->name, rv->non_finite_pixels, down);
+    CHECK(rv->non_finite_pixels == down);
+    CHECK(isfinite(rv->rmse) && isfinite(rv->mean_delta_e));
+    views_with_nan += down > 0;
+    if (down > 0) CHECK(strstr(rep.views_note, rv->name) != NULL);
+  }
+  printf("note: %s\n", rep.views_note);
+  CHECK(views_with_nan > 0);
+  CHECK(strstr(rep.views_note, "Not finite, 0 in the figures: nan-down's transmittance view") != NULL);
+  sf_report_free(&rep);
+  sf_candidate_list_free(&list);
+  char cmd[128];
+  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+  CHECK(system(cmd) == 0);
+}
+
 static void weights_copied_to_work_dir(void) {
   char dir[] = "/tmp/skyfit-weights-copy-XXXXXX", src[128], dst[4096], truncated[128];
   if (!mkdtemp(dir)) { CHECK(0); return; }
@@ -262,5 +334,6 @@ int main(void) {
   metrics_of_a_blown_up_value();
   cache_keys();
   weights_copied_to_work_dir();
+  views_count_non_finite_pixels();
   return check_summary();
 }
