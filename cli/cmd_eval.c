@@ -203,23 +203,24 @@ typedef struct eval_ray {
 static int prepare_row(const sf_atmosphere *atm, const eval_options *o, const sf_csv_points *pts,
                        long row, eval_ray *ray, sf_error *err) {
   const double *v = pts->values + row * pts->n_columns;
+  long line = sf_csv_points_line(pts, row);   /* not row + 2: blank lines are skipped */
   static const char *const unit_columns[] = {"mu", "mu_s", "nu"};
   for (int k = 0; k < 3; ++k) {
     int c = sf_csv_points_column(pts, unit_columns[k]);
     if (c >= 0 && (v[c] < -1.0 || v[c] > 1.0))
-      return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column %s: %s is outside [-1, 1]", row + 2,
+      return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column %s: %s is outside [-1, 1]", line,
                      unit_columns[k], pts->fields[row * pts->n_columns + c]);
   }
   double h = v[sf_csv_points_column(pts, "h_km")];
   if (h < 0.0)
-    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", row + 2,
+    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", line,
                    pts->fields[row * pts->n_columns + sf_csv_points_column(pts, "h_km")]);
   const char *why = "";
   int c_mu_s = sf_csv_points_column(pts, "mu_s"), c_nu = sf_csv_points_column(pts, "nu");
   double mu = v[sf_csv_points_column(pts, "mu")], mu_s = c_mu_s >= 0 ? v[c_mu_s] : 0.0;
   double nu = c_nu >= 0 ? sf_clamp_nu(mu, mu_s, v[c_nu]) : 0.0;
   if (sf_view_ray_make_at_entry(atm, h, mu, mu_s, nu, o->end, o->distance, &ray->ray, &ray->mu_s, &why))
-    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld: %s", row + 2, why);
+    return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld: %s", line, why);
   return 0;
 }
 

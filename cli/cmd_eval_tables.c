@@ -52,14 +52,15 @@ static int check_rows(const sf_csv_points *pts, sf_error *err) {
   int h = sf_csv_points_column(pts, "h_km");
   for (long row = 0; row < pts->n_rows; ++row) {
     const double *v = pts->values + row * pts->n_columns;
+    long line = sf_csv_points_line(pts, row);   /* not row + 2: blank lines are skipped */
     for (int k = 0; k < 3; ++k) {
       int c = sf_csv_points_column(pts, unit[k]);
       if (v[c] < -1.0 || v[c] > 1.0)
-        return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column %s: %s is outside [-1, 1]", row + 2, unit[k],
+        return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column %s: %s is outside [-1, 1]", line, unit[k],
                        pts->fields[row * pts->n_columns + c]);
     }
     if (v[h] < 0.0)
-      return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", row + 2,
+      return sf_fail(err, SF_ERR_INPUT, "stdin: row %ld, column h_km: %s is below the ground", line,
                      pts->fields[row * pts->n_columns + h]);
   }
   return SF_OK;

@@ -66,11 +66,14 @@ int sf_csv_points_column(const sf_csv_points *p, const char *name) {
   return -1;
 }
 
+long sf_csv_points_line(const sf_csv_points *p, long row) { return p->lines[row]; }
+
 void sf_csv_points_free(sf_csv_points *p) {
   if (p->fields)
     for (long i = 0; i < p->n_rows * p->n_columns; ++i) free(p->fields[i]);
   free(p->fields);
   free(p->values);
+  free(p->lines);
   memset(p, 0, sizeof *p);
 }
 
@@ -108,7 +111,9 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
     if (nv) out->values = nv;
     char **nf = realloc(out->fields, sizeof(char *) * (size_t)(ncap * nc));
     if (nf) out->fields = nf;
-    if (!nv || !nf) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
+    long *nl = realloc(out->lines, sizeof(long) * (size_t)ncap);
+    if (nl) out->lines = nl;
+    if (!nv || !nf || !nl) return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
     *capacity = ncap;
   }
   /* Every field is checked before any is copied, and a failed copy frees
@@ -137,6 +142,7 @@ static int append_row(sf_csv_points *out, long *capacity, char **fields, long ro
       return sf_fail(err, SF_ERR_INTERNAL, "%s: out of memory", source);
     }
   }
+  out->lines[out->n_rows] = row;
   ++out->n_rows;
   return 0;
 }

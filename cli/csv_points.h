@@ -15,6 +15,8 @@ typedef struct sf_csv_points {
   long n_rows;
   double *values;       /* n_rows * n_columns, row-major */
   char **fields;        /* the rows' original text, n_rows * n_columns */
+  long *lines;          /* each row's line in the input (1 = header): blank
+                           lines are skipped, so row k is not always line k + 2 */
 } sf_csv_points;
 
 /* Reads the whole stream. allowed lists the column names this quantity
@@ -22,6 +24,8 @@ typedef struct sf_csv_points {
  * source, the row (1 = header) and the column. */
 int sf_csv_points_read(FILE *in, const char *source, const char *const *allowed,
                        const char *const *required, sf_csv_points *out, sf_error *err);
+/* The input line of data row `row` (0-based), for messages. */
+long sf_csv_points_line(const sf_csv_points *p, long row);
 /* Index of the named column, or -1. */
 int sf_csv_points_column(const sf_csv_points *p, const char *name);
 void sf_csv_points_free(sf_csv_points *p);

@@ -122,9 +122,9 @@ static int fit_samples(sf_sky_form form, const char *command, const char *path, 
     /* a negative radiance had been fitted silently */
     if (!(theta >= 0 && theta < 0.5 * SF_PI) || !(gamma >= 0 && gamma <= SF_PI) || !(L >= 0)) {
       fprintf(stderr,
-              "%s: %s: row %d: need 0 <= theta < pi/2, 0 <= gamma <= pi (radians) and a radiance >= 0, "
+              "%s: %s: row %ld: need 0 <= theta < pi/2, 0 <= gamma <= pi (radians) and a radiance >= 0, "
               "got %g, %g, %g\n",
-              command, path, i + 2, theta, gamma, L);
+              command, path, sf_csv_points_line(&pts, i), theta, gamma, L);
       sf_sky_samples_free(&s);
       sf_csv_points_free(&pts);
       return 2;

@@ -176,6 +176,16 @@ expect_error "mu > 1" $'h_km,mu\n0,1.5\n' 'row 2, column mu' optical_depth
 expect_error "mu < -1" $'h_km,mu\n0,-1.0001\n' 'row 2, column mu' transmittance
 expect_error "nu > 1" $'h_km,mu,mu_s,nu\n1,0.5,0.5,1.2\n' 'column nu' single_scattering
 expect_error "negative h" $'h_km,mu\n-0.5,1\n' 'row 2, column h_km' optical_depth
+# The row a range error names is the input's line: blank lines are skipped,
+# so the second point after two blank lines is on line 5, not "row 3" (it had
+# counted points, row + 2). The same for the tables' quantities (checked
+# before any table is made) and for a ray the segment options refuse.
+expect_error "line after blank lines (mu)" $'h_km,mu\n0,1\n\n\n0,1.5\n' 'row 5, column mu' optical_depth
+expect_error "line after blank CRLF lines (h)" $'h_km,mu\r\n0,1\r\n\r\n-1,1\r\n' 'row 4, column h_km' transmittance
+expect_error "line after blank lines (--to top)" $'h_km,mu\n0,1\n\n10,-0.5\n' 'row 4: the ray hits the ground' \
+  optical_depth --to top
+expect_error "line after blank lines (tables)" $'h_km,mu,mu_s,nu\n0,1,0.5,0.5\n\n0,1,0.5,-2\n' 'row 4, column nu' \
+  sky_radiance --orders 1
 expect_error "empty input" '' '.' optical_depth
 expect_error "unknown quantity" $'h_km,mu\n0,1\n' 'unknown quantity' radiance_of_doom
 expect_error "unknown option" $'h_km,mu\n0,1\n' "unknown option '--frobnicate'" optical_depth --frobnicate

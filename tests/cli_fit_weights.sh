@@ -174,6 +174,12 @@ cp "$tmp/out" "$tmp/perez_fit.json"
 { cat "$tmp/perez.csv"; echo "0.5,0.5,-1"; } >"$tmp/negative.csv"
 { cat "$tmp/perez.csv"; echo "0.5,0.5,1e300"; } >"$tmp/huge.csv"
 expect 2 "preetham --samples, a negative radiance" "radiance >= 0, got 0.5, 0.5, -1" -- "$bin" fit preetham --samples "$tmp/negative.csv"
+# The row named is the file's line: blank lines are skipped, so it is not
+# the sample's index + 2 (two blank lines had made line L "row L-2").
+{ echo; echo; } >"$tmp/blanks.csv"
+{ head -1 "$tmp/perez.csv"; cat "$tmp/blanks.csv"; tail -n +2 "$tmp/perez.csv"; echo "0.5,0.5,-1"; } >"$tmp/negative_blank.csv"
+expect 2 "preetham --samples, the line after blank lines" "negative_blank.csv: row $(wc -l <"$tmp/negative_blank.csv"): need" -- \
+  "$bin" fit preetham --samples "$tmp/negative_blank.csv"
 expect 2 "preetham --samples, radiances whose squares overflow" "huge.csv: radiance: the squares overflow" -- \
   "$bin" fit preetham --samples "$tmp/huge.csv"
 if [ -w /dev/full ]; then
