@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "models/emitted_float.h"
 #include "models/phase.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
@@ -46,6 +47,9 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define SKY_FN(name) name
 #define R_SQRT sqrt
 #define R_EXP exp
+#define R_EXPM1 expm1
+#define R_TANH tanh
+#define NET_PARAMS(m) ((m)->net.params)
 #define NET_FORWARD net_forward_d
 #define NET_FORWARD_GROUND net_forward_ground_d
 #define RAY_SEGMENT sf_ray_atmosphere_segment
@@ -64,6 +68,9 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef SKY_FN
 #undef R_SQRT
 #undef R_EXP
+#undef R_EXPM1
+#undef R_TANH
+#undef NET_PARAMS
 #undef NET_FORWARD
 #undef NET_FORWARD_GROUND
 #undef RAY_SEGMENT
@@ -82,6 +89,9 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define SKY_FN(name) name##_f
 #define R_SQRT sqrtf
 #define R_EXP expf
+#define R_EXPM1 sf_emitted_expm1_f   /* the emitted skyfit_expm1 */
+#define R_TANH tanhf
+#define NET_PARAMS(m) ((m)->net_f.params)
 #define NET_FORWARD net_forward_f
 #define NET_FORWARD_GROUND net_forward_ground_f
 #define RAY_SEGMENT sf_ray_atmosphere_segment_f

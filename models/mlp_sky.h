@@ -36,8 +36,11 @@
  * above the horizon cosine -sqrt(1 - (R/r)^2)). With the exp_neg output
  * (default) the last layer's pre-activation is the optical depth
  * tau_top = -log T_top, and every ratio below is computed as
- * exp(-(tau_a - tau_b)) (no division of two tiny numbers, SPEC §10); with
- * another output the ratio T_a / max(T_b, 1e-30) is clamped to [0, 1].
+ * exp(-(tau_a - tau_b)) (no division of two tiny numbers, SPEC §10), the
+ * difference tau_a - tau_b carried through the network beside the two
+ * forward passes rather than subtracted (models/mlp_sky_impl.inc
+ * t_depth_diff: at tau ~ 600 float32 loses the segment in the rounding of
+ * the two depths); with another output the ratio T_a / max(T_b, 1e-30) is clamped to [0, 1].
  *   Full ray (to the ground or the top, whichever comes first):
  *     no ground hit:  T = T_top(h, mu)
  *     ground hit at distance d_g (mu_g = mu at the ground, < 0), eq. 43
