@@ -391,6 +391,7 @@ static void irradiance_table_row(void *ctx, int thread, long row) {
 typedef struct mu_s_map {
   double R, H2, d_min, inv_span, inv_A;
   int n;
+  int n_below;   /* intervals [j, j + 1] with the sun below the horizon at j + 1 */
 } mu_s_map;
 
 static mu_s_map make_mu_s_map(const multiple_run *m) {
@@ -405,6 +406,13 @@ static mu_s_map make_mu_s_map(const multiple_run *m) {
   double d = mu > 0.0 ? f.H2 / (R * mu + root) : root - R * mu;
   f.inv_A = 1.0 / ((d - f.d_min) * f.inv_span);
   f.n = m->n_mus;
+  f.n_below = 0;
+  for (int j = 1; j < f.n; ++j) {
+    double pos[4] = {j, 0.0, 0.0, 0.0};
+    sf_scattering_coord c;
+    sf_params_scattering_coord(&m->pi, pos, &c);
+    if (c.mu_s <= 0.0) f.n_below = j;
+  }
   return f;
 }
 
@@ -433,22 +441,34 @@ static inline int split_position(double pos, int n, double *frac) {
  * case; the same operations in the same order either way. */
 static inline __attribute__((always_inline)) void gather_node(const double *corner, const double *coef,
                                                               const float *g, const long *nu_off,
-                                                              const double *nu_w, int j_s, double f_s, int nv,
+                                                              const double *nu_w, int j_s, double f_s, int geometric, int nv,
                                                               int ns, int nch, double *l) {
-  double v[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
-  for (int k = 0; k < nv; ++k) v[k] = 0.0;
+  double v_lo[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS], v_hi[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  for (int k = 0; k < nv; ++k) v_lo[k] = v_hi[k] = 0.0;
   for (int a = 0; a < 4; ++a) {
     if (corner[4 + a] == 0.0) continue;
     for (int b = 0; b < 2; ++b) {
       double w = corner[4 + a] * nu_w[b];
       if (w == 0.0) continue;
       const float *lo = g + ((long)corner[a] + nu_off[b] + j_s) * nv, *hi = lo + nv;
-      double w_lo = w * (1.0 - f_s), w_hi = w * f_s;
-      for (int k = 0; k < nv; ++k) v[k] += w_lo * lo[k] + w_hi * hi[k];
+      for (int k = 0; k < nv; ++k) {
+        v_lo[k] += w * lo[k];
+        v_hi[k] += w * hi[k];
+      }
     }
   }
+  /* Below the horizon (geometric): G falls exponentially with the sun's
+   * depression, and linear interpolation between samples 1.2 deg apart
+   * had overestimated every order's light in the planet's shadow (ground,
+   * sun -5 deg: multiple scattering +4.8 %, 20 km, sun -8 deg: +19 %
+   * against the path tracer). Linear above, where G is smooth (and pow
+   * would cost). */
   for (int k = 0; k < ns; ++k)
-    for (int ch = 0; ch < nch; ++ch) l[ch] += coef[k * nch + ch] * v[k * nch + ch];
+    for (int ch = 0; ch < nch; ++ch) {
+      double a = v_lo[k * nch + ch], b = v_hi[k * nch + ch];
+      double v = geometric && a > 0.0 && b > 0.0 && f_s > 0.0 ? a * pow(b / a, f_s) : (1.0 - f_s) * a + f_s * b;
+      l[ch] += coef[k * nch + ch] * v;
+    }
 }
 
 static void gather_row(void *ctx, int thread, long row) {
@@ -529,9 +549,9 @@ static void gather_row(void *ctx, int thread, long row) {
         const double *corner = sc->node_pos + (size_t)q * 8;
         const double *coef = sc->node_coef + (size_t)q * nv;
         if (nv == 6 && nch == 3)   /* two scattering constituents, RGB: unrolled */
-          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, 6, 2, 3, l);
+          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, j_s < map.n_below, 6, 2, 3, l);
         else
-          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, nv, ns, nch, l);
+          gather_node(corner, coef, g, nu_off, nu_w, j_s, f_s, j_s < map.n_below, nv, ns, nch, l);
       }
       size_t off = 0;
       for (int k = 3; k >= 0; --k) off = off * (size_t)size[k] + (size_t)index[k];
