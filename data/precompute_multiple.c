@@ -43,6 +43,7 @@ typedef struct direction_set {
   double mu[N_DIRS_MU], weight[N_DIRS_MU];   /* weight includes 2 pi / n_phi */
   double dist_ground[SF_DENSITY_DIRS_DOWN];  /* to the ground, km */
   double *t_ground;                          /* [d * n_channels + ch] */
+  double *opacity;                           /* [d * n_channels + ch]: 1 - T to the ray's end */
 } direction_set;
 
 typedef struct thread_scratch {
@@ -68,6 +69,7 @@ typedef struct multiple_run {
   double *ground_prev, *ground_new;   /* E_{k-2}, E_{k-1} at the ground samples */
   double *irradiance_sum;          /* [irradiance entry * nch] */
   direction_set *dirs;             /* one per internal altitude */
+  double *opacity;                 /* [(i_h * n_mu + i_mu) * nch + ch]: 1 - T along the grid's rays */
   sf_gauss_rule irradiance_rule;   /* mu over the upper hemisphere */
   thread_scratch *scratch;
   /* gather target */
@@ -81,29 +83,52 @@ typedef struct multiple_run {
 
 /* Radiance of order j (1 or the previous order) along direction (mu, nu) at
  * internal position (pos_mu_s, pos_h). */
+/* The lower sample of a position on an axis of n >= 2 samples, as
+ * sf_grid_corners takes it. */
+static int lower_sample(double pos, int n) {
+  if (!(pos > 0.0)) pos = 0.0;
+  if (pos > n - 1) pos = n - 1;
+  int i = (int)pos;
+  return i > n - 2 ? n - 2 : i;
+}
+
 static void radiance_of_order(const multiple_run *m, int j, double pos_mu_s, double h, double mu,
-                              int hits_ground, double nu, double pos_h, double *out) {
+                              int hits_ground, double nu, double pos_h, const double *opacity,
+                              double *out) {
   sf_scattering_coord c = {h, mu, 0.0, nu, hits_ground};
   double pos[4];
   sf_params_scattering_pos(&m->pi, &c, pos);
   pos[0] = pos_mu_s;
   pos[3] = pos_h;
-  if (j >= 2) {
-    sf_grid_interp(&m->previous, pos, out);
-    return;
-  }
-  for (int ch = 0; ch < m->nch; ++ch) out[ch] = 0.0;
+  int nch = m->nch;
+  for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
   long offsets[16];
   double weights[16];
-  sf_grid_corners(&m->single[0], pos, offsets, weights);
-  for (int k = 0; k < m->ns; ++k) {
-    double phase = sf_phase_value(&m->atm->constituents[m->s->scattering[k]].phase, nu);
-    const float *data = m->single[k].data;
-    for (int c4 = 0; c4 < 16; ++c4) {
-      if (weights[c4] == 0.0) continue;
-      const float *v = data + offsets[c4] * m->nch;
-      double w = weights[c4] * phase;
-      for (int ch = 0; ch < m->nch; ++ch) out[ch] += w * v[ch];
+  sf_grid_corners(j >= 2 ? &m->previous : &m->single[0], pos, offsets, weights);
+  int lo_mu = lower_sample(pos[1], m->n_mu), lo_h = lower_sample(pos[3], m->n_h);
+  double phase[SF_MAX_CONSTITUENTS];
+  for (int k = 0; j < 2 && k < m->ns; ++k)
+    phase[k] = sf_phase_value(&m->atm->constituents[m->s->scattering[k]].phase, nu);
+  for (int c4 = 0; c4 < 16; ++c4) {
+    if (weights[c4] == 0.0) continue;
+    /* L = J (1 - T) for a source J uniform along the ray: interpolating
+     * L / (1 - T) and multiplying by the direction's own 1 - T is exact
+     * there, where L itself, saturating in the ray's length, is concave in
+     * the grid's distance coordinate and its linear interpolation is low */
+    double scale[SF_MAX_CHANNELS];
+    long o = offsets[c4];
+    /* the corner's mu and h samples: bits 1 and 3 of c4 (sf_grid_corners) */
+    const double *oc = m->opacity + ((size_t)(lo_h + ((c4 >> 3) & 1)) * m->n_mu + lo_mu + ((c4 >> 1) & 1)) * nch;
+    for (int ch = 0; ch < nch; ++ch)
+      scale[ch] = opacity && oc[ch] > 1e-6 && opacity[ch] > 1e-6 ? weights[c4] * opacity[ch] / oc[ch] : weights[c4];
+    if (j >= 2) {
+      const float *v = m->previous.data + o * nch;
+      for (int ch = 0; ch < nch; ++ch) out[ch] += scale[ch] * v[ch];
+      continue;
+    }
+    for (int k = 0; k < m->ns; ++k) {
+      const float *v = m->single[k].data + o * nch;
+      for (int ch = 0; ch < nch; ++ch) out[ch] += scale[ch] * phase[k] * v[ch];
     }
   }
 }
@@ -231,7 +256,7 @@ static void density_row(void *ctx, int thread, long row) {
       dw[idx] = ds->weight[d];
       double nu = dx[idx] * sin_s + mu * mu_s;
       double *in = incoming + (size_t)idx * nch;
-      radiance_of_order(m, m->order - 1, i_s, h, mu, ground, nu, i_h, in);
+      radiance_of_order(m, m->order - 1, i_s, h, mu, ground, nu, i_h, ds->opacity + (size_t)d * nch, in);
       if (ground) {
         int g = d - SF_DENSITY_DIRS_UP;
         double dist = ds->dist_ground[g];
@@ -356,7 +381,7 @@ static void irradiance_at(const multiple_run *m, double h, double mu_s, double *
     for (int a = 0; a < SF_IRRADIANCE_DIRS_PHI / 2; ++a) {
       double nu = st * cos((a + 0.5) * dphi) * sin_s + mu * mu_s;
       double l[SF_MAX_CHANNELS];
-      radiance_of_order(m, m->order - 1, pos[0], h, mu, 0, nu, pos[3], l);
+      radiance_of_order(m, m->order - 1, pos[0], h, mu, 0, nu, pos[3], NULL, l);
       /* both azimuths +-phi see the same radiance */
       double w = 2.0 * rule->w[q] * dphi * mu;
       for (int ch = 0; ch < nch; ++ch) out[ch] += w * l[ch];
@@ -578,6 +603,14 @@ static void gather_row(void *ctx, int thread, long row) {
 
 /* ---- driver -------------------------------------------------------------- */
 
+/* 1 - T along the ray from altitude h in direction mu to its end. */
+static void ray_opacity(const multiple_run *m, double h, double mu, int hits_ground, double *out) {
+  double depth[SF_MAX_CONSTITUENTS];
+  sf_transmittance_ray_depth(m->atm, h, mu, hits_ground, depth);
+  sf_setup_transmittance(m->s, depth, out);
+  for (int ch = 0; ch < m->nch; ++ch) out[ch] = 1.0 - out[ch];
+}
+
 static int make_directions(multiple_run *m, sf_error *err) {
   const sf_atmosphere *atm = m->atm;
   sf_gauss_rule up, down;
@@ -589,7 +622,8 @@ static int make_directions(multiple_run *m, sf_error *err) {
   for (int i = 0; i < m->n_h; ++i) {
     direction_set *ds = &m->dirs[i];
     ds->t_ground = malloc(sizeof(double) * SF_DENSITY_DIRS_DOWN * (size_t)m->nch);
-    if (!ds->t_ground) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
+    ds->opacity = malloc(sizeof(double) * N_DIRS_MU * (size_t)m->nch);
+    if (!ds->t_ground || !ds->opacity) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
     double pos[4] = {0, 0, 0, i};
     sf_scattering_coord c;
     sf_params_scattering_coord(&m->pi, pos, &c);
@@ -598,6 +632,7 @@ static int make_directions(multiple_run *m, sf_error *err) {
     for (int q = 0; q < SF_DENSITY_DIRS_UP; ++q) {
       ds->mu[q] = mu_h + (1.0 - mu_h) * up.x[q];
       ds->weight[q] = (1.0 - mu_h) * up.w[q] * dphi;
+      ray_opacity(m, c.h, ds->mu[q], 0, ds->opacity + (size_t)q * m->nch);
     }
     for (int q = 0; q < SF_DENSITY_DIRS_DOWN; ++q) {
       double mu = -1.0 + (mu_h + 1.0) * down.x[q];
@@ -607,15 +642,30 @@ static int make_directions(multiple_run *m, sf_error *err) {
       double depth[SF_MAX_CONSTITUENTS];
       sf_transmittance_ray_depth(atm, c.h, mu, 1, depth);
       sf_setup_transmittance(m->s, depth, ds->t_ground + (size_t)q * m->nch);
+      for (int ch = 0; ch < m->nch; ++ch)
+        ds->opacity[(size_t)(SF_DENSITY_DIRS_UP + q) * m->nch + ch] = 1.0 - ds->t_ground[(size_t)q * m->nch + ch];
     }
   }
+  m->opacity = malloc(sizeof(double) * (size_t)m->n_h * m->n_mu * m->nch);
+  if (!m->opacity) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
+  for (int i = 0; i < m->n_h; ++i)
+    for (int k = 0; k < m->n_mu; ++k) {
+      double pos[4] = {0, k, 0, i};
+      sf_scattering_coord c;
+      sf_params_scattering_coord(&m->pi, pos, &c);
+      ray_opacity(m, c.h, c.mu, c.hits_ground, m->opacity + ((size_t)i * m->n_mu + k) * m->nch);
+    }
   return SF_OK;
 }
 
 static void free_run(multiple_run *m, int threads) {
   if (m->dirs)
-    for (int i = 0; i < m->n_h; ++i) free(m->dirs[i].t_ground);
+    for (int i = 0; i < m->n_h; ++i) {
+      free(m->dirs[i].t_ground);
+      free(m->dirs[i].opacity);
+    }
   free(m->dirs);
+  free(m->opacity);
   if (m->scratch)
     for (int t = 0; t < threads; ++t) {
       sf_view_row_free(&m->scratch[t].row);

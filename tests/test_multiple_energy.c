@@ -1,0 +1,156 @@
+/* Energy conservation of the multiple-scattering orders
+ * (data/precompute_multiple.c) in an optically thick atmosphere that
+ * absorbs nothing, over a white ground: every photon that enters leaves
+ * through the top. Averaged over the sun's direction (equivalently over
+ * the points of the top sphere a parallel beam lights), the flux leaving
+ * the top equals the flux entering, E max(mu_s, 0). What leaves is the
+ * radiance seen from the top looking down (the air's, looked up in the
+ * tables, plus the white ground seen through the air: albedo / pi x its
+ * irradiance, sky and sun), and the sun's beam that passes beside the
+ * planet through the limb.
+ *
+ * Each order had lost a little: step 1 interpolated the last order's
+ * radiance linearly in Bruneton's distance coordinate, where a ray's
+ * radiance J (1 - T) saturates with its length and the interpolation falls
+ * below it; over the ~45 orders of a x10 atmosphere, 5 % of the blue at the
+ * default resolution. The lookups are now normalised by the rays' opacity
+ * 1 - T. On the coarse tables here the balance was 0.905 (green) and 0.789
+ * (blue) before, 0.978 and 0.952 after; the bound, 6 %, is what the coarse
+ * grid's other interpolations leave (at the default resolution 0.996 and
+ * 0.983). */
+#include <math.h>
+#include <stdio.h>
+
+#include "data/gauss_rule.h"
+#include "data/sky_lookup.h"
+#include "data/table_set.h"
+#include "models/atmosphere_file.h"
+#include "tests/check.h"
+#include "util/constants.h"
+
+#define N_GAUSS 16          /* zenith nodes per part of the hemisphere */
+#define N_AZIMUTH 16
+#define N_SUN 100           /* sun directions, midpoints in mu_s over [-1, 1] */
+#define N_GROUND 101        /* ground irradiance samples over mu_s in [-1, 1] */
+#define N_LIMB 24           /* impact parameters of the beam through the limb */
+
+/* The Gauss nodes and weights of [a, b]. */
+static void gauss_on(const sf_gauss_rule *g, double a, double b, double *x, double *w) {
+  for (int i = 0; i < g->n; ++i) {
+    x[i] = a + (b - a) * g->x[i];
+    w[i] = (b - a) * g->w[i];
+  }
+}
+
+/* The ground's irradiance (sky and sun) at the sun's cosine mu_s. */
+static void ground_irradiance(const sf_sky_tables *sky, const sf_atmosphere *atm, const sf_gauss_rule *g,
+                              double mu_s, double *e) {
+  double x[N_GAUSS], w[N_GAUSS], sun_sin = sqrt(fmax(0.0, 1.0 - mu_s * mu_s));
+  gauss_on(g, 0.0, 1.0, x, w);
+  double t[SF_MAX_CHANNELS];
+  sf_sky_transmittance(sky, 0.0, mu_s, t);
+  for (int ch = 0; ch < atm->n_channels; ++ch) e[ch] = mu_s > 0.0 ? atm->sun_irradiance[ch] * mu_s * t[ch] : 0.0;
+  for (int i = 0; i < N_GAUSS; ++i)
+    for (int j = 0; j < N_AZIMUTH; ++j) {
+      double phi = SF_PI * (j + 0.5) / N_AZIMUTH, mu = x[i];
+      double nu = sqrt(1.0 - mu * mu) * sun_sin * cos(phi) + mu * mu_s;
+      sf_sky_sample s;
+      sf_sky_lookup(sky, 0.0, mu, mu_s, nu, &s);
+      for (int ch = 0; ch < atm->n_channels; ++ch) e[ch] += w[i] * 2.0 * SF_PI / N_AZIMUTH * mu * s.radiance[ch];
+    }
+}
+
+/* The flux leaving the top at the sun's cosine mu_s, per channel. */
+static void flux_out(const sf_sky_tables *sky, const sf_atmosphere *atm, const sf_gauss_rule *g,
+                     double ground[N_GROUND][SF_MAX_CHANNELS], double mu_s, double *f) {
+  double R = atm->bottom_radius_km, Rt = atm->top_radius_km, top = Rt - R;
+  double mu_horizon = -sqrt(1.0 - (R / Rt) * (R / Rt)), sun_sin = sqrt(1.0 - mu_s * mu_s);
+  double x[2][N_GAUSS], w[2][N_GAUSS];
+  gauss_on(g, -1.0, mu_horizon, x[0], w[0]);   /* rays that end on the ground */
+  gauss_on(g, mu_horizon, 0.0, x[1], w[1]);    /* rays through the air only */
+  for (int ch = 0; ch < atm->n_channels; ++ch) f[ch] = 0.0;
+  for (int part = 0; part < 2; ++part)
+    for (int i = 0; i < N_GAUSS; ++i)
+      for (int j = 0; j < N_AZIMUTH; ++j) {
+        double mu = x[part][i], phi = SF_PI * (j + 0.5) / N_AZIMUTH;
+        double nu = sqrt(1.0 - mu * mu) * sun_sin * cos(phi) + mu * mu_s;
+        double weight = w[part][i] * 2.0 * SF_PI / N_AZIMUTH * -mu;
+        sf_sky_sample s;
+        sf_sky_lookup(sky, top, mu, mu_s, nu, &s);
+        for (int ch = 0; ch < atm->n_channels; ++ch) f[ch] += weight * s.radiance[ch];
+        if (part == 1) continue;
+        /* the ground point and its sun's cosine */
+        double d = -Rt * mu - sqrt(fmax(0.0, Rt * Rt * mu * mu - (Rt * Rt - R * R)));
+        double mu_s_ground = fmin(1.0, fmax(-1.0, (Rt * mu_s + d * nu) / R));
+        double at = (mu_s_ground + 1.0) / 2.0 * (N_GROUND - 1), frac;
+        int k = (int)at > N_GROUND - 2 ? N_GROUND - 2 : (int)at;
+        frac = at - k;
+        double t[SF_MAX_CHANNELS];
+        sf_sky_transmittance(sky, top, mu, t);
+        for (int ch = 0; ch < atm->n_channels; ++ch) {
+          double e = (1.0 - frac) * ground[k][ch] + frac * ground[k + 1][ch];
+          f[ch] += weight * t[ch] * atm->ground_albedo[ch] / SF_PI * e;
+        }
+      }
+}
+
+int main(void) {
+  sf_atmosphere atm;
+  sf_atmosphere_default(&atm);
+  for (int c = 0; c < atm.n_constituents; ++c)
+    for (int ch = 0; ch < atm.n_channels; ++ch) {
+      atm.constituents[c].scattering[ch] *= 10.0;
+      atm.constituents[c].absorption[ch] = 0.0;
+    }
+  for (int ch = 0; ch < atm.n_channels; ++ch) atm.ground_albedo[ch] = 1.0;
+  sf_atmosphere_finalize(&atm);
+
+  sf_table_set_options o;
+  sf_table_set_options_default(&o);
+  sf_error err = {0};
+  CHECK(sf_table_resolution_parse("64x16,8x32x8x8", &o.res, &err) == 0);
+  o.orders = 64;            /* every order that matters at x10, none left out */
+  o.stop_fraction = 0.0;
+  o.run.n_threads = 2;
+  sf_table_set set;
+  if (!CHECK(sf_table_set_make(&set, &atm, &o, &err) == SF_OK)) {
+    printf("%s\n", err.message);
+    return check_summary();
+  }
+  CHECK(set.report.highest_order == 64);
+  sf_sky_tables sky;
+  sf_sky_tables_of_set(&sky, &atm, &set);
+  sf_gauss_rule g;
+  sf_gauss_rule_init(&g, N_GAUSS);
+
+  static double ground[N_GROUND][SF_MAX_CHANNELS];
+  for (int k = 0; k < N_GROUND; ++k) ground_irradiance(&sky, &atm, &g, -1.0 + 2.0 * k / (N_GROUND - 1), ground[k]);
+
+  double out[SF_MAX_CHANNELS] = {0}, in = 0.0;
+  for (int i = 0; i < N_SUN; ++i) {
+    double mu_s = -1.0 + 2.0 * (i + 0.5) / N_SUN, f[SF_MAX_CHANNELS];
+    in += 2.0 / N_SUN * fmax(mu_s, 0.0);
+    flux_out(&sky, &atm, &g, ground, mu_s, f);
+    for (int ch = 0; ch < atm.n_channels; ++ch) out[ch] += 2.0 / N_SUN * f[ch];
+  }
+  /* The beam beside the planet, at impact parameter b in [R, Rt], crosses
+   * the atmosphere twice from its tangent point (T^2); per unit of the
+   * top's cross-section pi Rt^2, averaged as the flux in is. */
+  sf_gauss_rule gl;
+  sf_gauss_rule_init(&gl, N_LIMB);
+  double b[N_LIMB], wb[N_LIMB], R = atm.bottom_radius_km, Rt = atm.top_radius_km;
+  gauss_on(&gl, R, Rt, b, wb);
+  for (int i = 0; i < N_LIMB; ++i) {
+    double t[SF_MAX_CHANNELS];
+    sf_sky_transmittance(&sky, b[i] - R, 0.0, t);
+    for (int ch = 0; ch < atm.n_channels; ++ch)
+      out[ch] += wb[i] * b[i] * t[ch] * t[ch] / (Rt * Rt) * atm.sun_irradiance[ch];
+  }
+  for (int ch = 0; ch < atm.n_channels; ++ch) {
+    double balance = out[ch] / (atm.sun_irradiance[ch] * in);
+    printf("channel %d: flux out / flux in %.5f\n", ch, balance);
+    CHECK_ABS(balance, 1.0, 0.06);
+  }
+  sf_table_set_free(&set);
+  return check_summary();
+}
