@@ -44,10 +44,10 @@ void sf_candidate_values(const sf_candidate *c, const sf_domain_samples *s, doub
 /* The floor does not keep near-zero references from dominating the mean
  * relative error: over the default sky domain a quarter of the reference
  * values lie below it (rays up from 50-100 km, suns below the horizon),
- * and for the default build's sky network they made 77 % of its mean
- * relative error of 1.05, where its relative RMSE is 0.043. So the metrics
- * say how many values lie below the floor and what share of mean_rel they
- * make, and the report says so where that share is over
+ * and for the default build's sky network they made three quarters of
+ * its mean relative error of 1.05-1.29, where its relative RMSE is 0.042.
+ * So the metrics say how many values lie below the floor and what share of
+ * mean_rel they make, and the report says so where that share is over
  * SF_METRICS_FLOOR_SHARE_NOTE. */
 #define SF_METRICS_FLOOR_SHARE_NOTE 0.5
 typedef struct sf_error_metrics {
