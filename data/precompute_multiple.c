@@ -81,8 +81,6 @@ typedef struct multiple_run {
 
 /* ---- lookups ------------------------------------------------------------ */
 
-/* Radiance of order j (1 or the previous order) along direction (mu, nu) at
- * internal position (pos_mu_s, pos_h). */
 /* The lower sample of a position on an axis of n >= 2 samples, as
  * sf_grid_corners takes it. */
 static int lower_sample(double pos, int n) {
@@ -92,6 +90,9 @@ static int lower_sample(double pos, int n) {
   return i > n - 2 ? n - 2 : i;
 }
 
+/* Radiance of order j (1 or the previous order) along direction (mu, nu) at
+ * internal position (pos_mu_s, pos_h); opacity: the direction's own 1 - T
+ * per channel (NULL: the plain interpolation). */
 static void radiance_of_order(const multiple_run *m, int j, double pos_mu_s, double h, double mu,
                               int hits_ground, double nu, double pos_h, const double *opacity,
                               double *out) {
@@ -365,8 +366,12 @@ static void density_row(void *ctx, int thread, long row) {
 
 /* ---- step 2: irradiance -------------------------------------------------- */
 
+static void ray_opacity(const multiple_run *m, double h, double mu, int hits_ground, double *out);
+
 /* Irradiance of order k-1 on a horizontal surface at altitude h for the
- * sun at mu_s. */
+ * sun at mu_s. The sky rays' radiance is looked up normalised by their
+ * opacity, as step 1's: the rays near the horizon are the long, saturated
+ * ones whose linear interpolation falls low. */
 static void irradiance_at(const multiple_run *m, double h, double mu_s, double *out) {
   int nch = m->nch;
   sf_scattering_coord c = {h, 1.0, mu_s, 0.0, 0};
@@ -378,10 +383,12 @@ static void irradiance_at(const multiple_run *m, double h, double mu_s, double *
   double dphi = 2.0 * SF_PI / SF_IRRADIANCE_DIRS_PHI;
   for (int q = 0; q < rule->n; ++q) {
     double mu = rule->x[q], st = sqrt(fmax(0.0, (1.0 - mu) * (1.0 + mu)));
+    double opacity[SF_MAX_CHANNELS];
+    ray_opacity(m, h, mu, 0, opacity);
     for (int a = 0; a < SF_IRRADIANCE_DIRS_PHI / 2; ++a) {
       double nu = st * cos((a + 0.5) * dphi) * sin_s + mu * mu_s;
       double l[SF_MAX_CHANNELS];
-      radiance_of_order(m, m->order - 1, pos[0], h, mu, 0, nu, pos[3], NULL, l);
+      radiance_of_order(m, m->order - 1, pos[0], h, mu, 0, nu, pos[3], opacity, l);
       /* both azimuths +-phi see the same radiance */
       double w = 2.0 * rule->w[q] * dphi * mu;
       for (int ch = 0; ch < nch; ++ch) out[ch] += w * l[ch];

@@ -9,15 +9,16 @@
  * irradiance, sky and sun), and the sun's beam that passes beside the
  * planet through the limb.
  *
- * Each order had lost a little: step 1 interpolated the last order's
- * radiance linearly in Bruneton's distance coordinate, where a ray's
- * radiance J (1 - T) saturates with its length and the interpolation falls
- * below it; over the ~45 orders of a x10 atmosphere, 5 % of the blue at the
- * default resolution. The lookups are now normalised by the rays' opacity
- * 1 - T. On the coarse tables here the balance was 0.905 (green) and 0.789
- * (blue) before, 0.978 and 0.952 after; the bound, 6 %, is what the coarse
- * grid's other interpolations leave (at the default resolution 0.996 and
- * 0.983). */
+ * Each order had lost a little: steps 1 (the scattering density) and 2
+ * (the irradiance) interpolated the last order's radiance linearly in
+ * Bruneton's distance coordinate, where a ray's radiance J (1 - T)
+ * saturates with its length and the interpolation falls below it; over the
+ * ~45 orders of a x10 atmosphere, 5 % of the blue at the default
+ * resolution. The lookups are now normalised by the rays' opacity 1 - T.
+ * On the coarse tables here the balance was 0.979 / 0.905 / 0.788 (r / g /
+ * b) before, 0.995 / 0.977 / 0.952 with step 1 normalised, 0.996 / 0.982 /
+ * 0.956 with step 2 too; the bound, 6 %, is what the coarse grid's other
+ * interpolations leave. */
 #include <math.h>
 #include <stdio.h>
 
