@@ -85,18 +85,49 @@ static void out_name(const sf_code_writer *w, const net_outputs *o, int k, char 
   else piece_name(o, "a", k, out, n);
 }
 
-static void emit_network_c(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act) {
-  const sf_mlp_shape *s = &net->shape;
-  int widest = 1;
-  for (int l = 0; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
-  /* one flat array, models/mlp.h order: W0 row-major, b0, W1, b1, ... */
+/* The network's parameters as one flat C array p, models/mlp.h order: W0
+ * row-major, b0, W1, b1, ... */
+static void emit_params_c(sf_code_writer *w, const sf_mlp_f *net) {
   sf_cw_emit(w, "  static const float p[%d] = {", net->n_params);
   for (int i = 0; i < net->n_params; ++i) {
     if (i % 4 == 0) sf_cw_emit(w, "\n      ");
     sf_cw_emit(w, "%F", (double)net->params[i]);
     if (i + 1 < net->n_params) sf_cw_raw(w, i % 4 == 3 ? "," : ", ");
   }
-  sf_cw_emit(w, "};\n  float a[%d], o[%d];\n", widest, widest);
+  sf_cw_emit(w, "};\n");
+}
+
+/* GLSL: the constants of layer l's output piece oc (R rows from row0): its
+ * biases b{l}_{oc} and, per input piece, the weight block W{l}_{oc}_{ic}
+ * (a matrix, or a vector where either side is one unit). */
+static void emit_piece_constants_glsl(sf_code_writer *w, int l, int oc, int R, int row0, const float *W,
+                                      const float *b, int n_in, const int *in_sizes, int n_in_chunks) {
+  char type[16];
+  glsl_type(R, type, sizeof type);
+  sf_cw_emit(w, "  const %s b%d_%d = %s(", type, l, oc, type);
+  for (int i = 0; i < R; ++i) sf_cw_emit(w, i ? ", %F" : "%F", (double)b[row0 + i]);
+  sf_cw_emit(w, ");\n");
+  for (int ic = 0, col0 = 0; ic < n_in_chunks; col0 += in_sizes[ic++]) {
+    int C = in_sizes[ic];
+    char block[16];
+    if (R > 1 && C > 1) {
+      if (R == C) snprintf(block, sizeof block, "mat%d", C);
+      else snprintf(block, sizeof block, "mat%dx%d", C, R);
+    } else glsl_type(R > 1 ? R : C, block, sizeof block);
+    sf_cw_emit(w, "  const %s W%d_%d_%d = %s(", block, l, oc, ic, block);
+    /* column-major: for each input (column), the outputs (rows) */
+    for (int j = 0; j < C; ++j)
+      for (int i = 0; i < R; ++i) sf_cw_emit(w, (i || j) ? ", %F" : "%F", (double)W[(row0 + i) * n_in + col0 + j]);
+    sf_cw_emit(w, ");\n");
+  }
+}
+
+static void emit_network_c(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act) {
+  const sf_mlp_shape *s = &net->shape;
+  int widest = 1;
+  for (int l = 0; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
+  emit_params_c(w, net);
+  sf_cw_emit(w, "  float a[%d], o[%d];\n", widest, widest);
   for (int k = 0; k < s->sizes[0]; ++k) sf_cw_emit(w, "  a[%d] = x%d;\n", k, k);
   int offset = 0;
   for (int l = 0; l < s->n_layers; ++l) {
@@ -137,23 +168,7 @@ static void emit_network_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_act
     for (int oc = 0, row0 = 0; oc < n_out_chunks; row0 += out_sizes[oc++]) {
       int R = out_sizes[oc];
       glsl_type(R, type, sizeof type);
-      sf_cw_emit(w, "  const %s b%d_%d = %s(", type, l, oc, type);
-      for (int i = 0; i < R; ++i) sf_cw_emit(w, i ? ", %F" : "%F", (double)b[row0 + i]);
-      sf_cw_emit(w, ");\n");
-      for (int ic = 0, col0 = 0; ic < n_in_chunks; col0 += in_sizes[ic++]) {
-        int C = in_sizes[ic];
-        char block[16];
-        if (R > 1 && C > 1) {
-          if (R == C) snprintf(block, sizeof block, "mat%d", C);
-          else snprintf(block, sizeof block, "mat%dx%d", C, R);
-        } else glsl_type(R > 1 ? R : C, block, sizeof block);
-        sf_cw_emit(w, "  const %s W%d_%d_%d = %s(", block, l, oc, ic, block);
-        /* column-major: for each input (column), the outputs (rows) */
-        for (int j = 0; j < C; ++j)
-          for (int i = 0; i < R; ++i)
-            sf_cw_emit(w, (i || j) ? ", %F" : "%F", (double)W[(row0 + i) * n_in + col0 + j]);
-        sf_cw_emit(w, ");\n");
-      }
+      emit_piece_constants_glsl(w, l, oc, R, row0, W, b, n_in, in_sizes, n_in_chunks);
       char sum[2048];
       int k = snprintf(sum, sizeof sum, "b%d_%d", l, oc);
       for (int ic = 0; ic < n_in_chunks; ++ic) {
@@ -234,13 +249,8 @@ static void emit_network_diff_c(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_a
   const sf_mlp_shape *s = &net->shape;
   int widest = 1;
   for (int l = 0; l <= s->n_layers; ++l) widest = s->sizes[l] > widest ? s->sizes[l] : widest;
-  sf_cw_emit(w, "  static const float p[%d] = {", net->n_params);
-  for (int i = 0; i < net->n_params; ++i) {
-    if (i % 4 == 0) sf_cw_emit(w, "\n      ");
-    sf_cw_emit(w, "%F", (double)net->params[i]);
-    if (i + 1 < net->n_params) sf_cw_raw(w, i % 4 == 3 ? "," : ", ");
-  }
-  sf_cw_emit(w, "};\n  float ua[%d], ub[%d], ud[%d], va[%d], vb[%d], vd[%d];\n", widest, widest, widest, widest,
+  emit_params_c(w, net);
+  sf_cw_emit(w, "  float ua[%d], ub[%d], ud[%d], va[%d], vb[%d], vd[%d];\n", widest, widest, widest, widest,
              widest, widest);
   for (int k = 0; k < s->sizes[0]; ++k)
     sf_cw_emit(w, "  ua[%d] = xa%d;\n  ub[%d] = xb%d;\n  ud[%d] = dx%d;\n", k, k, k, k, k, k);
@@ -348,22 +358,7 @@ static void emit_network_diff_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_ml
     for (int oc = 0, row0 = 0; oc < n_out_chunks; row0 += out_sizes[oc++]) {
       int R = out_sizes[oc];
       glsl_type(R, type, sizeof type);
-      sf_cw_emit(w, "  const %s b%d_%d = %s(", type, l, oc, type);
-      for (int i = 0; i < R; ++i) sf_cw_emit(w, i ? ", %F" : "%F", (double)b[row0 + i]);
-      sf_cw_emit(w, ");\n");
-      for (int ic = 0, col0 = 0; ic < n_in_chunks; col0 += in_sizes[ic++]) {
-        int C = in_sizes[ic];
-        char block[16];
-        if (R > 1 && C > 1) {
-          if (R == C) snprintf(block, sizeof block, "mat%d", C);
-          else snprintf(block, sizeof block, "mat%dx%d", C, R);
-        } else glsl_type(R > 1 ? R : C, block, sizeof block);
-        sf_cw_emit(w, "  const %s W%d_%d_%d = %s(", block, l, oc, ic, block);
-        for (int j = 0; j < C; ++j)
-          for (int i = 0; i < R; ++i)
-            sf_cw_emit(w, (i || j) ? ", %F" : "%F", (double)W[(row0 + i) * n_in + col0 + j]);
-        sf_cw_emit(w, ");\n");
-      }
+      emit_piece_constants_glsl(w, l, oc, R, row0, W, b, n_in, in_sizes, n_in_chunks);
       /* za, zb as the forward pass sums them; dz without the bias */
       for (int side = 0; side < 3; ++side) {
         char sum[2048];
