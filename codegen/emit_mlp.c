@@ -115,6 +115,25 @@ void sf_mlp_code_piece_constants_glsl(sf_code_writer *w, int l, int oc, int R, i
   }
 }
 
+void sf_mlp_code_piece_sum_glsl(char *sum, size_t size, int l, int oc, int R, const int *in_sizes, int n_in_chunks,
+                                const char *input, int with_bias) {
+  int k = with_bias ? snprintf(sum, size, "b%d_%d", l, oc) : 0;
+  if (!with_bias) sum[0] = '\0';
+  for (int ic = 0; ic < n_in_chunks; ++ic) {
+    const char *plus = k ? " + " : "";
+    if (R == 1 && in_sizes[ic] > 1)
+      k += snprintf(sum + k, size - (size_t)k, "%sdot(W%d_%d_%d, %s%d_%d)", plus, l, oc, ic, input, l, ic);
+    else
+      k += snprintf(sum + k, size - (size_t)k, "%sW%d_%d_%d * %s%d_%d", plus, l, oc, ic, input, l, ic);
+  }
+}
+
+void sf_mlp_code_outputs_set(sf_mlp_code_outputs *o, const int *sizes, int n_chunks, int last) {
+  o->n_chunks = n_chunks;
+  memcpy(o->sizes, sizes, sizeof o->sizes);
+  o->last = last;
+}
+
 static void emit_network_c(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act) {
   const sf_mlp_shape *s = &net->shape;
   int widest = 1;
@@ -163,14 +182,7 @@ static void emit_network_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_act
       sf_mlp_code_glsl_type(R, type, sizeof type);
       sf_mlp_code_piece_constants_glsl(w, l, oc, R, row0, W, b, n_in, in_sizes, n_in_chunks);
       char sum[2048];
-      int k = snprintf(sum, sizeof sum, "b%d_%d", l, oc);
-      for (int ic = 0; ic < n_in_chunks; ++ic) {
-        int C = in_sizes[ic];
-        if (R == 1 && C > 1)
-          k += snprintf(sum + k, sizeof sum - (size_t)k, " + dot(W%d_%d_%d, a%d_%d)", l, oc, ic, l, ic);
-        else
-          k += snprintf(sum + k, sizeof sum - (size_t)k, " + W%d_%d_%d * a%d_%d", l, oc, ic, l, ic);
-      }
+      sf_mlp_code_piece_sum_glsl(sum, sizeof sum, l, oc, R, in_sizes, n_in_chunks, "a", 1);
       sf_cw_emit(w, "  %s a%d_%d = ", type, l + 1, oc);
       char wrapped[2100];
       snprintf(wrapped, sizeof wrapped, "(%s)", sum);
@@ -181,9 +193,7 @@ static void emit_network_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_act
     n_in_chunks = n_out_chunks;
     offset += n_out * (n_in + 1);
   }
-  o->n_chunks = n_in_chunks;
-  memcpy(o->sizes, in_sizes, sizeof o->sizes);
-  o->last = s->n_layers;
+  sf_mlp_code_outputs_set(o, in_sizes, n_in_chunks, s->n_layers);
 }
 
 static void emit_network(sf_code_writer *w, const sf_mlp_f *net, sf_mlp_activation out_act, int out_by,

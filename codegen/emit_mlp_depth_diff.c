@@ -167,17 +167,9 @@ static void emit_network_diff_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_ml
       sf_mlp_code_piece_constants_glsl(w, l, oc, R, row0, W, b, n_in, in_sizes, n_in_chunks);
       /* za, zb as the forward pass sums them; dz without the bias */
       for (int side = 0; side < 3; ++side) {
-        char sum[2048];
-        int k = side < 2 ? snprintf(sum, sizeof sum, "b%d_%d", l, oc) : 0;
-        for (int ic = 0; ic < n_in_chunks; ++ic) {
-          const char *plus = k ? " + " : "";
-          if (R == 1 && in_sizes[ic] > 1)
-            k += snprintf(sum + k, sizeof sum - (size_t)k, "%sdot(W%d_%d_%d, u%s%d_%d)", plus, l, oc, ic, sides[side],
-                          l, ic);
-          else
-            k += snprintf(sum + k, sizeof sum - (size_t)k, "%sW%d_%d_%d * u%s%d_%d", plus, l, oc, ic, sides[side], l,
-                          ic);
-        }
+        char sum[2048], input[4];
+        snprintf(input, sizeof input, "u%s", sides[side]);
+        sf_mlp_code_piece_sum_glsl(sum, sizeof sum, l, oc, R, in_sizes, n_in_chunks, input, side < 2);
         sf_cw_emit(w, "  %s z%s%d_%d = (%s);\n", type, sides[side], l, oc, sum);
       }
       char za[32], zb[32], dz[32], va[32], vb[32], ea[32];
@@ -237,9 +229,7 @@ static void emit_network_diff_glsl(sf_code_writer *w, const sf_mlp_f *net, sf_ml
     n_in_chunks = n_out_chunks;
     offset += n_out * (n_in + 1);
   }
-  o->n_chunks = n_in_chunks;
-  memcpy(o->sizes, in_sizes, sizeof o->sizes);
-  o->last = s->n_layers;
+  sf_mlp_code_outputs_set(o, in_sizes, n_in_chunks, s->n_layers);
 }
 
 /* x_a - x_b of skyfit_mlp_transmittance_inputs from the differences of

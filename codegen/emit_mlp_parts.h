@@ -40,4 +40,13 @@ void sf_mlp_code_params_c(sf_code_writer *w, const sf_mlp_f *net);
 void sf_mlp_code_piece_constants_glsl(sf_code_writer *w, int l, int oc, int R, int row0, const float *W,
                                       const float *b, int n_in, const int *in_sizes, int n_in_chunks);
 
+/* GLSL: the sum of layer l's output piece oc (R rows) into sum: "b{l}_{oc}"
+ * when with_bias, then per input piece "dot(W{l}_{oc}_{ic}, {input}{l}_{ic})"
+ * (one output row, several inputs) or "W{l}_{oc}_{ic} * {input}{l}_{ic}",
+ * joined by " + ". */
+void sf_mlp_code_piece_sum_glsl(char *sum, size_t size, int l, int oc, int R, const int *in_sizes, int n_in_chunks,
+                                const char *input, int with_bias);
+/* o = the last layer's pieces: sizes[0 .. n_chunks - 1], layer `last`. */
+void sf_mlp_code_outputs_set(sf_mlp_code_outputs *o, const int *sizes, int n_chunks, int last);
+
 #endif

@@ -361,6 +361,18 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
   return status;
 }
 
+void sf_report_mean_rel_note(const sf_report_model *m, char *buf, size_t n) {
+  buf[0] = '\0';
+  const sf_error_metrics *e = &m->errors;
+  if (!m->has_errors || e->n_values == 0 || !(e->mean_rel_floor_share > SF_METRICS_FLOOR_SHARE_NOTE)) return;
+  snprintf(buf, n,
+           "%s's mean rel (%.3g) is mostly near-zero references: %.0f %% of its values have a reference below the "
+           "floor (1e-3 of the reference's RMS) and make %.0f %% of it, a small absolute error there being a large "
+           "relative one; its rel RMSE (%.3g) is the figure to compare.",
+           m->candidate->name, e->mean_rel, 100.0 * (double)e->n_below_floor / (double)e->n_values,
+           100.0 * e->mean_rel_floor_share, e->rel_rmse);
+}
+
 void sf_report_free(sf_report *rep) {
   free(rep->models);
   rep->models = NULL;

@@ -14,18 +14,6 @@ static void num(FILE *f, double v) {
   else fputs("-", f);
 }
 
-void sf_report_mean_rel_note(const sf_report_model *m, char *buf, size_t n) {
-  buf[0] = '\0';
-  const sf_error_metrics *e = &m->errors;
-  if (!m->has_errors || e->n_values == 0 || !(e->mean_rel_floor_share > SF_METRICS_FLOOR_SHARE_NOTE)) return;
-  snprintf(buf, n,
-           "%s's mean rel (%.3g) is mostly near-zero references: %.0f %% of its values have a reference below the "
-           "floor (1e-3 of the reference's RMS) and make %.0f %% of it, a small absolute error there being a large "
-           "relative one; its rel RMSE (%.3g) is the figure to compare.",
-           m->candidate->name, e->mean_rel, 100.0 * (double)e->n_below_floor / (double)e->n_values,
-           100.0 * e->mean_rel_floor_share, e->rel_rmse);
-}
-
 static void write_md(FILE *f, const sf_report *rep) {
   fprintf(f, "# skyfit fit-quality report: %s\n\n", rep->scene_name);
   fprintf(f, "Atmosphere **%s** (hash %s), %d channels. Domain: h %.4g..%.4g km, mu %.4g..%.4g, mu_s %.4g..%.4g. "

@@ -39,8 +39,6 @@
 #define POINTS_PER_CLASS 20000
 #define ENVELOPE_ULP 4
 
-static char dir[256];
-
 /* The default atmosphere with every coefficient x1e3 ("base": "default"
  * keeps the rest: radii, densities, phases). */
 static int write_dense_atmosphere(const char *path) {
@@ -137,7 +135,7 @@ static void sweep(const sf_mlp_sky *m, const sf_atmosphere *atm, eval_fn eval, i
 int main(void) {
   const char *bin = getenv("SKYFIT_BIN");
   if (!bin) bin = "./skyfit";
-  snprintf(dir, sizeof dir, "/tmp/skyfit_mlp_dense_XXXXXX");
+  char dir[] = "/tmp/skyfit_mlp_dense_XXXXXX";
   if (!mkdtemp(dir)) return 1;
   char atm_path[512], w_path[512], cmd[2048], driver[512], so[512];
   snprintf(atm_path, sizeof atm_path, "%s/dense.json", dir);
