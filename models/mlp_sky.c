@@ -53,11 +53,11 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define NET_FORWARD net_forward_d
 #define NET_FORWARD_GROUND net_forward_ground_d
 #define RAY_SEGMENT sf_ray_atmosphere_segment
-#define RAY_HITS sf_ray_hits_sphere_from_above
 #define RAY_RADIUS_AT sf_ray_radius_at
 #define RAY_ALTITUDE_AT sf_ray_altitude_at
-#define RAY_INTERSECT sf_ray_sphere_intersections
 #define RAY_DISC sf_ray_sphere_discriminant
+#define RAY_INTERSECT sf_ray_sphere_intersections
+#define SPHERE_FROM_ALTITUDES 0
 #define OFFSET offset
 #define SCALE scale
 #define NORM_COEF coef
@@ -74,11 +74,11 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef NET_FORWARD
 #undef NET_FORWARD_GROUND
 #undef RAY_SEGMENT
-#undef RAY_HITS
 #undef RAY_RADIUS_AT
 #undef RAY_ALTITUDE_AT
-#undef RAY_INTERSECT
 #undef RAY_DISC
+#undef RAY_INTERSECT
+#undef SPHERE_FROM_ALTITUDES
 #undef OFFSET
 #undef SCALE
 #undef NORM_COEF
@@ -95,11 +95,11 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define NET_FORWARD net_forward_f
 #define NET_FORWARD_GROUND net_forward_ground_f
 #define RAY_SEGMENT sf_ray_atmosphere_segment_f
-#define RAY_HITS sf_ray_hits_sphere_from_above_f
 #define RAY_RADIUS_AT sf_ray_radius_at_f
 #define RAY_ALTITUDE_AT sf_ray_altitude_at_f
-#define RAY_INTERSECT sf_ray_sphere_intersections_f
 #define RAY_DISC sf_ray_sphere_discriminant_f
+#define RAY_INTERSECT sf_ray_sphere_intersections_f
+#define SPHERE_FROM_ALTITUDES 1   /* as the emitted code */
 #define OFFSET offset_f
 #define SCALE scale_f
 #define NORM_COEF coef_f

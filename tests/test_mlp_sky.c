@@ -221,6 +221,52 @@ static void test_shipped_segments(const sf_atmosphere *atm) {
   sf_mlp_sky_free(&t);
 }
 
+/* A viewer a fraction of a millimetre above the ground, whose ray runs just
+ * above its horizon (mu half the horizon cosine, -5.6e-6 at 0.1 mm): the
+ * float32 port decides the ground hit from its altitude, as the double
+ * model and the emitted code do, not from r = R + h, which float32 rounds
+ * to R there (the ray had ended on the ground: blue T 1 against the
+ * double's 5e-5). A ray at twice the horizon cosine meets the ground in
+ * both (1.1e-3 off before, from the distance to it), and so does a
+ * segment longer than the way there. */
+static void test_sub_millimetre_viewers(const sf_atmosphere *atm) {
+  const char *src = getenv("SKYFIT_SOURCE_DIR");
+  char path[1024];
+  snprintf(path, sizeof path, "%s/weights/default/mlp-transmittance.json", src ? src : ".");
+  sf_mlp_sky t;
+  sf_error err = {0};
+  if (!CHECK(sf_mlp_sky_load(path, &t, &err) == SF_OK)) {
+    printf("%s\n", err.message);
+    return;
+  }
+  const double R = atm->bottom_radius_km, heights[3] = {1e-7, 3e-7, 1e-6};
+  double worst_sky = 0.0, worst_ground = 0.0, worst_seg = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double h = heights[i], mu_h = sf_horizon_mu(R + h, R);
+    for (int side = 0; side < 2; ++side) {
+      double mu = side == 0 ? 0.5 * mu_h : 2.0 * mu_h, d = 1000.0;
+      double T[3], Ts[3];
+      float Tf[3], Tsf[3];
+      sf_mlp_transmittance(&t, h, mu, T);
+      sf_mlp_transmittance_f(&t, (float)h, (float)mu, Tf);
+      sf_mlp_transmittance_segment(&t, h, mu, d, Ts);
+      sf_mlp_transmittance_segment_f(&t, (float)h, (float)mu, (float)d, Tsf);
+      for (int c = 0; c < 3; ++c) {
+        double e = fabs((double)Tf[c] - T[c]);
+        if (side == 0) worst_sky = worst_of(worst_sky, e);
+        else worst_ground = worst_of(worst_ground, e);
+        worst_seg = worst_of(worst_seg, fabs((double)Tsf[c] - Ts[c]));
+      }
+    }
+  }
+  printf("viewers 0.1-1 mm up, rays beside their horizon: float32 vs double |T| %.3g above it, %.3g below, "
+         "segments %.3g\n", worst_sky, worst_ground, worst_seg);
+  CHECK_ABS(worst_sky, 0.0, 1e-4);
+  CHECK_ABS(worst_ground, 0.0, 1e-4);
+  CHECK_ABS(worst_seg, 0.0, 1e-4);
+  sf_mlp_sky_free(&t);
+}
+
 int main(void) {
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
@@ -379,5 +425,6 @@ int main(void) {
   }
   test_horizon_split(&atm);
   test_shipped_segments(&atm);
+  test_sub_millimetre_viewers(&atm);
   return check_summary();
 }
