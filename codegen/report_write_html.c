@@ -7,6 +7,7 @@
 
 #include "codegen/html_escape.h"
 #include "codegen/report.h"
+#include "util/path_from_folder.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
 
@@ -214,7 +215,9 @@ static void write_page(FILE *f, const sf_report *rep) {
                "with weights %.1f, %.1f, %.1f, %.1f nm (weights file <code>",
             sp->lambda_nm[0], sp->lambda_nm[1], sp->lambda_nm[2], sp->lambda_nm[3], sp->weight_nm[0],
             sp->weight_nm[1], sp->weight_nm[2], sp->weight_nm[3]);
-    esc(f, sp->weights_path);
+    char shown[4096];
+    sf_path_from_folder(rep->out_dir, sp->weights_path, shown, sizeof shown);
+    esc(f, shown);
     fputs("</code>). Colour error against the full spectrum (360&ndash;830 nm), &Delta;E2000 after exposure and "
           "tone mapping.</p>\n<table><tr><th>method</th><th>atmosphere</th><th>mean &Delta;E</th><th>p99 &Delta;E</th>"
           "<th>max &Delta;E</th><th>samples</th></tr>\n", f);

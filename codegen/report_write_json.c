@@ -8,6 +8,7 @@
 #include <cjson/cJSON.h>
 
 #include "codegen/report.h"
+#include "util/path_from_folder.h"
 #include "util/json_exact.h"
 
 static void add_number(cJSON *o, const char *key, double v) {
@@ -26,7 +27,11 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
   add_number(o, "parameters", (double)c->n_params);
   add_number(o, "constant_bytes", (double)c->constant_bytes);
   cJSON_AddBoolToObject(o, "valid_over_domain", m->valid_over_domain);
-  if (c->weights_path[0]) cJSON_AddStringToObject(o, "weights", c->weights_path);
+  if (c->weights_path[0]) {
+    char shown[4096];   /* from the report's folder, as every path it holds */
+    sf_path_from_folder(rep->out_dir, c->weights_path, shown, sizeof shown);
+    cJSON_AddStringToObject(o, "weights", shown);
+  }
   if (m->has_errors) {
     cJSON *e = cJSON_AddObjectToObject(o, "errors");
     add_number(e, "rmse", m->errors.rmse);
@@ -161,7 +166,9 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
     cJSON *o = cJSON_AddObjectToObject(root, "spectral4");
-    cJSON_AddStringToObject(o, "weights", sp->weights_path);
+    char shown[4096];
+    sf_path_from_folder(rep->out_dir, sp->weights_path, shown, sizeof shown);
+    cJSON_AddStringToObject(o, "weights", shown);
     cJSON *l = cJSON_AddArrayToObject(o, "wavelengths_nm"), *w = cJSON_AddArrayToObject(o, "weights_nm");
     for (int i = 0; i < 4; ++i) {
       cJSON_AddItemToArray(l, cJSON_CreateNumber(isfinite(sp->lambda_nm[i]) ? sp->lambda_nm[i] : 0.0));

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "codegen/report.h"
+#include "util/path_from_folder.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
 #include "util/make_folders.h"
@@ -144,12 +145,14 @@ static void write_md(FILE *f, const sf_report *rep) {
   if (rep->notes[0]) fprintf(f, "\n## Notes from the build\n\n%s", rep->notes);
   if (rep->spectral4.present) {
     const sf_report_spectral4 *sp = &rep->spectral4;
+    char shown[4096];
+    sf_path_from_folder(rep->out_dir, sp->weights_path, shown, sizeof shown);
     fprintf(f, "\n## Colour: 4 wavelengths (seed 003 §5.4)\n\nFitted wavelengths %.1f, %.1f, %.1f, %.1f nm with "
                "weights %.1f, %.1f, %.1f, %.1f nm (weights file %s). Colour error against the full spectrum "
                "(360-830 nm), ΔE2000 after exposure and tone mapping:\n\n| method | atmosphere | mean ΔE | p99 ΔE | "
                "max ΔE | samples |\n|---|---|---:|---:|---:|---:|\n",
             sp->lambda_nm[0], sp->lambda_nm[1], sp->lambda_nm[2], sp->lambda_nm[3], sp->weight_nm[0],
-            sp->weight_nm[1], sp->weight_nm[2], sp->weight_nm[3], sp->weights_path);
+            sp->weight_nm[1], sp->weight_nm[2], sp->weight_nm[3], shown);
     for (int a = 0; a < 2; ++a)
       for (int k = 0; k < SF_REPORT_COLOR_METHODS; ++k) {
         fprintf(f, "| %s | %s | ", sp->method[k], a ? "with aerosols" : "without aerosols (fitted)");

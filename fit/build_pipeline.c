@@ -509,12 +509,12 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   snprintf(rep.notes, sizeof rep.notes, "%s", notes->text);
   free(notes);
   if (status == SF_OK && o->emit) status = emit_selection(&rep, scene, o, res, &headers, err);
-  weights_paths_final(&stage, &list, &rep.spectral4);
   res->seconds_report = sf_wall_seconds() - t_fit - seconds_restarts;
   res->cpu_seconds_report = sf_cpu_seconds() - c_fit - cpu_seconds_restarts;
   res->seconds_total = sf_wall_seconds() - t_start;
   rep.seconds_total = res->seconds_total;
-  if (status == SF_OK) status = sf_report_write_all(&rep, err);
+  if (status == SF_OK) status = sf_report_write_all(&rep, err);   /* weights named from its folder */
+  weights_paths_final(&stage, &list, &rep.spectral4);
   /* Everything written: the headers and the staged outputs into place
    * together; otherwise none of them, the previous outputs untouched. */
   if (status == SF_OK) status = sf_build_staging_check(&stage, err);

@@ -668,6 +668,11 @@ t, s = sel["transmittance"]["model"], sel["sky_radiance"]["model"]
 assert s == "mlp-scattering" and t != "mlp-transmittance", f"FAIL the scene should select the sky network and another transmittance model: {t}, {s}"
 paths = [sel[q][k] for q in sel for k in ("c_header", "glsl")]
 assert paths == ["sky.h", "sky.glsl"] * 2, f"FAIL the report's header paths, from its folder: {paths}"
+# the weights files too (they had been named from where skyfit ran)
+import os
+weights = [m["weights"] for m in json.load(open(f"{d}/metrics.json"))["models"] if "weights" in m]
+assert weights and all(w.startswith("weights/") and os.path.isfile(f"{d}/{w}") for w in weights), \
+    f"FAIL the report's weights paths, from its folder: {weights}"
 for f in ("sky.h", "sky.glsl"):
     text = open(f"{d}/{f}").read()
     assert "skyfit_sky_radiance_segment(" in text, f"FAIL {f}: no skyfit_sky_radiance_segment with {t} selected"

@@ -61,6 +61,13 @@ int main(void) {
   CHECK(gives("out", "elsewhere/sky.h", want));
   snprintf(want, sizeof want, "%s/out/sky.h", real_root);   /* above the folder: absolute too */
   CHECK(gives("out/include", "out/sky.h", want));
+  /* spelled below the folder: the rest, whether or not its folders exist
+   * yet (a build's report names weights files still in its staging
+   * folder); "x/../" is not taken as below */
+  CHECK(gives("staged", "staged/weights/sigmoid.json", "weights/sigmoid.json"));
+  CHECK(gives("out/", "out/weights/sigmoid.json", "weights/sigmoid.json"));
+  snprintf(want, sizeof want, "%s/sky.h", real_root);
+  CHECK(gives("out", "out/../sky.h", want));
   /* a folder that does not exist: the path as given, -1 */
   char out[64];
   CHECK(sf_path_from_folder("out", "missing/sky.h", out, sizeof out) == -1 && strcmp(out, "missing/sky.h") == 0);

@@ -9,6 +9,16 @@
 int sf_path_from_folder(const char *folder, const char *path, char *out, size_t n) {
   int w = snprintf(out, n, "%s", path);
   if (w < 0 || (size_t)w >= n) return -1;
+  /* Spelled below the folder ("out/weights/x.json" from "out"): the rest,
+   * whether or not its folders exist yet (a build's report names weights
+   * files still in its staging folder). */
+  size_t nf = strlen(folder);
+  while (nf > 1 && folder[nf - 1] == '/') --nf;
+  if (nf > 0 && strncmp(path, folder, nf) == 0 && path[nf] == '/' && path[nf + 1] != '\0' &&
+      strstr(path + nf, "/../") == NULL) {
+    snprintf(out, n, "%s", path + nf + 1);
+    return 0;
+  }
   char base[PATH_MAX], dir[PATH_MAX], parent[PATH_MAX];
   const char *slash = strrchr(path, '/');
   const char *name = slash ? slash + 1 : path;

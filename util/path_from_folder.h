@@ -8,10 +8,11 @@
 #include <stddef.h>
 
 /* Writes to out (n bytes) path relative to folder when path lies in folder
- * or below it ("sky.h", "include/sky.h"), else its absolute path. Links
- * are resolved in folder and in path's folder, both of which must exist;
- * the file itself need not. Returns 0, or -1 (out holds path as given)
- * when a folder cannot be resolved or the result does not fit. */
+ * or below it ("sky.h", "include/sky.h"), else its absolute path. A path
+ * spelled as folder/rest gives rest as it stands; otherwise links are
+ * resolved in folder and in path's folder, both of which must exist; the
+ * file itself need not. Returns 0, or -1 (out holds path as given) when a
+ * folder cannot be resolved or the result does not fit. */
 int sf_path_from_folder(const char *folder, const char *path, char *out, size_t n);
 
 #endif
