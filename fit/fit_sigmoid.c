@@ -105,20 +105,31 @@ static void horizon_visit(void *ctx, double h, double mu) {
   full_ray_error(j->atm, j->model, h, mu, j->rep, NULL, NULL, NULL);
 }
 
-/* The to-top grid (fit_sigmoid.h): only rays with mu >= 0 are asked for. */
-static void top_grid(const sf_scene_domain *dom, double h0, double h1, int n_h, int n_mu, double *h,
-                     double *mu, sf_sigmoid_fit_report *rep) {
+/* The to-top grid (fit_sigmoid.h): only rays with mu >= 0 are asked for.
+ * Its region holds every point where the model evaluates T_top for the
+ * domain's rays, segments included: a segment's end (eq. 43 forward, on
+ * a ray that misses the ground) lies anywhere up to the top, looking up
+ * at up to the ray's exit cosine (largest from the lowest viewer, r_lo).
+ * Fitted on the domain's altitudes alone, the segments had extrapolated
+ * the fit: a flight scene's (0-15 km) ozone came out with a2 < 0, T_top
+ * falling with altitude, and a longer segment of a ray was up to 0.12
+ * more transparent than a shorter one. */
+static void top_grid(const sf_scene_domain *dom, double h0, double bottom_radius, double top_radius,
+                     int n_h, int n_mu, double *h, double *mu, sf_sigmoid_fit_report *rep) {
   int down = dom->mu_min < 0.0;
-  double h_lo = down ? 0.0 : h0;
+  double h_lo = down ? 0.0 : h0, h_hi = top_radius - bottom_radius;
   double lo = down ? 0.0 : dom->mu_min;
   double hi = down ? fmin(1.0, fmax(dom->mu_max, -dom->mu_min)) : dom->mu_max;
+  /* the exit cosine at the top, sqrt(1 - (r/Rt)^2 (1 - hi^2)), without cancelling */
+  double r_lo = bottom_radius + h_lo;
+  if (hi < 1.0) hi = fmin(1.0, sqrt((top_radius - r_lo) * (top_radius + r_lo) + (r_lo * hi) * (r_lo * hi)) / top_radius);
   rep->fit_h_min_km = h_lo;
-  rep->fit_h_max_km = h1;
+  rep->fit_h_max_km = h_hi;
   rep->fit_mu_min = lo;
   rep->fit_mu_max = hi;
   for (int i = 0; i < n_h; ++i)
     for (int j = 0; j < n_mu; ++j) {
-      h[i * n_mu + j] = h_lo + (h1 - h_lo) * i / (n_h - 1);
+      h[i * n_mu + j] = h_lo + (h_hi - h_lo) * i / (n_h - 1);
       mu[i * n_mu + j] = lo + (hi - lo) * j / (n_mu - 1);
     }
 }
@@ -149,7 +160,8 @@ int sf_fit_sigmoid(const sf_atmosphere *atm, const sf_scene_domain *domain,
   int status = (h && mu && depth && t && model_total && ref_total)
                    ? SF_OK
                    : sf_fail(err, SF_ERR_INTERNAL, "out of memory for the sigmoid fit");
-  if (status == SF_OK) top_grid(domain, h0, h1, o->n_h, o->n_mu, h, mu, rep);
+  if (status == SF_OK)
+    top_grid(domain, h0, atm->bottom_radius_km, atm->top_radius_km, o->n_h, o->n_mu, h, mu, rep);
   for (int i = 0; status == SF_OK && i < o->n_h; ++i) {
     for (int j = 0; j < o->n_mu; ++j) {
       int p = i * o->n_mu + j;

@@ -5,12 +5,16 @@
  * on the rays the full-ray rule (models/sigmoid_transmittance.h: rays
  * looking down are reversed, eq. 43 and the tangent-point split) asks for,
  * which all look up or horizontally:
- *   h in [h_lo, h1]: h1 the domain's top (at most the atmosphere's);
- *     h_lo = 0 when the domain has rays looking down (their ground points
- *     and tangent points go down to 0), else the domain's h_min;
+ *   h in [h_lo, H]: H the atmosphere's top, where the domain's segments
+ *     end (eq. 43 forward takes T_top at a segment's end, anywhere along
+ *     a ray that leaves through the top); h_lo = 0 when the domain has
+ *     rays looking down (their ground points and tangent points go down
+ *     to 0), else the domain's h_min;
  *   mu in [lo, hi]: with rays looking down lo = 0, hi = max(mu_max,
  *     -mu_min) (the reversed viewer ray looks along -mu); else the
- *     domain's [mu_min, mu_max].
+ *     domain's [mu_min, mu_max]; hi then raised to the cosine at which a
+ *     ray from h_lo along hi leaves the top (a scene's domains have
+ *     hi = 1 already).
  * Reference: the exact per-constituent optical depth (models/optical_depth.h)
  * of each to-top ray, T_ck = exp(-extinction_ck depth_c), on an n_h x n_mu
  * grid (end points included).

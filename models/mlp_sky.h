@@ -86,7 +86,12 @@
  *       S = S(h, mu, mu_s, nu) - T(viewer -> d) * S(h_d, mu_d, mu_s_d, nu)
  *     with T the transmittance segment above (reversed rays when the ray
  *     hits the ground, as the seed notes, or the segment ends before the
- *     line's closest point), clamped at 0.
+ *     line's closest point), clamped at 0. A segment reaching the top's
+ *     exit is the full ray S(h, mu, mu_s, nu): the network's radiance of
+ *     the empty ray there is not 0, so the segment steps by T S(exit) as
+ *     its end reaches the exit (median 5.8e-5, at most 1.2e-3 for
+ *     weights/default; README, limitations): the network's error, which
+ *     continuity would move onto every segment past the top instead.
  * Multiply by the atmosphere's sun irradiance per channel. */
 #ifndef SKYFIT_MODELS_MLP_SKY_H
 #define SKYFIT_MODELS_MLP_SKY_H

@@ -29,7 +29,12 @@
  *   exact difference of the two expanded altitudes, so short pieces keep
  *   their relative precision.
  * With a in [0, 1] the expanded altitude increases on [t_min, t_max]
- * (its vertex lies at t <= 0), so every piece is >= 0. */
+ * (its vertex lies at t <= 0), so every piece is >= 0.
+ * Near the horizon the published formula itself fails (README, limitations):
+ * on a line grazing the ground tau_b lies ~509 km out and h~(t_min) is
+ * -(1 - a) tau_b^2 / (2d) ~ -11 km, so the Mie column comes out 1.6e3-5e3x
+ * and the Rayleigh column 1.4-2.2x the exact one; T ~ 0 where the reference
+ * has 0.655 (10 m up). That is eq. 17 with a = b = 0.45, kept as published. */
 #ifndef SKYFIT_MODELS_OPTICAL_DEPTH_TAYLOR_H
 #define SKYFIT_MODELS_OPTICAL_DEPTH_TAYLOR_H
 
