@@ -186,21 +186,25 @@ static void test_horizon_split(const sf_atmosphere *atm) {
   sf_mlp_sky_free(&ground_only);
 }
 
+/* weights/default's transmittance network; 0 (a failed check) if unreadable */
+static int load_shipped_transmittance(sf_mlp_sky *t) {
+  const char *src = getenv("SKYFIT_SOURCE_DIR");
+  char path[1024];
+  snprintf(path, sizeof path, "%s/weights/default/mlp-transmittance.json", src ? src : ".");
+  sf_error err = {0};
+  if (CHECK(sf_mlp_sky_load(path, t, &err) == SF_OK)) return 1;
+  printf("%s\n", err.message);
+  return 0;
+}
+
 /* The shipped transmittance network (weights/default) against the exact
  * optical depth along a ray from 88 km that passes 3 km above the ground:
  * its segments ending before the closest point are two rays up, reversed.
  * Forward, both rays of the ratio passed the closest point and the
  * network's errors on them did not cancel: 0.21 off in blue at 337 km. */
 static void test_shipped_segments(const sf_atmosphere *atm) {
-  const char *src = getenv("SKYFIT_SOURCE_DIR");
-  char path[1024];
-  snprintf(path, sizeof path, "%s/weights/default/mlp-transmittance.json", src ? src : ".");
   sf_mlp_sky t;
-  sf_error err = {0};
-  if (!CHECK(sf_mlp_sky_load(path, &t, &err) == SF_OK)) {
-    printf("%s\n", err.message);
-    return;
-  }
+  if (!load_shipped_transmittance(&t)) return;
   const double h = 88.0, mu = -0.16455, R = atm->bottom_radius_km, r = R + h;
   double t_enter, t_exit, worst = 0.0, worst_t = 0.0;
   int ground;
@@ -230,15 +234,8 @@ static void test_shipped_segments(const sf_atmosphere *atm) {
  * both (1.1e-3 off before, from the distance to it), and so does a
  * segment longer than the way there. */
 static void test_sub_millimetre_viewers(const sf_atmosphere *atm) {
-  const char *src = getenv("SKYFIT_SOURCE_DIR");
-  char path[1024];
-  snprintf(path, sizeof path, "%s/weights/default/mlp-transmittance.json", src ? src : ".");
   sf_mlp_sky t;
-  sf_error err = {0};
-  if (!CHECK(sf_mlp_sky_load(path, &t, &err) == SF_OK)) {
-    printf("%s\n", err.message);
-    return;
-  }
+  if (!load_shipped_transmittance(&t)) return;
   const double R = atm->bottom_radius_km, heights[3] = {1e-7, 3e-7, 1e-6};
   double worst_sky = 0.0, worst_ground = 0.0, worst_seg = 0.0;
   for (int i = 0; i < 3; ++i) {
