@@ -620,8 +620,11 @@ static void ray_opacity(const multiple_run *m, double h, double mu, int hits_gro
 
 static int make_directions(multiple_run *m, sf_error *err) {
   const sf_atmosphere *atm = m->atm;
-  sf_gauss_rule up, down;
-  sf_gauss_rule_init(&up, SF_DENSITY_DIRS_UP);
+  /* above the horizon two Gauss panels (data/precompute_multiple.h): the
+   * band just over the horizon, then the rest of the sky */
+  sf_gauss_rule band, sky, down;
+  sf_gauss_rule_init(&band, SF_DENSITY_DIRS_HORIZON);
+  sf_gauss_rule_init(&sky, SF_DENSITY_DIRS_UP - SF_DENSITY_DIRS_HORIZON);
   sf_gauss_rule_init(&down, SF_DENSITY_DIRS_DOWN);
   m->dirs = calloc((size_t)m->n_h, sizeof *m->dirs);
   if (!m->dirs) return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the scattering directions");
@@ -636,9 +639,14 @@ static int make_directions(multiple_run *m, sf_error *err) {
     sf_params_scattering_coord(&m->pi, pos, &c);
     double r = atm->bottom_radius_km + c.h;
     double mu_h = sf_horizon_mu(r, atm->bottom_radius_km);
+    double mu_band = mu_h + SF_DENSITY_HORIZON_BAND;   /* < 1: mu_h <= 0 */
     for (int q = 0; q < SF_DENSITY_DIRS_UP; ++q) {
-      ds->mu[q] = mu_h + (1.0 - mu_h) * up.x[q];
-      ds->weight[q] = (1.0 - mu_h) * up.w[q] * dphi;
+      int in_band = q < SF_DENSITY_DIRS_HORIZON;
+      double lo = in_band ? mu_h : mu_band, span = in_band ? mu_band - mu_h : 1.0 - mu_band;
+      const sf_gauss_rule *rule = in_band ? &band : &sky;
+      int k = in_band ? q : q - SF_DENSITY_DIRS_HORIZON;
+      ds->mu[q] = lo + span * rule->x[k];
+      ds->weight[q] = span * rule->w[k] * dphi;
       ray_opacity(m, c.h, ds->mu[q], 0, ds->opacity + (size_t)q * m->nch);
     }
     for (int q = 0; q < SF_DENSITY_DIRS_DOWN; ++q) {
