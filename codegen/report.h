@@ -21,7 +21,18 @@
  *    channel), the mean ΔE2000 of the colours the PNGs show (sky: exposure
  *    and tone map 1 - exp(-x); transmittance: as is; CIELAB:
  *    models/color_space.h, models/ciede2000.h), a PNG and an EXR map of
- *    |model - reference| per channel.
+ *    |model - reference| per channel;
+ *  - the segment errors of the models that have a segment function
+ *    (sf_candidate eval_segment: seed 000 eq. 43, 44), the part of a ray a
+ *    renderer's aerial perspective asks for: on `domain_samples` seeded
+ *    segments of in-domain rays (fit/segment_samples.h: the end uniform
+ *    along the ray's stretch in the air) against the reference's segment
+ *    (transmittance: exp(-extinction x the exact optical depth of the
+ *    segment); sky radiance: eq. 44 from the tables, L(viewer) - T(viewer
+ *    -> end) L(end)), in double as the whole rays are measured
+ *    (codegen/report_segments.c). They do not enter the selection; where
+ *    a selected model's is far worse than its whole rays', the report
+ *    says so (sf_report_segment_note).
  * Selecting (sf_report_select): per quantity, among the candidates that may
  * ship (baselines and fitted models) and that are valid over the whole
  * domain, the cheapest (median ns) whose budget metric — transmittance:
@@ -72,6 +83,14 @@ typedef struct sf_report_model {
    * scene's), so its figures say how good it is where it applies. */
   int errors_over_valid_part;
   sf_scene_domain errors_domain;
+  /* Its segment function's errors (above); has_segment_errors 0: it has
+   * none, or no segment was measured. Over errors_domain, as the whole
+   * rays. segment_partner: the transmittance model a sky model's segment
+   * took (eq. 44), or NULL. */
+  int has_segment_errors;
+  sf_error_metrics segment_errors;
+  size_t segment_non_finite;
+  const sf_candidate *segment_partner;
   int has_cost;
   sf_cost cost;
   double cost_ratio_naive16;       /* ns / naive16's ns at the same precision */
@@ -165,6 +184,27 @@ void sf_report_select(sf_report *rep, const sf_scene *scene);
  * words (one sentence, plain text, no newline), for report.md and
  * report.html; "" otherwise. */
 void sf_report_mean_rel_note(const sf_report_model *m, char *buf, size_t n);
+
+/* A selected model's segment budget metric (transmittance: RMSE; sky
+ * radiance: relative RMSE) over this many times its whole rays' is far
+ * worse, and the report says so. */
+#define SF_REPORT_SEGMENT_NOTE_RATIO 3.0
+
+/* Measures the segment errors of quantity q's models (above) for an
+ * atmosphere of the given radii; called by sf_report_evaluate after the
+ * whole rays' errors (codegen/report_segments.c). */
+int sf_report_measure_segments(sf_report *rep, const sf_candidate_list *list, sf_candidate_quantity q,
+                               double bottom_radius_km, double top_radius_km, const sf_report_options *opt,
+                               sf_error *err);
+
+/* What the segment columns are (one sentence, plain text, no newline),
+ * for quantity q's table in report.md and report.html; "" when no model of
+ * q has segment errors. */
+void sf_report_segment_text(const sf_report *rep, int q, char *buf, size_t n);
+/* Where quantity q's selected model's segments are far worse than its
+ * whole rays (SF_REPORT_SEGMENT_NOTE_RATIO), that in words (one sentence,
+ * plain text, no newline); "" otherwise. */
+void sf_report_segment_note(const sf_report *rep, int q, char *buf, size_t n);
 
 /* The reference check in words (one paragraph, plain text, no newline),
  * for report.md and report.html; "" when it is not present. */

@@ -345,6 +345,13 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
   int status = SF_OK;
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q)
     if (rep->reference[q] >= 0) status = measure_errors(rep, list, (sf_candidate_quantity)q, opt, err);
+  /* after every quantity's whole rays: a sky model's segment takes the
+   * transmittance model of the smallest whole-ray error */
+  for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q) {
+    progress(opt, "errors (segments)", (double)q / SF_CANDIDATE_N_QUANTITIES);
+    status = sf_report_measure_segments(rep, list, (sf_candidate_quantity)q, scene->atmosphere.bottom_radius_km,
+                                        scene->atmosphere.top_radius_km, opt, err);
+  }
   if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
   if (status == SF_OK && opt->render_views) {
     /* The pictures are linear sRGB: an atmosphere of wavelengths (even 3

@@ -22,7 +22,7 @@ static void num(FILE *f, double v) {
 static void model_table(FILE *f, const sf_report *rep, int q) {
   fputs("<table><tr><th>model</th><th>role</th><th>parameters</th><th>constant bytes</th><th>ns / eval</th>"
         "<th>precision</th><th>&times; naive-16</th><th>RMSE</th><th>max abs</th><th>mean rel</th><th>rel RMSE</th>"
-        "<th>budget</th></tr>\n", f);
+        "<th>seg RMSE</th><th>seg max</th><th>budget</th></tr>\n", f);
   for (int i = 0; i < rep->n_models; ++i) {
     const sf_report_model *m = &rep->models[i];
     const sf_candidate *c = m->candidate;
@@ -47,11 +47,13 @@ static void model_table(FILE *f, const sf_report *rep, int q) {
       fputs("</td><td>", f); num(f, m->errors.max_abs);
       fputs("</td><td>", f); num(f, m->errors.mean_rel);
       fputs("</td><td>", f); num(f, m->errors.rel_rmse);
+      fputs("</td><td>", f); num(f, m->has_segment_errors ? m->segment_errors.rmse : NAN);
+      fputs("</td><td>", f); num(f, m->has_segment_errors ? m->segment_errors.max_abs : NAN);
       fprintf(f, "</td><td>%s</td>", !rep->selection[q].asked ? "not asked"
                                       : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                       : m->meets_budget ? "meets" : "misses");
     } else {
-      fputs("<td colspan=\"5\">reference</td>", f);
+      fputs("<td colspan=\"7\">reference</td>", f);
     }
     fputs("</tr>\n", f);
   }
@@ -73,6 +75,19 @@ static void model_table(FILE *f, const sf_report *rep, int q) {
     fputs("<p class=\"note\">", f);
     esc(f, note);
     fputs("</p>\n", f);
+  }
+  char text[2048];
+  sf_report_segment_text(rep, q, text, sizeof text);
+  if (text[0]) {
+    fputs("<p class=\"note\">", f);
+    esc(f, text);
+    fputs("</p>\n", f);
+  }
+  sf_report_segment_note(rep, q, text, sizeof text);
+  if (text[0]) {
+    fputs("<p><b>", f);
+    esc(f, text);
+    fputs("</b></p>\n", f);
   }
 }
 

@@ -46,6 +46,16 @@ static cJSON *model_json(const sf_report *rep, const sf_report_model *m) {
     add_number(e, "values", (double)m->errors.n_values);
     add_number(e, "non_finite_values", (double)m->non_finite);
     cJSON_AddStringToObject(e, "over", m->errors_over_valid_part ? "its valid part of the domain" : "the domain");
+    /* the segment function's (codegen/report.h); absent: it has none */
+    if (m->has_segment_errors) {
+      add_number(e, "segment_rmse", m->segment_errors.rmse);
+      add_number(e, "segment_max_abs", m->segment_errors.max_abs);
+      add_number(e, "segment_rel_rmse", m->segment_errors.rel_rmse);
+      add_number(e, "segment_reference_rms", m->segment_errors.reference_rms);
+      add_number(e, "segment_values", (double)m->segment_errors.n_values);
+      add_number(e, "segment_non_finite_values", (double)m->segment_non_finite);
+      if (m->segment_partner) cJSON_AddStringToObject(e, "segment_transmittance", m->segment_partner->name);
+    }
     if (m->errors_over_valid_part) {
       cJSON *d = cJSON_AddObjectToObject(e, "domain");
       add_number(d, "h_min_km", m->errors_domain.h_min_km);
@@ -135,6 +145,9 @@ int sf_report_write_json(const sf_report *rep, const char *path, sf_error *err) 
     if (s->emitted_c[0]) cJSON_AddStringToObject(j, "c_header", s->emitted_c);
     if (s->emitted_glsl[0]) cJSON_AddStringToObject(j, "glsl", s->emitted_glsl);
     if (s->emit_note[0]) cJSON_AddStringToObject(j, "emit_note", s->emit_note);
+    char segment_note[1024];
+    sf_report_segment_note(rep, q, segment_note, sizeof segment_note);
+    if (segment_note[0]) cJSON_AddStringToObject(j, "segment_note", segment_note);
   }
   if (rep->views_note[0]) cJSON_AddStringToObject(root, "views_note", rep->views_note);
   if (rep->notes[0]) cJSON_AddStringToObject(root, "notes", rep->notes);

@@ -40,7 +40,8 @@ static void write_md(FILE *f, const sf_report *rep) {
     if (rep->reference[q] < 0) continue;
     fprintf(f, "\n## %s\n\n", q == SF_CANDIDATE_TRANSMITTANCE ? "Transmittance" : "Sky radiance");
     fputs("| model | role | parameters | constant bytes | ns/eval | precision | x naive-16 | RMSE | max abs | mean rel | "
-          "rel RMSE | budget |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|\n", f);
+          "rel RMSE | seg RMSE | seg max | budget |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n",
+          f);
     for (int i = 0; i < rep->n_models; ++i) {
       const sf_report_model *m = &rep->models[i];
       const sf_candidate *c = m->candidate;
@@ -59,12 +60,14 @@ static void write_md(FILE *f, const sf_report *rep) {
         num(f, m->errors.rmse); fputs(" | ", f);
         num(f, m->errors.max_abs); fputs(" | ", f);
         num(f, m->errors.mean_rel); fputs(" | ", f);
-        num(f, m->errors.rel_rmse);
+        num(f, m->errors.rel_rmse); fputs(" | ", f);
+        num(f, m->has_segment_errors ? m->segment_errors.rmse : NAN); fputs(" | ", f);
+        num(f, m->has_segment_errors ? m->segment_errors.max_abs : NAN);
         fprintf(f, " | %s |\n", !rep->selection[q].asked ? "not asked"
                                 : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                 : m->meets_budget ? "meets" : "misses");
       } else {
-        fputs("reference | | | | |\n", f);
+        fputs("reference | | | | | | |\n", f);
       }
     }
     int on_front = 0;
@@ -92,6 +95,13 @@ static void write_md(FILE *f, const sf_report *rep) {
       if ((int)rep->models[i].candidate->quantity != q) continue;
       sf_report_mean_rel_note(&rep->models[i], note, sizeof note);
       if (note[0]) fprintf(f, "\n%s\n", note);
+    }
+    {
+      char text[2048];
+      sf_report_segment_text(rep, q, text, sizeof text);
+      if (text[0]) fprintf(f, "\n%s\n", text);
+      sf_report_segment_note(rep, q, text, sizeof text);
+      if (text[0]) fprintf(f, "\n**%s**\n", text);
     }
     if (q == SF_CANDIDATE_SKY_RADIANCE && rep->reference_check.present) {
       char text[2048];

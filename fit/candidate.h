@@ -83,6 +83,21 @@ typedef struct sf_candidate {
   char weights_path[4096];
   sf_candidate_eval_fn eval;             /* required */
   sf_candidate_eval_f32_fn eval_f32;     /* NULL: timed through eval, in double */
+  /* The model's segment, as its emitted skyfit_<emit_name>_<quantity>_segment
+   * computes it (seed 000 eq. 43 for transmittance, eq. 44 for sky
+   * radiance), in double as eval: in = the quantity's inputs, then t_km,
+   * the distance from the viewer where the segment ends (a viewer above the
+   * top counts it from itself, as the emitted code does); the report's
+   * segment errors (codegen/report.h). NULL: whole rays only. */
+  sf_candidate_eval_fn eval_segment;
+  /* A sky model whose segment takes a transmittance model's (eq. 44: the
+   * sky network's takes the transmittance network's): that transmittance
+   * candidate's ctx second; segment_transmittance is its emit_name (the
+   * report pairs it with the fitted transmittance of that name with the
+   * smallest whole-ray RMSE, the one the build emits beside it,
+   * fit/build_pipeline.c). NULL: none (eval_segment, if any, stands alone). */
+  void (*eval_segment_paired)(const void *ctx, const void *transmittance_ctx, const double *in, double *out);
+  char segment_transmittance[48];
   void *ctx;
   void (*free_ctx)(void *ctx);           /* NULL: ctx is not owned */
 } sf_candidate;

@@ -15,6 +15,7 @@
 #include "models/optical_depth_spline.h"
 #include "models/optical_depth_taylor.h"
 #include "models/ray_geometry.h"
+#include "models/single_scattering.h"
 #include "models/view_ray.h"
 
 /* ---- reference transmittance: exact optical depth ---- */
@@ -23,6 +24,24 @@ static void reference_transmittance_eval(const void *ctx, const double *in, doub
   const sf_atmosphere *atm = ctx;
   double depth[SF_MAX_CONSTITUENTS];
   sf_optical_depth_ray(atm, in[0], in[1], SF_RAY_END_NEAREST, depth);
+  sf_transmittance_from_depth(atm, depth, out);
+}
+
+/* The segment from the viewer to distance in[2] (models/view_ray.h: a
+ * viewer above the top from where its ray enters), the reference of the
+ * models' segment functions: exp(-extinction x the exact optical depth of
+ * the segment). NaN where the segment would pass below the ground. */
+static void reference_transmittance_segment(const void *ctx, const double *in, double *out) {
+  const sf_atmosphere *atm = ctx;
+  double depth[SF_MAX_CONSTITUENTS] = {0}, mu_s;
+  sf_view_ray ray;
+  const char *why = NULL;
+  if (sf_view_ray_make_at_entry(atm, in[0], in[1], 1.0, in[1], SF_RAY_END_NEAREST, fmax(in[2], 0.0), &ray, &mu_s,
+                                &why) != 0) {
+    for (int k = 0; k < atm->n_channels; ++k) out[k] = NAN;
+    return;
+  }
+  if (ray.t1 > ray.t0) sf_optical_depth_segment(atm, ray.r, ray.mu, ray.t0, ray.t1, depth);
   sf_transmittance_from_depth(atm, depth, out);
 }
 
@@ -35,6 +54,7 @@ int sf_candidate_reference_transmittance(const sf_atmosphere *atm, sf_candidate 
            "the density kinks (models/optical_depth.h), T = exp(-sum beta_e tau).");
   out->n_channels = atm->n_channels;
   out->eval = reference_transmittance_eval;
+  out->eval_segment = reference_transmittance_segment;
   out->ctx = (void *)atm;
   return SF_OK;
 }
@@ -50,6 +70,47 @@ static void table_radiance_eval(const void *ctx, const double *in, double *out) 
   sf_sky_sample s;
   sf_sky_lookup(sky, in[0], in[1], in[2], in[3], &s);
   memcpy(out, s.radiance, sizeof(double) * (size_t)sky->atm->n_channels);
+}
+
+/* The sky's segment from the viewer to distance in[4], eq. 44 from the
+ * tables: L(viewer) - T(viewer -> end) L(end), with T from the exact optical
+ * depth of the segment and L(end) the tables' at the end looking on along
+ * the ray (the same ray: its sun cosine moved with it); a segment that
+ * reaches the ray's end (the ground or the top) is the whole ray, L(end)
+ * being 0 there. The reference of the sky models' segment functions.
+ * Not clamped at 0: the tables' own eq. 44. */
+static void table_radiance_segment(const void *ctx, const double *in, double *out) {
+  const sf_sky_tables *sky = ctx;
+  const sf_atmosphere *atm = sky->atm;
+  int n = atm->n_channels;
+  double mu = fmax(-1.0, fmin(1.0, in[1])), mu_s = fmax(-1.0, fmin(1.0, in[2]));
+  double nu = sf_clamp_nu(mu, mu_s, in[3]), d = fmax(in[4], 0.0);
+  sf_sky_sample whole;
+  sf_sky_lookup(sky, in[0], mu, mu_s, nu, &whole);
+  for (int k = 0; k < n; ++k) out[k] = 0.0;
+  sf_view_ray ray, full;
+  double mu_s_e;
+  const char *why = NULL;
+  if (sf_view_ray_make_at_entry(atm, in[0], mu, mu_s, nu, SF_RAY_END_NEAREST, d, &ray, &mu_s_e, &why) != 0 ||
+      sf_view_ray_make_at_entry(atm, in[0], mu, mu_s, nu, SF_RAY_END_NEAREST, -1.0, &full, &mu_s_e, &why) != 0) {
+    for (int k = 0; k < n; ++k) out[k] = NAN;
+    return;
+  }
+  if (!(ray.t1 > ray.t0)) return;   /* no air on the segment */
+  if (ray.t1 >= full.t1) {          /* the whole ray */
+    memcpy(out, whole.radiance, sizeof(double) * (size_t)n);
+    return;
+  }
+  double depth[SF_MAX_CONSTITUENTS] = {0}, T[SF_MAX_CHANNELS];
+  sf_optical_depth_segment(atm, ray.r, ray.mu, ray.t0, ray.t1, depth);
+  sf_transmittance_from_depth(atm, depth, T);
+  double r_d = sf_ray_radius_at(ray.r, ray.mu, ray.t1);
+  double h_d = fmax(sf_ray_altitude_at(atm->bottom_radius_km, ray.r - atm->bottom_radius_km, ray.mu, ray.t1), 0.0);
+  double mu_d = fmax(-1.0, fmin(1.0, (ray.r * ray.mu + ray.t1) / r_d));
+  double mu_s_d = fmax(-1.0, fmin(1.0, (ray.r * mu_s_e + ray.t1 * nu) / r_d));
+  sf_sky_sample end;
+  sf_sky_lookup(sky, h_d, mu_d, mu_s_d, nu, &end);
+  for (int k = 0; k < n; ++k) out[k] = whole.radiance[k] - T[k] * end.radiance[k];
 }
 
 static long table_floats(const sf_table *t) {
@@ -89,6 +150,7 @@ int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out,
   out->n_params = floats;
   out->constant_bytes = floats * 4;
   out->eval = table_radiance_eval;
+  out->eval_segment = table_radiance_segment;
   out->ctx = (void *)sky;
   return SF_OK;
 }
@@ -143,18 +205,27 @@ static void baseline_depth(const baseline_ctx *b, const sf_view_ray *ray, double
                                      ray->mu, ray->t0, ray->t1);
 }
 
-static void baseline_eval(const void *ctx, const double *in, double *out) {
-  const baseline_ctx *b = ctx;
+/* The ray to distance (< 0: its end). */
+static void baseline_between(const baseline_ctx *b, double h_km, double mu, double distance, double *out) {
   sf_view_ray ray;
   const char *why = NULL;
   double depth[SF_MAX_CONSTITUENTS] = {0}, mu_s_entry;
   /* a viewer above the top from where its ray enters, as the emitted code
    * (codegen/baselines.c) */
-  if (sf_view_ray_make_at_entry(b->atm, in[0], in[1], 1.0, in[1], SF_RAY_END_NEAREST, -1.0, &ray, &mu_s_entry,
+  if (sf_view_ray_make_at_entry(b->atm, h_km, mu, 1.0, mu, SF_RAY_END_NEAREST, distance, &ray, &mu_s_entry,
                                 &why) == 0 &&
       ray.t1 > ray.t0)
     baseline_depth(b, &ray, depth);
   sf_transmittance_from_depth(b->atm, depth, out);
+}
+
+static void baseline_eval(const void *ctx, const double *in, double *out) {
+  baseline_between(ctx, in[0], in[1], -1.0, out);
+}
+
+/* skyfit_<name>_transmittance_segment: the same model on [0, t_km]. */
+static void baseline_segment(const void *ctx, const double *in, double *out) {
+  baseline_between(ctx, in[0], in[1], fmax(in[2], 0.0), out);
 }
 
 /* Not models/emitted_float.h's sf_density_f_at: this is the report's cost
@@ -313,6 +384,7 @@ int sf_candidate_transmittance_baseline(const sf_atmosphere *atm, sf_transmittan
   out->n_params = baseline_constants(atm, b);
   out->constant_bytes = 4 * out->n_params;
   out->eval = baseline_eval;
+  out->eval_segment = baseline_segment;
   out->eval_f32 = NULL;
   if (atm->n_channels <= 4 && kind == SF_TB_NAIVE) out->eval_f32 = naive_eval_f32;
   static const int analytic_kind[] = {-1, SF_BASELINE_F_CHAPMAN, SF_BASELINE_F_TAYLOR, SF_BASELINE_F_FLAT, -1};

@@ -49,6 +49,14 @@ static void mlp_s_eval_f32(const void *ctx, size_t n, const float *in, float *ou
     sf_mlp_scattering_f(m, x[0], x[1], x[2], x[3], out + (size_t)m->n_channels * p);
   }
 }
+/* The segment functions in double (models/mlp_sky.h, eq. 43 and 44; the
+ * sky's with the transmittance network it is emitted beside). */
+static void mlp_t_segment(const void *ctx, const double *in, double *out) {
+  sf_mlp_transmittance_segment(ctx, in[0], in[1], in[2], out);
+}
+static void mlp_s_segment(const void *ctx, const void *transmittance_ctx, const double *in, double *out) {
+  sf_mlp_scattering_segment(ctx, transmittance_ctx, in[0], in[1], in[2], in[3], in[4], out);
+}
 static void free_mlp(void *ctx) {
   sf_mlp_sky_free(ctx);
   free(ctx);
@@ -407,6 +415,12 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
     in->note(in->note_ctx, text);
   }
   out->eval = job->scattering ? mlp_s_eval : mlp_t_eval;
+  if (job->scattering) {
+    out->eval_segment_paired = mlp_s_segment;
+    snprintf(out->segment_transmittance, sizeof out->segment_transmittance, "mlp");
+  } else {
+    out->eval_segment = mlp_t_segment;
+  }
   out->eval_f32 = job->scattering ? mlp_s_eval_f32 : mlp_t_eval_f32;
   out->ctx = m;
   out->free_ctx = free_mlp;

@@ -38,6 +38,11 @@ static void sigmoid_eval(const void *ctx, const double *in, double *out) {
   sf_sigmoid_model_eval(&((const sigmoid_ctx *)ctx)->model, in[0], in[1], out);
 }
 
+/* skyfit_sigmoid_transmittance_segment in double (eq. 43). */
+static void sigmoid_segment(const void *ctx, const double *in, double *out) {
+  sf_sigmoid_model_eval_segment(&((const sigmoid_ctx *)ctx)->model, in[0], in[1], in[2], out);
+}
+
 /* log T_top per channel in float32: sum_c -softplus(-x) (seed 000 §9.5). */
 static void log_top_f(const sigmoid_ctx *s, float h, float mu, float *out) {
   for (int k = 0; k < s->n_channels; ++k) {
@@ -166,6 +171,7 @@ int sf_candidate_make_sigmoid(const sf_candidate_inputs *in, sf_candidate *out, 
   out->emit = emit;
   out->emit_model = &s->emitted;
   out->eval = sigmoid_eval;
+  out->eval_segment = sigmoid_segment;
   out->eval_f32 = sigmoid_eval_f32;
   out->ctx = s;
   out->free_ctx = free;

@@ -16,6 +16,10 @@ cat "$tmp/stdout"
 grep -q "report: $tmp/out/report.html" "$tmp/stdout" || { echo "FAIL last lines do not name the report"; fail=1; }
 grep -q "transmittance: chose" "$tmp/stdout" || { echo "FAIL no transmittance choice printed"; fail=1; }
 for f in report.html report.md metrics.json; do [ -s "$tmp/out/$f" ] || { echo "FAIL missing $f"; fail=1; }; done
+for f in report.html report.md; do   # the segment columns and the sentence that says what they are
+  grep -q "seg RMSE" "$tmp/out/$f" && grep -q "transmittance_segment, seed 000 eq. 43" "$tmp/out/$f" ||
+    { echo "FAIL $f: no segment errors"; fail=1; }
+done
 n_png=$(ls "$tmp/out/views/"*.png | wc -l); n_exr=$(ls "$tmp/out/views/"*-error.exr | wc -l)
 echo "views: $n_png PNG, $n_exr EXR error maps"
 [ "$n_png" -ge 12 ] && [ "$n_exr" -ge 5 ] || { echo "FAIL too few view files"; fail=1; }
@@ -88,6 +92,21 @@ by = {m["name"]: m for m in doc["models"]}
 for want in ("naive16", "chapman", "taylor", "flat", "spline", "preetham-published", "hosek-published"):
     assert want in names and by[want]["role"] == "baseline", f"FAIL baseline {want}: {names}"
     assert want.endswith("-published") or by[want]["cost"]["over"] == "the domain", by[want]["cost"]
+# Segments (codegen/report.h): every model with a segment function (the
+# transmittance baselines, the sigmoid, the networks) has its segment
+# errors over the samples' rays; the lookup and the whole-ray skies have none.
+samples = doc["options"]["domain_samples"]
+for name, m in by.items():
+    has = "segment_rmse" in m.get("errors", {})
+    want = name in ("naive16", "chapman", "taylor", "flat", "spline", "sigmoid", "mlp-transmittance", "mlp-scattering")
+    assert has == want, f"FAIL {name}: segment errors {'present' if has else 'missing'}"
+    if has:
+        e = m["errors"]
+        assert 0 <= e["segment_rmse"] <= e["segment_max_abs"] and e["segment_non_finite_values"] == 0, e
+        assert e["segment_values"] == samples * doc["channels"], e
+assert by["mlp-scattering"]["errors"]["segment_transmittance"] == "mlp-transmittance", by["mlp-scattering"]["errors"]
+print("segments: " + ", ".join(f"{n} {m['errors']['segment_rmse']:.3g}" for n, m in by.items()
+                               if "segment_rmse" in m.get("errors", {})))
 for form in ("preetham", "hosek"):
     ours, theirs = by[form]["errors"]["rmse"], by[form + "-published"]["errors"]["rmse"]
     assert ours < theirs, f"FAIL {form}: ours {ours} against the published {theirs}"
