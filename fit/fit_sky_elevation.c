@@ -28,6 +28,7 @@ void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form f
   o->n_theta = 16;
   o->n_phi = 24;
   sf_sky_fit_options_default(&o->lsq);
+  o->elevation_fit_max_iterations = SF_SKY_ELEVATION_FIT_MAX_ITERATIONS;
 }
 
 /* sf_lsq_gram_fn over blocks [0] coefficient control points [6][nc], [1]
@@ -396,6 +397,8 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     /* Global starts: the curve through the per-elevation fits, and constant
      * curves holding one elevation's coefficients (finite everywhere, where
      * the first can swing far off between the elevations it passes). */
+    sf_lsq_options lsq = o->lsq;
+    lsq.max_iterations = o->elevation_fit_max_iterations;
     double best_cost = INFINITY;
     double best_P[MAX_PARAMS], best_Q[SF_BEZIER_POINTS];
     int best_start = -1;
@@ -412,7 +415,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         if (o->form == SF_SKY_FORM_PEREZ) Q[j] = scale_j;
       }
       sf_lsq_summary sum;
-      int rc = global_fit(&bezier, &o->lsq, P, Q, &sum, err);
+      int rc = global_fit(&bezier, &lsq, P, Q, &sum, err);
       if (rc > 0) status = rc;
       if (status != SF_OK) break;
       if (rc == SF_OK && sum.final_cost < best_cost) {
@@ -423,6 +426,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         rep->global_initial_cost_channel[k] = sum.initial_cost;
         rep->global_iterations_channel[k] = sum.iterations;
         rep->global_at_cap_channel[k] = sum.termination == SF_LSQ_NO_CONVERGENCE;
+        rep->global_termination_channel[k] = sum.termination;
       }
     }
     sf_sky_bezier_gram_free(&bezier);
@@ -434,7 +438,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
     rep->global_final_cost += best_cost;
     rep->global_iterations += rep->global_iterations_channel[k];
     rep->global_channels_at_cap += rep->global_at_cap_channel[k];
-    rep->global_max_iterations = o->lsq.max_iterations;
+    rep->global_max_iterations = lsq.max_iterations;
     for (int j = 0; j < SF_BEZIER_POINTS; ++j) {
       for (int i = 0; i < nc; ++i) out->coefficients[k][j][i] = best_P[j * nc + i];
       out->scale[k][j] = best_Q[j];

@@ -52,6 +52,20 @@
 #define SF_SKY_MAX_ELEVATIONS SF_SKY_BEZIER_MAX_ELEVATIONS
 #define SF_SKY_MAX_STARTS 4
 
+/* Step 3's iteration cap. Where a control point's best value lies on its
+ * bound (Hosek's H at 0.999, Perez's B at 0), Ceres' Levenberg-Marquardt
+ * step leaves the box and is clipped back onto it, so a step gains a fixed
+ * fraction rho of what its model predicts (0.23 and 0.08 on the default
+ * tables) and every successful step shrinks the trust region by
+ * 1 / max(1/3, 1 - (2 rho - 1)^3) (1.16, 1.59): the cost falls
+ * geometrically until |d cost| / cost < function_tolerance. At 200 the
+ * default tables' Preetham b and Hosek g stopped in that tail, 18 and 39
+ * steps short of convergence (their costs 1e-10 and 3.5e-5 relative above
+ * the converged ones); the full-range tables' Hosek r and g needed 359 and
+ * 743 (g's curve through the per-elevation fits then won: cost 7.96 ->
+ * 7.63). 5000 gave the same fits on both. */
+#define SF_SKY_ELEVATION_FIT_MAX_ITERATIONS 1000
+
 typedef struct sf_sky_elevation_options {
   sf_sky_form form;
   double elevation_min_rad, elevation_max_rad;
@@ -61,7 +75,9 @@ typedef struct sf_sky_elevation_options {
                                 on random suns, green at 80 deg; 0.0022 with 19,
                                 on the tables of the time) */
   int n_theta, n_phi;        /* view grid per elevation; default 16 x 24 */
-  sf_lsq_options lsq;
+  sf_lsq_options lsq;         /* steps 2 and 3 */
+  int elevation_fit_max_iterations;   /* step 3's cap, in place of lsq's
+                                (SF_SKY_ELEVATION_FIT_MAX_ITERATIONS) */
   void (*progress)(void *ctx, const char *stage, double fraction);
   void *progress_ctx;
 } sf_sky_elevation_options;
@@ -89,8 +105,10 @@ typedef struct sf_sky_elevation_report {
   double global_initial_cost_channel[SF_MAX_CHANNELS];
   int global_iterations_channel[SF_MAX_CHANNELS];
   /* the kept start's fit stopped without converging (Ceres'
-   * NO_CONVERGENCE: at lsq.max_iterations, in practice; a usable result) */
+   * NO_CONVERGENCE: at elevation_fit_max_iterations, in practice; a usable
+   * result), and how it stopped (a kept start is never SF_LSQ_FAILURE) */
   int global_at_cap_channel[SF_MAX_CHANNELS];
+  sf_lsq_termination global_termination_channel[SF_MAX_CHANNELS];
   int global_channels_at_cap, global_max_iterations;
   /* which start of the elevation fit won: 0 the curve through the
    * per-elevation fits, 1..3 constant curves from elevations n/4, n/2, 3n/4 */

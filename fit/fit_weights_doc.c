@@ -131,7 +131,7 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
   cJSON_AddStringToObject(tr, "solver", o->lsq.normal_equations
                                             ? "ceres levenberg-marquardt, dense normal cholesky (gram), 1 thread"
                                             : "ceres levenberg-marquardt, dense qr, 1 thread");
-  cJSON_AddNumberToObject(tr, "max_iterations", o->lsq.max_iterations);
+  cJSON_AddNumberToObject(tr, "max_iterations", o->elevation_fit_max_iterations);
   cJSON *cap = cJSON_AddArrayToObject(tr, "elevation_fit_at_iteration_cap");
   for (int k = 0; k < rep->n_channels; ++k)
     if (rep->global_at_cap_channel[k]) cJSON_AddItemToArray(cap, cJSON_CreateString(atm->channel_names[k]));

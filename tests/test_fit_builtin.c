@@ -245,17 +245,17 @@ int main(void) {
      * at the cap are those whose iterations reached it. */
     int at_cap = 0;
     for (int k = 0; k < rep->n_channels; ++k) {
-      CHECK(rep->global_at_cap_channel[k] == (rep->global_iterations_channel[k] >= o.lsq.max_iterations));
+      CHECK(rep->global_at_cap_channel[k] == (rep->global_iterations_channel[k] >= o.elevation_fit_max_iterations));
       at_cap += rep->global_at_cap_channel[k];
     }
-    CHECK(rep->global_channels_at_cap == at_cap && rep->global_max_iterations == o.lsq.max_iterations);
+    CHECK(rep->global_channels_at_cap == at_cap && rep->global_max_iterations == o.elevation_fit_max_iterations);
     sf_sky_elevation_options capped = o;
-    capped.lsq.max_iterations = 3;
+    capped.elevation_fit_max_iterations = 3;
     sf_sky_elevation_report *rep3 = malloc(sizeof *rep3);
     sf_elevation_sky_model *m3 = malloc(sizeof *m3);
     CHECK(sf_fit_sky_elevation(&sky, &capped, ds, m3, rep3, &err) == SF_OK);
     printf("hosek refit: %d of %d channels at the %d-iteration cap; capped at 3: %d (iterations %d %d %d)\n", at_cap,
-           rep->n_channels, o.lsq.max_iterations, rep3->global_channels_at_cap, rep3->global_iterations_channel[0],
+           rep->n_channels, o.elevation_fit_max_iterations, rep3->global_channels_at_cap, rep3->global_iterations_channel[0],
            rep3->global_iterations_channel[1], rep3->global_iterations_channel[2]);
     CHECK(rep3->global_channels_at_cap == rep3->n_channels && rep3->global_max_iterations == 3);
     free(rep3);
