@@ -1,14 +1,18 @@
 /* The fit across sun elevations (fit/fit_sky_elevation.h, step 3) runs to
  * Ceres' convergence where the former 200-iteration cap stopped it in the
  * geometric tail of a fit with a control point on its bound
- * (SF_SKY_ELEVATION_FIT_MAX_ITERATIONS): Hosek, 16 suns, a 12 x 16 view
- * grid, on small tables (2 orders). At 200 iterations a channel stops with
- * NO_CONVERGENCE; at the default cap every channel converges, and the
- * objective (1/2 sum over suns, views and channels of the residual divided
- * by the sun's RMS reference radiance, step 1) is recomputed here from the
- * fitted model's radiance, not from the solver's Gram matrices: it must
- * equal the reported one and be at or below the capped fit's, as must the
- * RMSE and the held-out RMSE. */
+ * (SF_SKY_ELEVATION_FIT_MAX_ITERATIONS): Hosek with the default options
+ * (19 suns, 16 x 24 views) on small tables (2 orders). At 200 iterations
+ * a channel stops with NO_CONVERGENCE (red needs 624 here); at the default
+ * cap every channel converges, and the objective (1/2 sum over suns, views
+ * and channels of the residual divided by the sun's RMS reference radiance,
+ * step 1) is recomputed here from the fitted model's radiance, not from the
+ * solver's Gram matrices: it must equal the reported one and be at or
+ * below the capped fit's. The RMSE and held-out RMSE are printed, not
+ * held: the objective weighs each sun by its RMS radiance and they do not,
+ * so a lower objective may cost them a little (a scan of small-table
+ * configurations found one with RMSE +0.1 %; on the default tables Hosek's
+ * RMSE went 0.000974 -> 0.000965). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -63,9 +67,6 @@ int main(void) {
 
   sf_sky_elevation_options o, capped;
   sf_sky_elevation_options_default(&o, SF_SKY_FORM_HOSEK);
-  o.n_elevations = 16;
-  o.n_theta = 12;
-  o.n_phi = 16;
   capped = o;
   capped.elevation_fit_max_iterations = 200;
   CHECK(o.elevation_fit_max_iterations == SF_SKY_ELEVATION_FIT_MAX_ITERATIONS);
@@ -97,8 +98,6 @@ int main(void) {
   CHECK_REL(cost, rep->global_final_cost, 1e-9);
   CHECK_REL(cost_c, rep_c->global_final_cost, 1e-9);
   CHECK(cost <= cost_c);
-  CHECK(rep->rmse <= rep_c->rmse);
-  CHECK(rep->held_out_rmse <= rep_c->held_out_rmse);
 
   sf_table_set_free(&set);
   free(atm);
