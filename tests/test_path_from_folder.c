@@ -66,6 +66,11 @@ int main(void) {
    * folder); "x/../" is not taken as below */
   CHECK(gives("staged", "staged/weights/sigmoid.json", "weights/sigmoid.json"));
   CHECK(gives("out/", "out/weights/sigmoid.json", "weights/sigmoid.json"));
+  /* --out with a trailing slash: the build spells its files OUT + "/sky.h",
+   * "out//sky.h" (relative, not "/sky.h"), "."'s ".//sky.h" */
+  CHECK(gives("out/", "out//sky.h", "sky.h"));
+  CHECK(gives("./", ".//out/sky.h", "out/sky.h"));
+  CHECK(gives("out", "out//.staging.1/weights/x.json", ".staging.1/weights/x.json"));
   snprintf(want, sizeof want, "%s/sky.h", real_root);
   CHECK(gives("out", "out/../sky.h", want));
   /* a folder that does not exist: the path as given, -1 */

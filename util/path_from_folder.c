@@ -11,13 +11,17 @@ int sf_path_from_folder(const char *folder, const char *path, char *out, size_t 
   if (w < 0 || (size_t)w >= n) return -1;
   /* Spelled below the folder ("out/weights/x.json" from "out"): the rest,
    * whether or not its folders exist yet (a build's report names weights
-   * files still in its staging folder). */
+   * files still in its staging folder). Every slash after the folder goes:
+   * "--out out/" spells its files "out//sky.h", whose rest is not "/sky.h". */
   size_t nf = strlen(folder);
   while (nf > 1 && folder[nf - 1] == '/') --nf;
-  if (nf > 0 && strncmp(path, folder, nf) == 0 && path[nf] == '/' && path[nf + 1] != '\0' &&
-      strstr(path + nf, "/../") == NULL) {
-    snprintf(out, n, "%s", path + nf + 1);
-    return 0;
+  if (nf > 0 && strncmp(path, folder, nf) == 0 && path[nf] == '/') {
+    const char *rest = path + nf;
+    while (*rest == '/') ++rest;
+    if (*rest != '\0' && strstr(path + nf, "/../") == NULL) {
+      snprintf(out, n, "%s", rest);
+      return 0;
+    }
   }
   char base[PATH_MAX], dir[PATH_MAX], parent[PATH_MAX];
   const char *slash = strrchr(path, '/');
