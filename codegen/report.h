@@ -201,6 +201,16 @@ int sf_report_measure_segments(sf_report *rep, const sf_candidate_list *list, sf
  * for quantity q's table in report.md and report.html; "" when no model of
  * q has segment errors. */
 void sf_report_segment_text(const sf_report *rep, int q, char *buf, size_t n);
+/* The fitted, emittable transmittance model of emit name emit_name ("mlp")
+ * with the smallest whole-ray RMSE (one with errors before one without;
+ * restarts included), or -1: the network a build emits beside a sky
+ * network that was not selected with it, for eq. 44's segments
+ * (fit/build_pipeline.c), and the one the report's sky segments take. A
+ * selected transmittance network is usually that one too (restarts cost
+ * the same up to timing noise, and the selection takes the most accurate
+ * within SF_REPORT_COST_TIE); where it is not, the report's sky segments
+ * were measured with another network than the header's. */
+int sf_report_transmittance_partner(const sf_report *rep, const char *emit_name);
 /* Where quantity q's selected model's segments are far worse than its
  * whole rays (SF_REPORT_SEGMENT_NOTE_RATIO), that in words (one sentence,
  * plain text, no newline); "" otherwise. */

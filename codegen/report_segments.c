@@ -21,28 +21,35 @@ static void paired_eval(const void *ctx, const double *in, double *out) {
   p->model->eval_segment_paired(p->model->ctx, p->transmittance->ctx, in, out);
 }
 
-/* The transmittance model a sky model's segment takes: the fitted one of
- * its segment_transmittance emit name with the smallest whole-ray RMSE (the
- * one the build emits beside it, fit/build_pipeline.c), or NULL. */
-static const sf_candidate *partner_of(const sf_report *rep, const sf_candidate *c) {
-  const sf_report_model *best = NULL;
+int sf_report_transmittance_partner(const sf_report *rep, const char *emit_name) {
+  int best = -1;
   for (int k = 0; k < rep->n_models; ++k) {
     const sf_report_model *m = &rep->models[k];
-    const sf_candidate *t = m->candidate;
-    if (t->quantity != SF_CANDIDATE_TRANSMITTANCE || t->role != SF_ROLE_FITTED || !t->emit || !t->emit_model ||
-        strcmp(t->emit_name, c->segment_transmittance) != 0 || !m->has_errors)
+    const sf_candidate *c = m->candidate;
+    if (c->quantity != SF_CANDIDATE_TRANSMITTANCE || c->role != SF_ROLE_FITTED || !c->emit || !c->emit_model ||
+        strcmp(c->emit_name, emit_name) != 0)
       continue;
-    if (!best || m->errors.rmse < best->errors.rmse) best = m;
+    const sf_report_model *b = best >= 0 ? &rep->models[best] : NULL;
+    if (!b || (m->has_errors && (!b->has_errors || m->errors.rmse < b->errors.rmse))) best = k;
   }
-  return best ? best->candidate : NULL;
+  return best;
+}
+
+/* The transmittance candidate a sky model's segment takes, or NULL. */
+static const sf_candidate *partner_of(const sf_report *rep, const sf_candidate *c) {
+  int k = sf_report_transmittance_partner(rep, c->segment_transmittance);
+  return k >= 0 ? rep->models[k].candidate : NULL;
 }
 
 /* The segment function of m as a candidate (*as, with *pair its ctx where
  * paired); 0 when m has none. */
 static int segment_candidate(const sf_report *rep, sf_report_model *m, sf_candidate *as, paired *pair) {
   const sf_candidate *c = m->candidate;
-  *as = *c;
-  as->ctx = c->ctx;
+  *as = *c;   /* as a segment: none of the whole ray's float32 port, ownership or segments */
+  as->eval_f32 = NULL;
+  as->free_ctx = NULL;
+  as->eval_segment = NULL;
+  as->eval_segment_paired = NULL;
   if (c->eval_segment_paired) {
     const sf_candidate *t = partner_of(rep, c);
     if (!t) return 0;
@@ -130,14 +137,14 @@ void sf_report_segment_text(const sf_report *rep, int q, char *buf, size_t n) {
   for (int i = 0; i < rep->n_models; ++i) {
     const sf_report_model *m = &rep->models[i];
     if ((int)m->candidate->quantity != q || !m->has_segment_errors) continue;
-    if (!samples && rep->n_channels > 0)
+    if (!samples && rep->n_channels > 0 && !m->errors_over_valid_part)   /* over the whole domain */
       samples = (m->segment_errors.n_values + m->segment_non_finite) / (size_t)rep->n_channels;
     if (m->segment_partner && !partner) partner = m->segment_partner->name;
   }
   if (!samples) return;
   if (q == SF_CANDIDATE_TRANSMITTANCE)
     snprintf(buf, n,
-             "seg RMSE, seg max: the model's segment function (skyfit_<model>_transmittance_segment, seed 000 eq. 43), "
+             "seg RMSE, seg max, seg rel RMSE: the model's segment function (skyfit_<model>_transmittance_segment, seed 000 eq. 43), "
              "the ray from the viewer to a distance uniform along its stretch in the air, on %zu seeded "
              "in-domain rays, against exp(-extinction x the exact optical depth of the segment), in double as the "
              "whole rays; renderers use it for aerial perspective. It does not enter the selection; - : the model "
@@ -145,7 +152,7 @@ void sf_report_segment_text(const sf_report *rep, int q, char *buf, size_t n) {
              samples);
   else
     snprintf(buf, n,
-             "seg RMSE, seg max: the model's segment function (skyfit_<model>_sky_radiance_segment, seed 000 eq. 44%s%s), "
+             "seg RMSE, seg max, seg rel RMSE: the model's segment function (skyfit_<model>_sky_radiance_segment, seed 000 eq. 44%s%s), "
              "the ray from the viewer to a distance uniform along its stretch in the air, on %zu seeded "
              "in-domain rays, against eq. 44 from the tables, L(viewer) - T(segment) L(end), T from the exact "
              "optical depth; renderers use it for aerial perspective. It does not enter the selection; - : the "

@@ -7,9 +7,9 @@
 
 #include "codegen/html_escape.h"
 #include "codegen/report.h"
-#include "util/path_from_folder.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
+#include "util/path_from_folder.h"
 
 static void esc(FILE *f, const char *s) { sf_html_escape(f, s); }
 
@@ -22,7 +22,7 @@ static void num(FILE *f, double v) {
 static void model_table(FILE *f, const sf_report *rep, int q) {
   fputs("<table><tr><th>model</th><th>role</th><th>parameters</th><th>constant bytes</th><th>ns / eval</th>"
         "<th>precision</th><th>&times; naive-16</th><th>RMSE</th><th>max abs</th><th>mean rel</th><th>rel RMSE</th>"
-        "<th>seg RMSE</th><th>seg max</th><th>budget</th></tr>\n", f);
+        "<th>seg RMSE</th><th>seg max</th><th>seg rel RMSE</th><th>budget</th></tr>\n", f);
   for (int i = 0; i < rep->n_models; ++i) {
     const sf_report_model *m = &rep->models[i];
     const sf_candidate *c = m->candidate;
@@ -49,11 +49,12 @@ static void model_table(FILE *f, const sf_report *rep, int q) {
       fputs("</td><td>", f); num(f, m->errors.rel_rmse);
       fputs("</td><td>", f); num(f, m->has_segment_errors ? m->segment_errors.rmse : NAN);
       fputs("</td><td>", f); num(f, m->has_segment_errors ? m->segment_errors.max_abs : NAN);
+      fputs("</td><td>", f); num(f, m->has_segment_errors ? m->segment_errors.rel_rmse : NAN);
       fprintf(f, "</td><td>%s</td>", !rep->selection[q].asked ? "not asked"
                                       : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                       : m->meets_budget ? "meets" : "misses");
     } else {
-      fputs("<td colspan=\"7\">reference</td>", f);
+      fputs("<td colspan=\"8\">reference</td>", f);
     }
     fputs("</tr>\n", f);
   }

@@ -8,8 +8,8 @@
 #include <cjson/cJSON.h>
 
 #include "codegen/report.h"
-#include "util/path_from_folder.h"
 #include "util/json_exact.h"
+#include "util/path_from_folder.h"
 
 static void add_number(cJSON *o, const char *key, double v) {
   if (isfinite(v)) cJSON_AddNumberToObject(o, key, v);

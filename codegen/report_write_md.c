@@ -5,10 +5,10 @@
 #include <string.h>
 
 #include "codegen/report.h"
-#include "util/path_from_folder.h"
 #include "models/views_standard.h"
 #include "util/atomic_file.h"
 #include "util/make_folders.h"
+#include "util/path_from_folder.h"
 
 static void num(FILE *f, double v) {
   if (isfinite(v)) fprintf(f, "%.3g", v);
@@ -40,7 +40,8 @@ static void write_md(FILE *f, const sf_report *rep) {
     if (rep->reference[q] < 0) continue;
     fprintf(f, "\n## %s\n\n", q == SF_CANDIDATE_TRANSMITTANCE ? "Transmittance" : "Sky radiance");
     fputs("| model | role | parameters | constant bytes | ns/eval | precision | x naive-16 | RMSE | max abs | mean rel | "
-          "rel RMSE | seg RMSE | seg max | budget |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n",
+          "rel RMSE | seg RMSE | seg max | seg rel RMSE | budget |\n"
+          "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
           f);
     for (int i = 0; i < rep->n_models; ++i) {
       const sf_report_model *m = &rep->models[i];
@@ -62,12 +63,13 @@ static void write_md(FILE *f, const sf_report *rep) {
         num(f, m->errors.mean_rel); fputs(" | ", f);
         num(f, m->errors.rel_rmse); fputs(" | ", f);
         num(f, m->has_segment_errors ? m->segment_errors.rmse : NAN); fputs(" | ", f);
-        num(f, m->has_segment_errors ? m->segment_errors.max_abs : NAN);
+        num(f, m->has_segment_errors ? m->segment_errors.max_abs : NAN); fputs(" | ", f);
+        num(f, m->has_segment_errors ? m->segment_errors.rel_rmse : NAN);
         fprintf(f, " | %s |\n", !rep->selection[q].asked ? "not asked"
                                 : !m->selectable ? (m->errors_over_valid_part ? "n/a (errors on its valid part*)" : "n/a")
                                 : m->meets_budget ? "meets" : "misses");
       } else {
-        fputs("reference | | | | | | |\n", f);
+        fputs("reference | | | | | | | |\n", f);
       }
     }
     int on_front = 0;

@@ -89,22 +89,6 @@ static void model_part(const sf_report *rep, const sf_scene *scene, const sf_rep
   p->model = c->emit_model;
 }
 
-/* The most accurate transmittance network among the build's models
- * (fitted, emittable; restarts included), or -1. */
-static int transmittance_network(const sf_report *rep) {
-  int best = -1;
-  for (int k = 0; k < rep->n_models; ++k) {
-    const sf_report_model *m = &rep->models[k];
-    const sf_candidate *c = m->candidate;
-    if (c->quantity != SF_CANDIDATE_TRANSMITTANCE || c->role != SF_ROLE_FITTED || !c->emit || !c->emit_model ||
-        strcmp(c->emit_name, "mlp") != 0)
-      continue;
-    const sf_report_model *b = best >= 0 ? &rep->models[best] : NULL;
-    if (!b || (m->has_errors && (!b->has_errors || m->errors.rmse < b->errors.rmse))) best = k;
-  }
-  return best;
-}
-
 /* The selected models' headers, written to temporaries beside their paths
  * (headers: committed with the other outputs, fit/build_staging.h). */
 static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_options *o, sf_build_result *res,
@@ -143,7 +127,7 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
   int sky_network = strcmp(alias.sky_radiance, "mlp") == 0;
   int t_part = strcmp(alias.transmittance, "mlp") == 0 ? part_of[SF_CANDIDATE_TRANSMITTANCE] : -1;
   if (sky_network && t_part < 0) {
-    int k = transmittance_network(rep);
+    int k = sf_report_transmittance_partner(rep, "mlp");   /* the one the report's sky segments took */
     if (k >= 0) {
       t_part = n;
       model_part(rep, scene, &rep->models[k], SF_CANDIDATE_TRANSMITTANCE, &parts[n++]);

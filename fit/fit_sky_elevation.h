@@ -58,12 +58,13 @@
  * fraction rho of what its model predicts (0.23 and 0.08 on the default
  * tables) and every successful step shrinks the trust region by
  * 1 / max(1/3, 1 - (2 rho - 1)^3) (1.16, 1.59): the cost falls
- * geometrically until |d cost| / cost < function_tolerance. At 200 the
- * default tables' Preetham b and Hosek g stopped in that tail, 18 and 39
- * steps short of convergence (their costs 1e-10 and 3.5e-5 relative above
- * the converged ones); the full-range tables' Hosek r and g needed 359 and
- * 743 (g's curve through the per-elevation fits then won: cost 7.96 ->
- * 7.63). 5000 gave the same fits on both. */
+ * geometrically until |d cost| / cost < function_tolerance. On
+ * skyfit-tables 7, at 200 the default build's Preetham b and Hosek g
+ * stopped in that tail, 18 and 39 steps short of convergence (their costs
+ * 1e-10 and 3.5e-5 relative above the converged ones), and the full-range
+ * tables' Hosek r and g needed 359 and 743 (cost 20.376 -> 20.045); on
+ * skyfit-tables 8 the default build's Hosek needs 520 (RMSE 0.000974 ->
+ * 0.000965). 5000 gave the same fits. */
 #define SF_SKY_ELEVATION_FIT_MAX_ITERATIONS 1000
 
 typedef struct sf_sky_elevation_options {

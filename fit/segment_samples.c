@@ -22,7 +22,8 @@ int sf_segment_samples_make(const sf_scene_domain *d, double bottom_radius_km, d
   sf_rng_seed(&rng, seed, 0x7365676d656e74ULL /* "segment" */, (uint64_t)q);
   size_t got = 0;
   for (size_t draw = 0; got < n && draw < SF_SEGMENT_SAMPLES_MAX_DRAWS * n; ++draw) {
-    /* the ray as sf_domain_samples_make draws it, numbers in the same order */
+    /* a ray drawn as sf_domain_samples_make draws its rays (from a stream
+     * of its own: not the same rays), then where its segment ends */
     double h = d->h_min_km + (d->h_max_km - d->h_min_km) * sf_rng_uniform(&rng);
     double mu = d->mu_min + (d->mu_max - d->mu_min) * sf_rng_uniform(&rng);
     double mu_s = d->mu_s_min + (d->mu_s_max - d->mu_s_min) * sf_rng_uniform(&rng);

@@ -43,6 +43,9 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
   sf_mlp_forward_f(&m->net_ground_f, x, out);
 }
 
+/* Where a segment ends (segment_end in models/mlp_sky_impl.inc). */
+enum { SF_SEGMENT_END_INSIDE, SF_SEGMENT_END_GROUND, SF_SEGMENT_END_TOP };
+
 #define REAL double
 #define SKY_FN(name) name
 #define R_SQRT sqrt
@@ -52,7 +55,6 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define NET_PARAMS(m) ((m)->net.params)
 #define NET_FORWARD net_forward_d
 #define NET_FORWARD_GROUND net_forward_ground_d
-#define RAY_SEGMENT sf_ray_atmosphere_segment
 #define RAY_RADIUS_AT sf_ray_radius_at
 #define RAY_ALTITUDE_AT sf_ray_altitude_at
 #define RAY_DISC sf_ray_sphere_discriminant
@@ -73,7 +75,6 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #undef NET_PARAMS
 #undef NET_FORWARD
 #undef NET_FORWARD_GROUND
-#undef RAY_SEGMENT
 #undef RAY_RADIUS_AT
 #undef RAY_ALTITUDE_AT
 #undef RAY_DISC
@@ -94,7 +95,6 @@ static void net_forward_ground_f(const sf_mlp_sky *m, const float *x, float *out
 #define NET_PARAMS(m) ((m)->net_f.params)
 #define NET_FORWARD net_forward_f
 #define NET_FORWARD_GROUND net_forward_ground_f
-#define RAY_SEGMENT sf_ray_atmosphere_segment_f
 #define RAY_RADIUS_AT sf_ray_radius_at_f
 #define RAY_ALTITUDE_AT sf_ray_altitude_at_f
 #define RAY_DISC sf_ray_sphere_discriminant_f
