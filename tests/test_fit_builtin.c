@@ -23,6 +23,7 @@
 #include "models/hosek_bezier.h"
 #include "models/optical_depth.h"
 #include "models/rng.h"
+#include "small_sky_tables.h"
 #include "util/constants.h"
 
 int main(void) {
@@ -134,14 +135,9 @@ int main(void) {
   CHECK(srep->entry[1][0].rmse < srep->entry[0][2].rmse);
 
   printf("-- sky fits on small tables (2 orders)\n");
-  sf_table_set_options to;
-  sf_table_set_options_default(&to);
-  to.orders = 2;
-  to.res = (sf_table_resolution){64, 16, 12, 48, 16, 8, 16, 4};
   sf_table_set set;
-  CHECK(sf_table_set_make(&set, atm, &to, &err) == SF_OK);
   sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, atm, &set);
+  CHECK(small_sky_tables(atm, &set, &sky, &err) == SF_OK);
   sf_hosek_dataset *ds = malloc(sizeof *ds);
   CHECK(sf_hosek_dataset_load_default(ds, &err) == SF_OK);
   sf_sky_elevation_report *rep = malloc(sizeof *rep);

@@ -22,6 +22,7 @@
 #include "fit/fit_sky_elevation.h"
 #include "fit/sky_radiance_samples.h"
 #include "models/atmosphere_file.h"
+#include "small_sky_tables.h"
 
 /* The step-1 objective of model m at the report's fit elevations, from the
  * model's radiance: each elevation's and channel's residuals divided by
@@ -54,14 +55,9 @@ int main(void) {
   sf_error err = {0};
   sf_atmosphere *atm = malloc(sizeof *atm);
   sf_atmosphere_default(atm);
-  sf_table_set_options to;
-  sf_table_set_options_default(&to);
-  to.orders = 2;
-  to.res = (sf_table_resolution){64, 16, 12, 48, 16, 8, 16, 4};
   sf_table_set set;
-  CHECK(sf_table_set_make(&set, atm, &to, &err) == SF_OK);
   sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, atm, &set);
+  CHECK(small_sky_tables(atm, &set, &sky, &err) == SF_OK);
   sf_hosek_dataset *ds = malloc(sizeof *ds);
   CHECK(sf_hosek_dataset_load_default(ds, &err) == SF_OK);
 
