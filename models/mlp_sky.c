@@ -98,7 +98,6 @@ enum { SF_SEGMENT_END_INSIDE, SF_SEGMENT_END_GROUND, SF_SEGMENT_END_TOP };
 #define RAY_RADIUS_AT sf_ray_radius_at_f
 #define RAY_ALTITUDE_AT sf_ray_altitude_at_f
 #define RAY_DISC sf_ray_sphere_discriminant_f
-#define RAY_INTERSECT sf_ray_sphere_intersections_f
 #define SPHERE_FROM_ALTITUDES 1   /* as the emitted code */
 #define OFFSET offset_f
 #define SCALE scale_f

@@ -201,4 +201,28 @@ static inline void ind_optical_depth_all(const sf_atmosphere *atm, ld r, ld mu, 
   }
 }
 
+/* Gauss-Legendre nodes x[i] and weights w[i] on [-1, 1], n of them, by
+ * Newton's iteration on P_n from the Chebyshev-like guess (converges for
+ * the n the tests use; Golub-Welsch is not needed). */
+static inline void ind_gauss_legendre(int n, ld *x, ld *w) {
+  const ld pi = 3.14159265358979323846264338327950288L;
+  for (int i = 0; i < n; ++i) {
+    ld z = cosl(pi * (i + 0.75L) / (n + 0.5L)), dp = 1;
+    for (int it = 0; it < 100; ++it) {
+      ld p0 = 1, p1 = z;
+      for (int k = 2; k <= n; ++k) {
+        ld p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      dp = n * (z * p1 - p0) / (z * z - 1);
+      ld dz = p1 / dp;
+      z -= dz;
+      if (fabsl(dz) < 1e-19L) break;
+    }
+    x[i] = z;
+    w[i] = 2 / ((1 - z * z) * dp * dp);
+  }
+}
+
 #endif

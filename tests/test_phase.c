@@ -8,38 +8,18 @@
 #include <string.h>
 
 #include "check.h"
+#include "independent_integrals.h"
 #include "models/phase.h"
 #include "util/constants.h"
-
-typedef long double ld;
 
 #define GL_N 20
 typedef struct gauss_legendre {
   ld x[GL_N], w[GL_N];
 } gauss_legendre;
 
-/* Nodes and weights on [-1, 1] by Newton iteration on P_n (Golub-Welsch is
- * not needed at n = 20; Newton from the Chebyshev guess converges). */
 static gauss_legendre gl_make(void) {
   gauss_legendre q;
-  const ld pi = 3.14159265358979323846264338327950288L;
-  for (int i = 0; i < GL_N; ++i) {
-    ld x = cosl(pi * (i + 0.75L) / (GL_N + 0.5L)), dp = 1;
-    for (int it = 0; it < 100; ++it) {
-      ld p0 = 1, p1 = x;
-      for (int k = 2; k <= GL_N; ++k) {
-        ld p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = GL_N * (x * p1 - p0) / (x * x - 1);
-      ld dx = p1 / dp;
-      x -= dx;
-      if (fabsl(dx) < 1e-19L) break;
-    }
-    q.x[i] = x;
-    q.w[i] = 2 / ((1 - x * x) * dp * dp);
-  }
+  ind_gauss_legendre(GL_N, q.x, q.w);
   return q;
 }
 

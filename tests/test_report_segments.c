@@ -21,6 +21,7 @@
 #include "codegen/report.h"
 #include "fit/candidate_builtin.h"
 #include "models/optical_depth.h"
+#include "tests/independent_integrals.h"
 #include "tests/check.h"
 #include "util/constants.h"
 
@@ -74,46 +75,24 @@ static double ray_length(double h, double mu) {
   return -r * mu + sqrt(RT * RT - p2);
 }
 
-/* Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n), the test's
- * own. */
-static void gauss_legendre(int n, double *x, double *w) {
-  for (int i = 0; i < n; ++i) {
-    double z = cos(SF_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1.0);
-      double dz = p1 / dp;
-      z -= dz;
-      if (fabs(dz) < 1e-15) break;
-    }
-    x[i] = z;
-    w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-  }
-}
-
 /* E[mean_sq_over_ray] over h uniform on [0, H], mu uniform on [-1, 1]. */
 static double expected_mse(void) {
   enum { NH = 48, NMU = 200 };
-  double xh[NH], wh[NH], xm[NMU], wm[NMU];
-  gauss_legendre(NH, xh, wh);
-  gauss_legendre(NMU, xm, wm);
+  ld xh[NH], wh[NH], xm[NMU], wm[NMU];
+  ind_gauss_legendre(NH, xh, wh);
+  ind_gauss_legendre(NMU, xm, wm);
   double H = RT - R, total = 0.0;
   for (int i = 0; i < NH; ++i) {
-    double h = 0.5 * H * (xh[i] + 1.0), mu_h = -sqrt(1.0 - (R / (R + h)) * (R / (R + h)));
+    double h = 0.5 * H * (double)(xh[i] + 1), mu_h = -sqrt(1.0 - (R / (R + h)) * (R / (R + h)));
     double pieces[2][2] = {{-1.0, mu_h}, {mu_h, 1.0}}, inner = 0.0;
     for (int p = 0; p < 2; ++p) {
       double a = pieces[p][0], b = pieces[p][1];
       for (int j = 0; j < NMU; ++j) {
-        double mu = a + 0.5 * (b - a) * (xm[j] + 1.0);
-        inner += 0.5 * (b - a) * wm[j] * mean_sq_over_ray(ray_length(h, mu));
+        double mu = a + 0.5 * (b - a) * (double)(xm[j] + 1);
+        inner += 0.5 * (b - a) * (double)wm[j] * mean_sq_over_ray(ray_length(h, mu));
       }
     }
-    total += 0.5 * wh[i] * inner / 2.0;   /* dh / H (the 0.5 H of the map over H), dmu / 2 */
+    total += 0.5 * (double)wh[i] * inner / 2.0;   /* dh / H (the 0.5 H of the map over H), dmu / 2 */
   }
   return total;
 }
