@@ -30,9 +30,12 @@
  *    (transmittance: exp(-extinction x the exact optical depth of the
  *    segment); sky radiance: eq. 44 from the tables, L(viewer) - T(viewer
  *    -> end) L(end)), in double as the whole rays are measured
- *    (codegen/report_segments.c). They do not enter the selection; where
- *    a selected model's is far worse than its whole rays', the report
- *    says so (sf_report_segment_note).
+ *    (codegen/report_segments.c). They do not enter the selection, and
+ *    are measured after it (sf_report_evaluate selects too): a sky
+ *    network's segment takes the transmittance network the header emits
+ *    beside it (sf_report_transmittance_partner). Where a selected
+ *    model's is far worse than its whole rays', the report says so
+ *    (sf_report_segment_note).
  * Selecting (sf_report_select): per quantity, among the candidates that may
  * ship (baselines and fitted models) and that are valid over the whole
  * domain, the cheapest (median ns) whose budget metric — transmittance:
@@ -169,14 +172,16 @@ typedef struct sf_report {
 } sf_report;
 
 /* Measures every candidate of list (which must hold the reference of each
- * quantity the scene asks for, role SF_ROLE_REFERENCE) and writes the view
- * images into out_dir. The report borrows the candidates. */
+ * quantity the scene asks for, role SF_ROLE_REFERENCE), makes the
+ * selection (sf_report_select; before the segments, above) and writes the
+ * view images into out_dir. The report borrows the candidates. */
 int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate_list *list,
                        const sf_report_options *opt, const char *out_dir, sf_error *err);
 void sf_report_free(sf_report *rep);
 
 /* Fills rep->selection (and each model's meets_budget / selectable /
- * selected / on_front: the front is of the models that can ship). */
+ * selected / on_front: the front is of the models that can ship); the
+ * same again on the same figures. */
 void sf_report_select(sf_report *rep, const sf_scene *scene);
 
 /* Where near-zero references make most of m's mean relative error (over
@@ -192,7 +197,7 @@ void sf_report_mean_rel_note(const sf_report_model *m, char *buf, size_t n);
 
 /* Measures the segment errors of quantity q's models (above) for an
  * atmosphere of the given radii; called by sf_report_evaluate after the
- * whole rays' errors (codegen/report_segments.c). */
+ * selection (codegen/report_segments.c). */
 int sf_report_measure_segments(sf_report *rep, const sf_candidate_list *list, sf_candidate_quantity q,
                                double bottom_radius_km, double top_radius_km, const sf_report_options *opt,
                                sf_error *err);
@@ -201,15 +206,15 @@ int sf_report_measure_segments(sf_report *rep, const sf_candidate_list *list, sf
  * for quantity q's table in report.md and report.html; "" when no model of
  * q has segment errors. */
 void sf_report_segment_text(const sf_report *rep, int q, char *buf, size_t n);
-/* The fitted, emittable transmittance model of emit name emit_name ("mlp")
- * with the smallest whole-ray RMSE (one with errors before one without;
- * restarts included), or -1: the network a build emits beside a sky
- * network that was not selected with it, for eq. 44's segments
- * (fit/build_pipeline.c), and the one the report's sky segments take. A
- * selected transmittance network is usually that one too (restarts cost
- * the same up to timing noise, and the selection takes the most accurate
- * within SF_REPORT_COST_TIE); where it is not, the report's sky segments
- * were measured with another network than the header's. */
+/* The transmittance network a build emits beside a sky network whose
+ * segment (eq. 44) takes networks of emit name emit_name ("mlp"), and the
+ * one the report's sky segments take: the selected transmittance model
+ * when it is a fitted, emittable model of that name (a restart outside
+ * SF_REPORT_COST_TIE of the most accurate's cost may be it); otherwise
+ * (another model selected, or no selection yet) the fitted, emittable one
+ * of that name with the smallest whole-ray RMSE (one with errors before
+ * one without; restarts included), which fit/build_pipeline.c emits
+ * beside the selection for the segments; -1 none. */
 int sf_report_transmittance_partner(const sf_report *rep, const char *emit_name);
 /* Where quantity q's selected model's segments are far worse than its
  * whole rays (SF_REPORT_SEGMENT_NOTE_RATIO), that in words (one sentence,

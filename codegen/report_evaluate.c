@@ -1,5 +1,5 @@
-/* sf_report_evaluate: errors over the domain, cost, and the standard views
- * (see codegen/report.h). */
+/* sf_report_evaluate: errors over the domain, cost, the selection, the
+ * segments' errors and the standard views (see codegen/report.h). */
 #include "codegen/report.h"
 #include "codegen/report_views.h"
 
@@ -345,14 +345,19 @@ int sf_report_evaluate(sf_report *rep, const sf_scene *scene, const sf_candidate
   int status = SF_OK;
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q)
     if (rep->reference[q] >= 0) status = measure_errors(rep, list, (sf_candidate_quantity)q, opt, err);
-  /* after every quantity's whole rays: a sky model's segment takes the
-   * transmittance model of the smallest whole-ray error */
+  if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
+  /* The segments after the selection, which needs every whole ray's error
+   * and cost: a sky network's segment (eq. 44) takes the transmittance
+   * network the header emits beside it, the selected one where the
+   * selection is a network (sf_report_transmittance_partner). Measured
+   * before it, they had taken the most accurate network, and a build that
+   * selected a cheaper restart shipped another than the report measured. */
+  if (status == SF_OK) sf_report_select(rep, scene);
   for (int q = 0; q < SF_CANDIDATE_N_QUANTITIES && status == SF_OK; ++q) {
     progress(opt, "errors (segments)", (double)q / SF_CANDIDATE_N_QUANTITIES);
     status = sf_report_measure_segments(rep, list, (sf_candidate_quantity)q, scene->atmosphere.bottom_radius_km,
                                         scene->atmosphere.top_radius_km, opt, err);
   }
-  if (status == SF_OK && opt->timing_points > 0) status = measure_costs(rep, opt, err);
   if (status == SF_OK && opt->render_views) {
     /* The pictures are linear sRGB: an atmosphere of wavelengths (even 3
      * of them, whose first, 440 nm, would be drawn red) has none. */

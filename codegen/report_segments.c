@@ -21,14 +21,21 @@ static void paired_eval(const void *ctx, const double *in, double *out) {
   p->model->eval_segment_paired(p->model->ctx, p->transmittance->ctx, in, out);
 }
 
+/* A fitted transmittance model of emit name emit_name that can be emitted. */
+static int is_network(const sf_candidate *c, const char *emit_name) {
+  return c->quantity == SF_CANDIDATE_TRANSMITTANCE && c->role == SF_ROLE_FITTED && c->emit && c->emit_model &&
+         strcmp(c->emit_name, emit_name) == 0;
+}
+
 int sf_report_transmittance_partner(const sf_report *rep, const char *emit_name) {
+  /* the selected model when it is such a network: the header emits it,
+   * and the sky network's segment calls it (fit/build_pipeline.c) */
+  const sf_report_selection *s = &rep->selection[SF_CANDIDATE_TRANSMITTANCE];
+  if (s->asked && s->model >= 0 && is_network(rep->models[s->model].candidate, emit_name)) return s->model;
   int best = -1;
   for (int k = 0; k < rep->n_models; ++k) {
     const sf_report_model *m = &rep->models[k];
-    const sf_candidate *c = m->candidate;
-    if (c->quantity != SF_CANDIDATE_TRANSMITTANCE || c->role != SF_ROLE_FITTED || !c->emit || !c->emit_model ||
-        strcmp(c->emit_name, emit_name) != 0)
-      continue;
+    if (!is_network(m->candidate, emit_name)) continue;
     const sf_report_model *b = best >= 0 ? &rep->models[best] : NULL;
     if (!b || (m->has_errors && (!b->has_errors || m->errors.rmse < b->errors.rmse))) best = k;
   }

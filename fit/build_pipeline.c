@@ -119,21 +119,31 @@ static int emit_selection(sf_report *rep, const sf_scene *scene, const sf_build_
     }
   }
   /* The sky network's segment function (eq. 44) takes the transmittance
-   * network's: where another transmittance model was selected, the network
-   * is emitted beside it for the segments, so renderers keep calling
-   * skyfit_sky_radiance_segment whatever the transmittance selection. A
-   * build without a transmittance network (a scene that does not ask for
-   * transmittance) emits no segment, and its report says so. */
+   * network's, the one the report's sky segments took
+   * (sf_report_transmittance_partner): the selected transmittance model
+   * when it is a network; otherwise a network is emitted beside it for the
+   * segments, so renderers keep calling skyfit_sky_radiance_segment
+   * whatever the transmittance selection. A build without a transmittance
+   * network (a scene that does not ask for transmittance) emits no
+   * segment, and its report says so. */
   int sky_network = strcmp(alias.sky_radiance, "mlp") == 0;
-  int t_part = strcmp(alias.transmittance, "mlp") == 0 ? part_of[SF_CANDIDATE_TRANSMITTANCE] : -1;
-  if (sky_network && t_part < 0) {
-    int k = sf_report_transmittance_partner(rep, "mlp");   /* the one the report's sky segments took */
-    if (k >= 0) {
+  int t_part = -1;
+  if (sky_network) {
+    int k = sf_report_transmittance_partner(rep, "mlp");
+    if (k >= 0 && k == rep->selection[SF_CANDIDATE_TRANSMITTANCE].model) {
+      t_part = part_of[SF_CANDIDATE_TRANSMITTANCE];
+    } else if (k >= 0) {
       t_part = n;
       model_part(rep, scene, &rep->models[k], SF_CANDIDATE_TRANSMITTANCE, &parts[n++]);
       size_t len = strlen(parts[t_part].summary);
       snprintf(parts[t_part].summary + len, sizeof parts[t_part].summary - len,
                " (not selected: emitted for the sky network's segments)");
+      /* the report names what ships, not only what was selected */
+      sf_report_selection *s = &rep->selection[SF_CANDIDATE_SKY_RADIANCE];
+      snprintf(s->emit_note, sizeof s->emit_note,
+               "skyfit_sky_radiance_segment (eq. 44) takes the transmittance of %s, emitted for it though not "
+               "selected; the sky segment columns were measured with it.",
+               rep->models[k].candidate->name);
     } else {
       sf_report_selection *s = &rep->selection[SF_CANDIDATE_SKY_RADIANCE];
       snprintf(s->emit_note, sizeof s->emit_note,
@@ -260,14 +270,6 @@ static int reference_check(sf_report *rep, const sf_sky_tables *sky, const sf_bu
     return err->status;
   int status = sf_sky_table_check_points(sky, s.inputs, s.n, &o->report.run, &rep->reference_check, err);
   sf_domain_samples_free(&s);
-  return status;
-}
-
-/* Every candidate of list measured (codegen/report.h) and the selection made. */
-static int evaluate_and_select(sf_report *rep, const sf_scene *scene, const sf_candidate_list *list,
-                               const sf_report_options *opt, const char *out_dir, sf_error *err) {
-  int status = sf_report_evaluate(rep, scene, list, opt, out_dir, err);
-  if (status == SF_OK) sf_report_select(rep, scene);
   return status;
 }
 
@@ -435,7 +437,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
   memset(&rep, 0, sizeof rep);
   sf_report_options ropt = o->report;
   ropt.cost_cache_dir = cache;
-  if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, stage.dir, err);
+  if (status == SF_OK) status = sf_report_evaluate(&rep, scene, &list, &ropt, stage.dir, err);   /* and selected */
   /* A network that missed the budget may meet it from another start: the
    * seed's next restart is trained, measured beside it, and the selection
    * made again, up to the build's number of networks per quantity. By
@@ -481,7 +483,7 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
     }
     seconds_restarts += sf_wall_seconds() - t0;
     cpu_seconds_restarts += sf_cpu_seconds() - c0;
-    if (status == SF_OK) status = evaluate_and_select(&rep, scene, &list, &ropt, stage.dir, err);
+    if (status == SF_OK) status = sf_report_evaluate(&rep, scene, &list, &ropt, stage.dir, err);   /* and selected */
     if (!added) break;
   }
   res->seconds_fit += seconds_restarts;

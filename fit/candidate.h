@@ -93,9 +93,10 @@ typedef struct sf_candidate {
   /* A sky model whose segment takes a transmittance model's (eq. 44: the
    * sky network's takes the transmittance network's): that transmittance
    * candidate's ctx second; segment_transmittance is its emit_name (the
-   * report pairs it with the fitted transmittance of that name with the
-   * smallest whole-ray RMSE, the one the build emits beside it,
-   * fit/build_pipeline.c). NULL: none (eval_segment, if any, stands alone). */
+   * report pairs it with the fitted transmittance of that name that the
+   * build emits beside it: the selected one, else the one of smallest
+   * whole-ray RMSE; sf_report_transmittance_partner in codegen/report.h).
+   * NULL: none (eval_segment, if any, stands alone). */
   void (*eval_segment_paired)(const void *ctx, const void *transmittance_ctx, const double *in, double *out);
   char segment_transmittance[48];
   void *ctx;

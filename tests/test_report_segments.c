@@ -12,7 +12,16 @@
  * Monte Carlo figure must agree within its sampling error. The maximum of
  * e is 1/4 (at exp(-b t) = 1/2). The 16-step naive raymarch is exact on
  * a constant density: its segments must agree with the reference's to
- * rounding, whatever distance they end at. */
+ * rounding, whatever distance they end at.
+ *
+ * The sky network's segment (eq. 44) takes a transmittance network's: the
+ * report must measure it with the one the header emits beside it, the
+ * selected network, even where another network is more accurate (a
+ * cheaper restart selected outside the cost tie). Two stand-in networks,
+ * T + 0.001 (slow) and T + 0.002 (fast), both within the budget: the fast
+ * one is selected, and a stand-in sky network whose segment is the
+ * reference's plus its partner's offset has segment RMSE 0.002 exactly
+ * with it, 0.001 with the other. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -97,6 +106,139 @@ static double expected_mse(void) {
   return total;
 }
 
+/* A stand-in transmittance network: exp(-beta L) along the whole ray
+ * (closed form on a constant density) plus offset, after spin iterations
+ * of busy work (its cost). */
+typedef struct stand_in_net {
+  double offset;
+  int spin;
+} stand_in_net;
+
+static void net_whole(const void *ctx, const double *in, double *out) {
+  const stand_in_net *n = ctx;
+  volatile double busy = 0.0;
+  for (int i = 0; i < n->spin; ++i) busy = busy + sqrt((double)i);
+  double L = ray_length(in[0], in[1]);
+  for (int k = 0; k < CHANNELS; ++k) out[k] = exp(-BETA[k] * L) + n->offset;
+}
+static void no_emit(struct sf_code_writer *w, const void *model) {
+  (void)w;
+  (void)model;
+}
+static sf_candidate stand_in_network(const char *name, stand_in_net *n) {
+  sf_candidate c;
+  sf_candidate_init(&c, SF_CANDIDATE_TRANSMITTANCE, SF_ROLE_FITTED, name, name);
+  c.n_channels = CHANNELS;
+  c.eval = net_whole;
+  c.ctx = n;
+  snprintf(c.emit_name, sizeof c.emit_name, "mlp");
+  c.emit = no_emit;
+  c.emit_model = n;
+  return c;
+}
+
+/* The stand-in sky: reference 1 on whole rays and 0.5 on segments; the
+ * network exact on whole rays, its segment 0.5 + its partner's offset. */
+static void sky_one(const void *ctx, const double *in, double *out) {
+  (void)ctx; (void)in;
+  for (int k = 0; k < CHANNELS; ++k) out[k] = 1.0;
+}
+static void sky_half(const void *ctx, const double *in, double *out) {
+  (void)ctx; (void)in;
+  for (int k = 0; k < CHANNELS; ++k) out[k] = 0.5;
+}
+static void sky_paired(const void *ctx, const void *transmittance_ctx, const double *in, double *out) {
+  (void)ctx; (void)in;
+  const stand_in_net *t = transmittance_ctx;
+  for (int k = 0; k < CHANNELS; ++k) out[k] = 0.5 + t->offset;
+}
+
+static int index_of(const sf_report *rep, const char *name) {
+  for (int i = 0; i < rep->n_models; ++i)
+    if (strcmp(rep->models[i].candidate->name, name) == 0) return i;
+  return -1;
+}
+
+static void partner_is_the_emitted_network(const sf_atmosphere *atm) {
+  sf_scene *scene = calloc(1, sizeof *scene);
+  if (!scene) { CHECK(0); return; }
+  sf_scene_default(scene);
+  scene->atmosphere = *atm;
+  scene->quantities = SF_QUANTITY_TRANSMITTANCE | SF_QUANTITY_SKY_RADIANCE;
+  scene->viewer_altitude_km[0] = 0.0;
+  scene->viewer_altitude_km[1] = RT - R;
+  scene->transmittance_rmse_budget = 0.01;
+  scene->sky_radiance_rel_rmse_budget = 0.01;
+  sf_error err = {0};
+  sf_candidate_list list;
+  sf_candidate_list_init(&list);
+  sf_candidate ref, naive, sky_ref, sky_net;
+  stand_in_net accurate = {0.001, 500}, fast = {0.002, 0};
+  CHECK(sf_candidate_reference_transmittance(&scene->atmosphere, &ref, &err) == SF_OK);
+  CHECK(sf_candidate_list_add(&list, &ref) == 0);
+  /* the unit of cost, not a contender (it is exact here) */
+  CHECK(sf_candidate_transmittance_baseline(&scene->atmosphere, SF_TB_NAIVE, 16, &naive, &err) == SF_OK);
+  naive.emit = NULL;
+  CHECK(sf_candidate_list_add(&list, &naive) == 0);
+  sf_candidate t_accurate = stand_in_network("net-accurate", &accurate), t_fast = stand_in_network("net-fast", &fast);
+  CHECK(sf_candidate_list_add(&list, &t_accurate) == 0);
+  CHECK(sf_candidate_list_add(&list, &t_fast) == 0);
+  sf_candidate_init(&sky_ref, SF_CANDIDATE_SKY_RADIANCE, SF_ROLE_REFERENCE, "sky-reference", "stand-in");
+  sky_ref.n_channels = CHANNELS;
+  sky_ref.eval = sky_one;
+  sky_ref.eval_segment = sky_half;
+  CHECK(sf_candidate_list_add(&list, &sky_ref) == 0);
+  sf_candidate_init(&sky_net, SF_CANDIDATE_SKY_RADIANCE, SF_ROLE_FITTED, "sky-net", "stand-in");
+  sky_net.n_channels = CHANNELS;
+  sky_net.eval = sky_one;
+  sky_net.eval_segment_paired = sky_paired;
+  snprintf(sky_net.segment_transmittance, sizeof sky_net.segment_transmittance, "mlp");
+  snprintf(sky_net.emit_name, sizeof sky_net.emit_name, "mlp");
+  sky_net.emit = no_emit;
+  sky_net.emit_model = &sky_net;
+  CHECK(sf_candidate_list_add(&list, &sky_net) == 0);
+
+  sf_report_options o;
+  sf_report_options_default(&o);
+  o.domain_samples = 4000;
+  o.timing_points = 20000;
+  o.render_views = 0;
+  sf_report rep;
+  CHECK(sf_report_evaluate(&rep, scene, &list, &o, "/tmp", &err) == SF_OK);
+  int ia = index_of(&rep, "net-accurate"), iff = index_of(&rep, "net-fast"), is = index_of(&rep, "sky-net");
+  const sf_report_model *ma = &rep.models[ia], *mf = &rep.models[iff], *ms = &rep.models[is];
+  printf("net-accurate: RMSE %.6g, %.3gx naive-16; net-fast: RMSE %.6g, %.3gx; selected %s\n", ma->errors.rmse,
+         ma->cost_ratio_naive16, mf->errors.rmse, mf->cost_ratio_naive16,
+         rep.selection[SF_CANDIDATE_TRANSMITTANCE].model >= 0
+             ? rep.models[rep.selection[SF_CANDIDATE_TRANSMITTANCE].model].candidate->name
+             : "none");
+  /* the offsets are the whole rays' errors (closed-form chord against the
+   * reference's quadrature); the fast one is over the cost tie cheaper */
+  CHECK_REL(ma->errors.rmse, accurate.offset, 1e-3);
+  CHECK_REL(mf->errors.rmse, fast.offset, 1e-3);
+  CHECK(ma->cost_ratio_naive16 > (1.0 + SF_REPORT_COST_TIE) * mf->cost_ratio_naive16);
+  CHECK(rep.selection[SF_CANDIDATE_TRANSMITTANCE].model == iff);
+  CHECK(rep.selection[SF_CANDIDATE_SKY_RADIANCE].model == is);
+
+  printf("sky-net: segments with %s, segment RMSE %.6g (with net-fast: %.6g)\n",
+         ms->segment_partner ? ms->segment_partner->name : "none", ms->segment_errors.rmse, fast.offset);
+  CHECK(ms->has_segment_errors && ms->segment_partner == mf->candidate);
+  CHECK_REL(ms->segment_errors.rmse, fast.offset, 1e-9);
+  /* what fit/build_pipeline.c emits beside the sky network */
+  CHECK(sf_report_transmittance_partner(&rep, "mlp") == iff);
+  char text[1024];
+  sf_report_segment_text(&rep, SF_CANDIDATE_SKY_RADIANCE, text, sizeof text);
+  CHECK(strstr(text, "with the transmittance of net-fast") != NULL);
+  /* with no network selected (a scene that asks for the sky only), the
+   * most accurate: the one the build then emits for the segments */
+  rep.selection[SF_CANDIDATE_TRANSMITTANCE].model = -1;
+  CHECK(sf_report_transmittance_partner(&rep, "mlp") == ia);
+
+  sf_report_free(&rep);
+  sf_candidate_list_free(&list);
+  free(scene);
+}
+
 int main(void) {
   sf_scene *scene = calloc(1, sizeof *scene);
   if (!scene) return 1;
@@ -159,6 +301,8 @@ int main(void) {
   CHECK(note[0] == '\0');
   sf_report_segment_text(&rep, SF_CANDIDATE_TRANSMITTANCE, note, sizeof note);
   CHECK(strstr(note, "on 40000 seeded in-domain rays") != NULL);
+
+  partner_is_the_emitted_network(&scene->atmosphere);
 
   sf_report_free(&rep);
   sf_candidate_list_free(&list);
