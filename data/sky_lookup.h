@@ -2,7 +2,9 @@
  * any viewer"), Bruneton's GetSkyRadiance: the single-scattering tables of
  * every scattering constituent times its phase function at nu, plus the
  * multiple-scattering table, all interpolated multilinearly in the table's
- * parameterisation (data/table_params.h). A viewer above the top of the
+ * parameterisation (data/table_params.h), the single scattering of a low
+ * sun divided by the ray's sunlit air (data/sunlit_ray.h) to be
+ * interpolated and multiplied back. A viewer above the top of the
  * atmosphere is moved along the ray to where it enters (nothing if it never
  * does). The direct sun and the ground seen at the end of the ray are not
  * included. */
