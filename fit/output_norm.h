@@ -38,6 +38,13 @@
  * slice brightnesses (7 orders of magnitude) are fitted to 0.1-0.3. */
 #define SF_OUTPUT_NORM_DEGREE_H 3
 #define SF_OUTPUT_NORM_DEGREE_MU_S 6
+/* sf_output_norm_prepare lowers the degree in mu_s, down to _MIN, while
+ * the fit falls more than _MAX_DIP (natural log: a factor 2) below both
+ * slices either side of a point between them, checked at _DIP_STEPS - 1
+ * points between each two (fit/output_norm.c: largest_dip). */
+#define SF_OUTPUT_NORM_DEGREE_MU_S_MIN 2
+#define SF_OUTPUT_NORM_MAX_DIP 0.6931471805599453
+#define SF_OUTPUT_NORM_DIP_STEPS 16
 /* The cap's default distance below the brightest slice's log brightness. */
 #define SF_OUTPUT_NORM_CAP_BELOW 1.5
 
@@ -49,9 +56,11 @@ int sf_output_norm_fit(const sf_dataset *d, int degree_h, int degree_mu_s, doubl
                        sf_error *err);
 
 /* What skyfit build and fit mlp-scattering do with a sky network's set: fit
- * with the degrees above and cap_below, and apply. A set too coarse for them (the fit's
- * SF_ERR_INPUT) is left raw with out inactive, and why (if why_size > 0)
- * says so, for the caller to tell the user; any other error is returned. */
+ * with the degrees above and cap_below (a lower degree in mu_s where that
+ * one dips between the slices, above), and apply. A set too coarse for them
+ * (the fit's SF_ERR_INPUT, or a dip at every degree) is left raw with out
+ * inactive, and why (if why_size > 0) says so, for the caller to tell the
+ * user; any other error is returned. */
 int sf_output_norm_prepare(sf_dataset *d, double cap_below, sf_mlp_output_norm *out, char *why, size_t why_size,
                            sf_error *err);
 

@@ -313,8 +313,75 @@ static void test_dark_slices(double dark_target, int want_active) {
     for (int s = 0; s < SU * SV; ++s) worst = worst_of(worst, fabs(d.y[s]));
     printf("largest normalised target %.3g\n", worst);
     CHECK(worst <= SF_OUTPUT_NORM_MAX_SCALED);
+    CHECK(n.degree_mu_s == SF_OUTPUT_NORM_DEGREE_MU_S);   /* fitted exactly: no lower degree */
   }
   free(y0);
+  sf_dataset_free(&d);
+}
+
+/* sf_output_norm_prepare on the slices of a real coarse set: the log RMS of
+ * the sky network's targets per (altitude, sun elevation) of a hazy Earth
+ * (`"base": "default"`, Mie 0.012/km with a 2 km scale height) on
+ * 16x64x16x8 tables over a 0-10 km scene (`skyfit fit mlp-scattering
+ * --dump-dataset`): Bruneton's mu_s axis leaves only two slices above 40
+ * degrees (v 0.39 and 1). At every altitude the brightness rises with the
+ * sun, so between two slices it lies between them; the piecewise-linear
+ * interpolation of their logs stands for it. The degree-6 fit dipped 2.3
+ * below it between those two slices (a factor 10: the build's network was
+ * 0.15x the reference at sun 64 degrees); the fit prepared must stay within
+ * a factor 2 of it everywhere between the lowest and the highest sun,
+ * capped as the fit is, and still normalise. */
+static void test_sparse_sun_slices(void) {
+  enum { SU = 5, SV = 15 };
+  static const double u_of[SU] = {-1.0, -0.576716, -0.153477, 0.269672, 0.692688};
+  static const double v_of[SV] = {-0.957547, -0.878546, -0.812290, -0.753321, -0.697928, -0.643208, -0.586505,
+                                  -0.524961, -0.455018, -0.371664, -0.267066, -0.127697, 0.072626, 0.392806, 1.0};
+  static const double log_rms[SU][SV] = {
+      {-9.8179, -7.7882, -6.1907, -4.9136, -3.9186, -3.2568, -2.8571, -2.5822, -2.3744, -2.2083, -2.0700, -1.9515,
+       -1.8474, -1.7541, -1.6693},
+      {-9.6806, -7.6859, -6.1156, -4.8463, -3.8236, -3.1003, -2.6675, -2.3753, -2.1554, -1.9790, -1.8316, -1.7046,
+       -1.5927, -1.4922, -1.4007},
+      {-9.2807, -7.3691, -5.8643, -4.6075, -3.5503, -2.8632, -2.4562, -2.1782, -1.9690, -1.8026, -1.6650, -1.5478,
+       -1.4455, -1.3545, -1.2722},
+      {-8.7702, -6.9598, -5.5294, -4.2585, -3.2291, -2.6284, -2.2565, -1.9969, -1.8032, -1.6518, -1.5290, -1.4260,
+       -1.3373, -1.2592, -1.1893},
+      {-8.2589, -6.5462, -5.1762, -3.8671, -2.9503, -2.4164, -2.0708, -1.8323, -1.6589, -1.5267, -1.4212, -1.3341,
+       -1.2598, -1.1950, -1.1374}};
+  sf_error err = {0};
+  sf_dataset d;
+  CHECK(sf_dataset_init(&d, SU * SV, 4, 1, &err) == SF_OK);
+  double brightest = -INFINITY;
+  for (int s = 0; s < SU * SV; ++s) {
+    double *x = d.x + (long)s * 4;
+    x[0] = u_of[s / SV];
+    x[1] = 0.5;
+    x[2] = v_of[s % SV];
+    x[3] = 0.0;
+    d.y[s] = exp(log_rms[s / SV][s % SV]);   /* one sample: its RMS */
+    brightest = fmax(brightest, log_rms[s / SV][s % SV]);
+    if (s % SV) CHECK(log_rms[s / SV][s % SV] > log_rms[s / SV][s % SV - 1]);   /* rising with the sun */
+  }
+  sf_mlp_output_norm n;
+  char why[512];
+  CHECK(sf_output_norm_prepare(&d, SF_OUTPUT_NORM_CAP_BELOW, &n, why, sizeof why, &err) == SF_OK);
+  printf("sparse sun slices: %s%s, degree in mu_s %d\n", n.active ? "normalised" : "raw: ", why, n.degree_mu_s);
+  CHECK(n.active);
+  double cap = brightest - SF_OUTPUT_NORM_CAP_BELOW, worst = 0.0, at_u = 0.0, at_v = 0.0;
+  for (int a = 0; a < SU; ++a)
+    for (int j = 0; j + 1 < SV; ++j)
+      for (int k = 0; k <= 32; ++k) {
+        double t = k / 32.0, v = v_of[j] + (v_of[j + 1] - v_of[j]) * t;
+        double truth = fmin(log_rms[a][j] + (log_rms[a][j + 1] - log_rms[a][j]) * t, cap);
+        double e = fabs(fmin(sf_mlp_output_norm_log_brightness(&n, u_of[a], v), cap) - truth);
+        if (e > worst) {
+          worst = e;
+          at_u = u_of[a];
+          at_v = v;
+        }
+      }
+  printf("sparse sun slices: largest |b - interpolated log RMS| %.3g at u %.3g, v %.3g (bound ln 2)\n", worst, at_u,
+         at_v);
+  CHECK(worst < log(2.0));
   sf_dataset_free(&d);
 }
 
@@ -322,6 +389,7 @@ int main(void) {
   test_fit();
   test_dark_slices(1e-7, 0);
   test_dark_slices(0.0, 1);
+  test_sparse_sun_slices();
   sf_atmosphere atm;
   sf_atmosphere_default(&atm);
   test_model(&atm, 0, INFINITY);
