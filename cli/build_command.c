@@ -160,10 +160,16 @@ static int header_clash(const char *command, const char *scene_path, const sf_sc
   const char *paths[2] = {c_path, glsl_path};
   const char *inputs[3];
   sf_cli_scene_files(scene_path, NULL, scene, inputs);
+  /* a path from the scene's outputs is named with the scene's file, as its
+   * other keys are ("S.json: outputs.cpp: unknown key"); it had named the
+   * key alone */
+  char scene_key[2][SF_REPORT_PATH_LEN + 40];
+  snprintf(scene_key[0], sizeof scene_key[0], "%s: the scene's outputs.c", scene_path ? scene_path : "(scene)");
+  snprintf(scene_key[1], sizeof scene_key[1], "%s: the scene's outputs.glsl", scene_path ? scene_path : "(scene)");
   const char *option[2] = {"the C header", "the GLSL file"};
-  if (scene->output_c[0]) option[0] = "the scene's outputs.c";
+  if (scene->output_c[0]) option[0] = scene_key[0];
   if (o->header_c) option[0] = "--header-c";
-  if (scene->output_glsl[0]) option[1] = "the scene's outputs.glsl";
+  if (scene->output_glsl[0]) option[1] = scene_key[1];
   if (o->header_glsl) option[1] = "--header-glsl";
   for (int k = 0; k < 2; ++k) {
     char own[SF_BUILD_OUT_FILES + SF_BUILD_OUT_FOLDERS + 1][SF_REPORT_PATH_LEN + 64];

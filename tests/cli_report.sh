@@ -732,9 +732,10 @@ for outputs in '{"c": "nodir/sky.h"}' '{"glsl": "nodir/sky.glsl"}' '{"c": "same.
   rc=$?
   echo "outputs $outputs: exit $rc: $(head -1 "$tmp/err")"
   listing > "$tmp/named-after"
-  # the message names the scene's key (a missing folder's had named neither)
+  # the message names the scene's file and key (a missing folder's had named
+  # neither, then the key alone)
   [ $rc -eq 2 ] && ! grep -q "chose" "$tmp/named-bad.out" && cmp -s "$tmp/named-before" "$tmp/named-after" &&
-    grep -q "the scene's outputs" "$tmp/err" ||
+    grep -qF "$tmp/named/bad.json: the scene's outputs" "$tmp/err" ||
     { echo "FAIL outputs $outputs: should exit 2 before fitting naming the key, the previous outputs untouched"; fail=1; }
 done
 # Into a new folder: refused before anything is written (it had left
