@@ -140,7 +140,8 @@ int sf_candidate_table_sky_radiance(const sf_sky_tables *sky, sf_candidate *out,
                     "Reference (precomputed tables)");
   snprintf(out->description, sizeof out->description,
            "Single scattering per constituent with its phase function plus all multiple-scattering "
-           "orders, from the %s-parameterised tables (%dx%dx%dx%d), interpolated multilinearly.",
+           "orders, from the %s-parameterised tables (%dx%dx%dx%d), interpolated multilinearly (under a "
+           "low sun the single scattering divided by the ray's sunlit air, interpolated and multiplied back).",
            sf_parameterization_name(sky->params.kind), sky->params.res.scattering_h,
            sky->params.res.scattering_mu, sky->params.res.scattering_mu_s,
            sky->params.res.scattering_nu);
