@@ -16,6 +16,8 @@
 #include "util/clock.h"
 
 #define MAX_PARAMS (SF_BEZIER_POINTS * SF_HOSEK_N_COEFFS)
+#define MAX_CURVE_SUNS (SF_SKY_CURVE_STEPS * (SF_SKY_MAX_ELEVATIONS - 1) + 1)
+_Static_assert(MAX_CURVE_SUNS <= SF_SKY_BEZIER_MAX_ELEVATIONS, "step 3's suns must fit a Bezier Gram");
 
 static const double start_turbidities[3] = {2.0, 4.0, 7.0};
 
@@ -140,6 +142,15 @@ double sf_sky_fit_elevation(const sf_sky_elevation_options *o, int e, double *x)
   double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
   double x1 = sf_bezier_x_of_elevation(o->elevation_max_rad);
   *x = x0 + (x1 - x0) * e / (o->n_elevations - 1);
+  return 0.5 * SF_PI * *x * *x * *x;
+}
+
+double sf_sky_curve_elevation(const sf_sky_elevation_options *o, int c, double *x) {
+  /* every SF_SKY_CURVE_STEPS-th is a fit sun, to the bit */
+  if (c % SF_SKY_CURVE_STEPS == 0) return sf_sky_fit_elevation(o, c / SF_SKY_CURVE_STEPS, x);
+  double x0 = sf_bezier_x_of_elevation(o->elevation_min_rad);
+  double x1 = sf_bezier_x_of_elevation(o->elevation_max_rad);
+  *x = x0 + (x1 - x0) * c / (SF_SKY_CURVE_STEPS * (o->n_elevations - 1));
   return 0.5 * SF_PI * *x * *x * *x;
 }
 
@@ -293,28 +304,36 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   out->elevation_max_rad = fmin(o->elevation_max_rad, 0.5 * SF_PI);
   rep->n_elevations = n_e;
   rep->n_channels = nk;
+  const int n_c = SF_SKY_CURVE_STEPS * (n_e - 1) + 1;   /* step 3's suns; fit sun e is c = 3 e */
+  rep->n_curve_elevations = n_c;
 
-  sf_sky_samples *samples = calloc((size_t)n_e, sizeof *samples);
-  double *weights = calloc((size_t)n_e * (size_t)nk, sizeof *weights);
+  /* samples and weights per step 3's sun c */
+  sf_sky_samples *samples = calloc((size_t)n_c, sizeof *samples);
+  double *weights = calloc((size_t)n_c * (size_t)nk, sizeof *weights);
   /* per-elevation solutions [e][k][nc + 1] */
   double *solved = calloc((size_t)n_e * (size_t)nk * (size_t)(nc + 1), sizeof *solved);
-  double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];   /* per elevation */
+  double bernstein[SF_SKY_MAX_ELEVATIONS][SF_BEZIER_POINTS];   /* per fit sun */
+  double curve_bernstein[MAX_CURVE_SUNS][SF_BEZIER_POINTS];   /* per step 3's sun */
   int status = (samples && weights && solved) ? SF_OK
                                               : sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-  for (int e = 0; e < n_e && status == SF_OK; ++e) {
+  for (int c = 0; c < n_c && status == SF_OK; ++c) {
     double x;
-    double elev = sf_sky_fit_elevation(o, e, &x);
-    rep->elevation_rad[e] = elev;
-    sf_bezier_weights(x, bernstein[e]);
-    status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[e], err);
-    rep->n_samples += status == SF_OK ? samples[e].n : 0;
+    double elev = sf_sky_curve_elevation(o, c, &x);
+    sf_bezier_weights(x, curve_bernstein[c]);
+    status = sf_sky_samples_from_tables(sky, elev, o->n_theta, o->n_phi, &samples[c], err);
+    if (c % SF_SKY_CURVE_STEPS == 0) {
+      const int e = c / SF_SKY_CURVE_STEPS;
+      rep->elevation_rad[e] = elev;
+      memcpy(bernstein[e], curve_bernstein[c], sizeof bernstein[e]);
+      rep->n_samples += status == SF_OK ? samples[c].n : 0;
+    }
     for (int k = 0; k < nk && status == SF_OK; ++k) {
-      double rms = sqrt(channel_sum_squares(&samples[e], k, nk) / samples[e].n);
-      if (!(rms > 0) || !(samples[e].zenith_radiance[k] > 0))
+      double rms = sqrt(channel_sum_squares(&samples[c], k, nk) / samples[c].n);
+      if (!(rms > 0) || !(samples[c].zenith_radiance[k] > 0))
         status = sf_fail(err, SF_ERR_INPUT,
                          "sky fit: the reference sky is dark in channel %d at sun elevation %g deg",
                          k, elev * 180 / SF_PI);
-      weights[e * nk + k] = 1.0 / rms;
+      weights[c * nk + k] = 1.0 / rms;
     }
   }
 
@@ -322,9 +341,10 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   double sse_per_elevation = 0.0;
   for (int k = 0; k < nk && status == SF_OK; ++k) {
     for (int e = 0; e < n_e && status == SF_OK; ++e) {
-      const sf_sky_samples *s = &samples[e];
+      const int c = SF_SKY_CURVE_STEPS * e;
+      const sf_sky_samples *s = &samples[c];
       sf_sky_fit_data d = {o->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
-                           s->radiance + k, nk, weights[e * nk + k]};
+                           s->radiance + k, nk, weights[c * nk + k]};
       double starts[SF_SKY_MAX_STARTS][SF_HOSEK_N_COEFFS + 1];
       char names[SF_SKY_MAX_STARTS][32];
       const double *previous = e > 0 ? &solved[((size_t)(e - 1) * nk + k) * (nc + 1)] : NULL;
@@ -361,7 +381,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         if (strcmp(rep->start_names[q], names[winner]) == 0) slot = q;
       rep->winner[e][k] = slot;
       rep->start_wins[slot]++;
-      sse_per_elevation += 2.0 * sum.final_cost / (weights[e * nk + k] * weights[e * nk + k]);
+      sse_per_elevation += 2.0 * sum.final_cost / (weights[c * nk + k] * weights[c * nk + k]);
       if (o->progress)
         o->progress(o->progress_ctx, "per-elevation fits", (double)(k * n_e + e + 1) / (nk * n_e));
     }
@@ -382,15 +402,17 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
         status = sf_fail(err, SF_ERR_INTERNAL, "sky fit: Bezier control points are singular");
     }
     if (status != SF_OK) break;
-    /* the channel's samples, prepared once for its four starts */
-    sf_sky_fit_data data[SF_SKY_MAX_ELEVATIONS];
-    for (int e = 0; e < n_e; ++e) {
-      const sf_sky_samples *s = &samples[e];
-      data[e] = (sf_sky_fit_data){o->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
-                                  s->radiance + k, nk, weights[e * nk + k]};
+    /* the channel's samples at every sun of step 3, prepared once for its
+     * four starts */
+    sf_sky_fit_data data[MAX_CURVE_SUNS];
+    for (int c = 0; c < n_c; ++c) {
+      const sf_sky_samples *s = &samples[c];
+      data[c] = (sf_sky_fit_data){o->form, s->n, s->cos_theta, s->gamma, s->cos_gamma,
+                                  s->radiance + k, nk, weights[c * nk + k]};
     }
     sf_sky_bezier_gram bezier;
-    if (sf_sky_bezier_gram_init(&bezier, o->form, n_e, data, (const double(*)[SF_BEZIER_POINTS])bernstein)) {
+    if (sf_sky_bezier_gram_init(&bezier, o->form, n_c, data,
+                                (const double(*)[SF_BEZIER_POINTS])curve_bernstein)) {
       status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
       break;
     }
@@ -465,7 +487,7 @@ int sf_fit_sky_elevation(const sf_sky_tables *sky, const sf_sky_elevation_option
   }
   free(grid);
   free(band);
-  for (int e = 0; samples && e < n_e; ++e) sf_sky_samples_free(&samples[e]);
+  for (int c = 0; samples && c < n_c; ++c) sf_sky_samples_free(&samples[c]);
   free(samples);
   free(weights);
   free(solved);

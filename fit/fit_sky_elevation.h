@@ -19,16 +19,34 @@
  *    at the reference zenith radiance (it is degenerate with C, D, F, G, I);
  *    Perez's K is free.
  * 3. Bezier control points: one Ceres fit of all control points of a
- *    channel against the radiance samples of every elevation, given to
- *    Ceres as their Gram matrix (fit/sky_bezier_gram.h: the same bits on
- *    any CPU; Hosek's R
- *    curve is held at its least-squares fit to the zenith radiances), from
+ *    channel against the radiance samples of 3 n_elevations - 2 suns, the
+ *    fit suns and two between each neighbouring pair (equal steps in x, a
+ *    third of step 1's: SF_SKY_CURVE_STEPS), normalised as in step 1,
+ *    given to Ceres as their Gram matrix (fit/sky_bezier_gram.h: the same
+ *    bits on any CPU; Hosek's R curve is held at its least-squares fit
+ *    to the zenith radiances), from
  *    four starts: the linear least-squares curve through the per-elevation
  *    values, and constant curves holding the values of the elevations at
  *    1/4, 1/2 and 3/4 of the range (the first can swing far off between
  *    the elevations it passes through; the report counts the winners).
  *    Bounds on the control points (models' physical bounds) bound the curve
  *    (a Bezier curve lies in the convex hull of its control points).
+ *    Why suns between the fit suns: at the fit suns alone nothing held the
+ *    curves between them. A sun's fit has nearly flat directions (Hosek's
+ *    A near -1 against C, D, F, I near +-100), along which the control
+ *    points moved freely; with few suns (6 suns: 6 values for 6 control
+ *    points each) the curves then swung between the suns, Hosek's E above
+ *    7 where the suns had it near 0, and D e^(E gamma) grew e^(7 pi) over
+ *    the sky. On small tables (tests/small_sky_tables.h) Hosek at 6, 7 and
+ *    11 suns had RMSE 3.5, 0.58 and 0.024 (published Hosek 0.0042), and
+ *    6e6 at 6 suns on an 8 x 12 view grid; with the suns between, 0.0013,
+ *    0.0012, 0.00099 and 0.0015 (tests/test_sky_elevation_few_suns.c). On
+ *    the default tables Hosek 0.000976 -> 0.000973, Preetham 0.00183 ->
+ *    0.00180, for 1.4 and 1.3 times the fit's time. Step 4's held-out suns
+ *    (the midpoints) are none of step 3's. Bounding Hosek's E to <= 0
+ *    instead (e^(E gamma) <= 1 on the whole curve) stopped the blow-up
+ *    but not the swings, and cost the default fit 2 % and some small-table
+ *    fits 3x.
  * 4. Metrics over the domain: RMSE (relative, normalised as in step 1)
  *    at each fit elevation and, held out, at the midpoints in x between
  *    them, over view zenith angles at the midpoints of 4 n_theta equal
@@ -49,7 +67,9 @@
 #include "models/hosek_sky_model.h"
 #include "util/error.h"
 
-#define SF_SKY_MAX_ELEVATIONS SF_SKY_BEZIER_MAX_ELEVATIONS
+#define SF_SKY_MAX_ELEVATIONS 64
+/* Step 3's suns per step between neighbouring fit suns (see there). */
+#define SF_SKY_CURVE_STEPS 3
 #define SF_SKY_MAX_STARTS 4
 
 /* Step 3's iteration cap. Where a control point's best value lies on its
@@ -87,9 +107,14 @@ void sf_sky_elevation_options_default(sf_sky_elevation_options *o, sf_sky_form f
 /* The e-th of o's n_elevations suns (step 1): equal steps in x = (e /
  * (pi/2))^(1/3) from elevation_min_rad to elevation_max_rad; *x its x. */
 double sf_sky_fit_elevation(const sf_sky_elevation_options *o, int e, double *x);
+/* The c-th of step 3's SF_SKY_CURVE_STEPS (n_elevations - 1) + 1 suns:
+ * equal steps in x over the same range, a third of step 1's; c = 3 e is
+ * fit sun e (the same bits); *x its x. */
+double sf_sky_curve_elevation(const sf_sky_elevation_options *o, int c, double *x);
 
 typedef struct sf_sky_elevation_report {
-  int n_elevations, n_channels, n_samples;   /* n_samples: the fit's */
+  int n_elevations, n_channels, n_samples;   /* n_samples: step 2's per channel */
+  int n_curve_elevations;                    /* step 3's suns: 3 n_elevations - 2 */
   long n_metric_samples;                     /* step 4's grid */
   int n_metric_elevations;                   /* step 4's: 2 n_elevations - 1 */
   double elevation_rad[SF_SKY_MAX_ELEVATIONS];

@@ -136,6 +136,8 @@ int sf_sky_form_weights_write(const sf_atmosphere *atm, const sf_scene_domain *d
   for (int k = 0; k < rep->n_channels; ++k)
     if (rep->global_at_cap_channel[k]) cJSON_AddItemToArray(cap, cJSON_CreateString(atm->channel_names[k]));
   cJSON_AddNumberToObject(tr, "elevations", o->n_elevations);
+  /* step 3's suns: the fit suns and two between each pair */
+  cJSON_AddNumberToObject(tr, "elevation_fit_suns", rep->n_curve_elevations);
   cJSON_AddNumberToObject(tr, "n_theta", o->n_theta);
   cJSON_AddNumberToObject(tr, "n_phi", o->n_phi);
   cJSON_AddNumberToObject(tr, "global_initial_cost", rep->global_initial_cost);

@@ -31,7 +31,9 @@
 #include "fit/fit_sky_config.h"
 #include "models/hosek_bezier.h"
 
-#define SF_SKY_BEZIER_MAX_ELEVATIONS 64
+/* fit/fit_sky_elevation.h's step 3: 3 suns per step between at most 64
+ * fit suns, 3 * 63 + 1 */
+#define SF_SKY_BEZIER_MAX_ELEVATIONS 190
 /* parameters of the global fit: control points of the coefficients, then
  * of the scale */
 #define SF_SKY_BEZIER_MAX_PARAMS (SF_BEZIER_POINTS * (SF_HOSEK_N_COEFFS + 1))
