@@ -701,6 +701,43 @@ static void free_run(multiple_run *m, int threads) {
   free(m->row_single);
 }
 
+/* The orders after the last one computed, N, as a geometric series of
+ * ratio r (per channel, L_N / L_{N-1} summed over the grid): L_N r / (1 -
+ * r) added to the radiance, G_N r / (1 - r) to the summed G of a separate
+ * output, and E_N / (1 - r) to the irradiance (which holds E_1..E_{N-1};
+ * E_N is step 2 on L_N). Late orders converge to the scattering operator's
+ * leading eigenfunction, whose eigenvalue r is; in an optically thick
+ * atmosphere with little absorption r -> 1 and the orders past any cap
+ * carry much of the light: 100 times as thick, no absorption, white
+ * ground, coarse tables, the blue flux leaving the top was 0.74 of what
+ * enters after 64 orders, 0.80 after 160, 0.85 with this tail
+ * (tests/test_multiple_energy.c). Only where the orders shrink (r < 1). */
+static void add_geometric_tail(multiple_run *m, const double *ratio, int separate_output,
+                               const sf_precompute_options *opt, size_t entries) {
+  int nch = m->nch, any = 0;
+  double f[SF_MAX_CHANNELS], g[SF_MAX_CHANNELS];
+  for (int ch = 0; ch < nch; ++ch) {
+    int shrinks = ratio[ch] > 0.0 && ratio[ch] < 1.0;
+    f[ch] = shrinks ? ratio[ch] / (1.0 - ratio[ch]) : 0.0;
+    g[ch] = shrinks ? 1.0 / (1.0 - ratio[ch]) : 0.0;
+    any |= shrinks;
+  }
+  if (!any) return;
+  for (size_t i = 0; i < entries * nch; ++i) m->l_sum[i] += f[i % nch] * m->previous_data[i];
+  if (separate_output)
+    for (size_t i = 0; i < entries * m->ns * nch; ++i) m->g_sum_data[i] += f[i % nch] * m->g_data[i];
+  /* step 2 on L_N (previous_data): radiance_of_order reads order - 1 */
+  size_t n_irr = (size_t)m->pi.res.irradiance_h * m->pi.res.irradiance_mu_s * nch;
+  double *before = malloc(sizeof(double) * n_irr);
+  if (!before) return;
+  memcpy(before, m->irradiance_sum, sizeof(double) * n_irr);
+  m->order += 1;
+  sf_parallel_rows(m->pi.res.irradiance_h, opt, "multiple scattering: the orders' tail", irradiance_table_row, m);
+  m->order -= 1;
+  for (size_t i = 0; i < n_irr; ++i) m->irradiance_sum[i] = before[i] + g[i % nch] * (m->irradiance_sum[i] - before[i]);
+  free(before);
+}
+
 static void run_gather(multiple_run *m, const sf_table_params *tp, float *target, const float *g,
                        const sf_precompute_options *opt, const char *stage) {
   m->target_p = tp;
@@ -779,6 +816,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
   for (int a = 0; a < 4; ++a) m.previous.size[a] = m.g_view.size[a] = sizes[a];
 
   double sky_so_far[SF_MAX_CHANNELS] = {0}, previous_total[SF_MAX_CHANNELS] = {0};
+  double ratio[SF_MAX_CHANNELS] = {0};   /* L_k / L_{k-1} summed over the grid, k the last order */
   double *row_single_buffer = m.row_single;
   char stage[96];
   for (int order = 2; order <= orders; ++order) {
@@ -828,6 +866,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
       if (!(sky_so_far[ch] > 0.0) || total[ch] == 0.0) continue;
       double added = total[ch] / sky_so_far[ch];
       double r = order > 2 && previous_total[ch] > 0.0 ? total[ch] / previous_total[ch] : 1.0;
+      ratio[ch] = order > 2 ? r : 0.0;
       double remaining = r < 1.0 ? added * r / (1.0 - r) : INFINITY;
       if (added > report->added_fraction[order]) report->added_fraction[order] = added;
       if (remaining > report->remaining_fraction[order]) report->remaining_fraction[order] = remaining;
@@ -841,6 +880,7 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
     if (mo->stop_fraction > 0.0 && report->remaining_fraction[order] < mo->stop_fraction) break;
   }
   m.row_single = row_single_buffer;
+  if (mo->stop_fraction > 0.0) add_geometric_tail(&m, ratio, separate_output, opt, entries);
   if (separate_output) {
     run_gather(&m, p, multiple->data, m.g_sum_data, opt, "multiple scattering: output");
   } else {

@@ -86,7 +86,9 @@ typedef struct sf_multiple_options {
                               which the orders left (the geometric tail of
                               the last two: report.remaining_fraction)
                               would add less than this fraction of the sky
-                              radiance so far in every channel */
+                              radiance so far in every channel, and add the
+                              orders after the last as that geometric tail;
+                              0: exactly the orders up to `orders` */
 } sf_multiple_options;
 
 typedef struct sf_multiple_report {

@@ -21,8 +21,9 @@ int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_option
   snprintf(text, n,
            "multiple scattering: after order %d, the most asked for, the orders left would still add about %.3g of "
            "the sky radiance in its slowest channel (the stop fraction is %g), summed over all the tables' entries "
-           "and estimated as a geometric tail: the tables lack it, and their dim parts (the ground under an "
-           "optically thick atmosphere, where each order is nearly the last) lack far more",
+           "and estimated as a geometric tail, which the tables hold in place of those orders: an estimate, least "
+           "sure in their dim parts (the ground under an optically thick atmosphere, where each order is nearly "
+           "the last)",
            r->highest, r->left_fraction, o->stop_fraction);
   return 1;
 }

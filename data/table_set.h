@@ -24,14 +24,17 @@
 /* Bump whenever a change makes the tables' values differ, or what a table
  * file holds (4: the multiple table's skyfit:orders, data/table_exr.h,
  * which tables cached before lack). */
-#define SF_TABLES_CODE_VERSION "skyfit-tables 8"
+#define SF_TABLES_CODE_VERSION "skyfit-tables 9"
 /* All orders (SPEC §6): up to the most, stopping once the orders left
  * would add less than 5e-4 of every channel's sky radiance (estimated as
  * the geometric tail of the last two; 7 orders for the built-in Earth,
  * whose orders shrink by about 0.3 each; a fixed 4 had left the blue
  * multiple scattering 4-5 % short of the path tracer's). A sky whose
  * orders shrink slowly (thick, bright) may reach the most first: the set
- * then says what is left (sf_table_set_options.note). */
+ * then says what is left (sf_table_set_options.note). With a stop
+ * fraction the orders after the last are added as that geometric tail
+ * (data/precompute_multiple.c); without one the tables hold exactly the
+ * orders asked for. */
 #define SF_TABLE_SET_DEFAULT_ORDERS SF_MULTIPLE_MAX_ORDERS
 #define SF_TABLE_SET_DEFAULT_STOP_FRACTION 5e-4
 
