@@ -39,6 +39,7 @@
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
 #include "tests/check.h"
+#include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
 #define REL_BOUND 0.04
@@ -64,21 +65,6 @@ static vec3 cross(vec3 a, vec3 b) {
   return r;
 }
 
-/* Single scattering with phases seen from altitude h along mu, sun at mu_s,
- * view-sun cosine nu: out[ch]. */
-static void single_radiance(const sf_atmosphere *a, double h, double mu, double mu_s, double nu, double *out) {
-  for (int ch = 0; ch < a->n_channels; ++ch) out[ch] = 0.0;
-  sf_view_ray ray;
-  const char *why;
-  if (sf_view_ray_make(a, h, mu, SF_RAY_END_NEAREST, -1.0, &ray, &why)) return;
-  double s[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
-  sf_single_scattering_tol(a, &ray, mu_s, nu, 1e-5, s);
-  for (int c = 0; c < a->n_constituents; ++c) {
-    double phase = sf_phase_value(&a->constituents[c].phase, nu);
-    for (int ch = 0; ch < a->n_channels; ++ch) out[ch] += phase * s[c * a->n_channels + ch];
-  }
-}
-
 /* G_c(p, v) of every constituent: the incoming single scattering at p
  * (radius rp, unit up, sun s) convolved with P_c(v . w). */
 static void density_integral(const sf_atmosphere *a, double rp, vec3 up, vec3 s, vec3 v,
@@ -98,7 +84,7 @@ static void density_integral(const sf_atmosphere *a, double rp, vec3 up, vec3 s,
       double st = sqrt(fmax(0.0, 1.0 - mu * mu));
       for (int j = 0; j < HALF_AZIMUTHS; ++j) {
         double phi = (j + 0.5) * dphi, l1[SF_MAX_CHANNELS];
-        single_radiance(a, rp - R, mu, mu_s, mu * mu_s + st * cos(phi) * sin_s, l1);
+        exact_single_radiance(a, rp - R, mu, mu_s, mu * mu_s + st * cos(phi) * sin_s, 1e-5, l1);
         for (int side = -1; side <= 1; side += 2) {   /* +-phi see the same L1 */
           vec3 w = add_scaled(add_scaled(scaled(up, mu), e1, st * cos(phi)), e2, side * st * sin(phi));
           double cos_vw = dot(v, w);

@@ -27,23 +27,10 @@
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
 #include "tests/check.h"
+#include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
 #define REL_BOUND 0.02
-
-/* Exact single scattering with phases from altitude h along mu: out[ch]. */
-static void single_radiance(const sf_atmosphere *a, double h, double mu, double mu_s, double nu, double *out) {
-  for (int ch = 0; ch < a->n_channels; ++ch) out[ch] = 0.0;
-  sf_view_ray ray;
-  const char *why;
-  if (sf_view_ray_make(a, h, mu, SF_RAY_END_NEAREST, -1.0, &ray, &why)) return;
-  double s[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
-  sf_single_scattering_tol(a, &ray, mu_s, nu, 1e-6, s);
-  for (int c = 0; c < a->n_constituents; ++c) {
-    double phase = sf_phase_value(&a->constituents[c].phase, nu);
-    for (int ch = 0; ch < a->n_channels; ++ch) out[ch] += phase * s[c * a->n_channels + ch];
-  }
-}
 
 static double table_single(const sf_sky_tables *sky, const sf_atmosphere *a, double h, double mu, double mu_s,
                            double nu, int ch) {
@@ -86,7 +73,7 @@ int main(void) {
     double mu = sin(views[v].el * D), mu_s = sin(views[v].sun * D);
     double nu = mu * mu_s + cos(views[v].el * D) * cos(views[v].sun * D) * cos(views[v].az * D);
     double want[SF_MAX_CHANNELS];
-    single_radiance(&a, views[v].h, mu, mu_s, nu, want);
+    exact_single_radiance(&a, views[v].h, mu, mu_s, nu, 1e-6, want);
     for (int ch = 0; ch < a.n_channels; ++ch) {
       double got = table_single(&sky, &a, views[v].h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
       printf("%-36s ch %d table %.5g exact %.5g %+.2f%%\n", views[v].name, ch, got, want[ch], 100.0 * rel);
@@ -97,7 +84,7 @@ int main(void) {
    * its highest point, at the top (6460 km), sees the sun's ray pass the
    * centre at 6460 cos 10.15 deg = 6358.9 km, inside the ground (6360). */
   double mu_s = sin(-10.15 * D), dark[SF_MAX_CHANNELS];
-  single_radiance(&a, 20.0, 1.0, mu_s, mu_s, dark);
+  exact_single_radiance(&a, 20.0, 1.0, mu_s, mu_s, 1e-6, dark);
   for (int ch = 0; ch < a.n_channels; ++ch) {
     CHECK(dark[ch] == 0.0);
     CHECK_ABS(table_single(&sky, &a, 20.0, 1.0, mu_s, mu_s, ch), 0.0, 0.0);
