@@ -711,9 +711,10 @@ static void free_run(multiple_run *m, int threads) {
  * carry much of the light: 100 times as thick, no absorption, white
  * ground, coarse tables, the blue flux leaving the top was 0.74 of what
  * enters after 64 orders, 0.80 after 160, 0.85 with this tail
- * (tests/test_multiple_energy.c). Only where the orders shrink (r < 1). */
-static void add_geometric_tail(multiple_run *m, const double *ratio, int separate_output,
-                               const sf_precompute_options *opt, size_t entries) {
+ * (tests/test_multiple_energy.c). Only where the orders shrink (r < 1).
+ * -1: out of memory (the tables are then not to be used). */
+static int add_geometric_tail(multiple_run *m, const double *ratio, int separate_output,
+                              const sf_precompute_options *opt, size_t entries) {
   int nch = m->nch, any = 0;
   double f[SF_MAX_CHANNELS], g[SF_MAX_CHANNELS];
   for (int ch = 0; ch < nch; ++ch) {
@@ -722,20 +723,21 @@ static void add_geometric_tail(multiple_run *m, const double *ratio, int separat
     g[ch] = shrinks ? 1.0 / (1.0 - ratio[ch]) : 0.0;
     any |= shrinks;
   }
-  if (!any) return;
+  if (!any) return 0;
   for (size_t i = 0; i < entries * nch; ++i) m->l_sum[i] += f[i % nch] * m->previous_data[i];
   if (separate_output)
     for (size_t i = 0; i < entries * m->ns * nch; ++i) m->g_sum_data[i] += f[i % nch] * m->g_data[i];
   /* step 2 on L_N (previous_data): radiance_of_order reads order - 1 */
   size_t n_irr = (size_t)m->pi.res.irradiance_h * m->pi.res.irradiance_mu_s * nch;
   double *before = malloc(sizeof(double) * n_irr);
-  if (!before) return;
+  if (!before) return -1;
   memcpy(before, m->irradiance_sum, sizeof(double) * n_irr);
   m->order += 1;
   sf_parallel_rows(m->pi.res.irradiance_h, opt, "multiple scattering: the orders' tail", irradiance_table_row, m);
   m->order -= 1;
   for (size_t i = 0; i < n_irr; ++i) m->irradiance_sum[i] = before[i] + g[i % nch] * (m->irradiance_sum[i] - before[i]);
   free(before);
+  return 0;
 }
 
 static void run_gather(multiple_run *m, const sf_table_params *tp, float *target, const float *g,
@@ -880,7 +882,10 @@ int sf_precompute_multiple(const sf_scattering_setup *s, const sf_table_params *
     if (mo->stop_fraction > 0.0 && report->remaining_fraction[order] < mo->stop_fraction) break;
   }
   m.row_single = row_single_buffer;
-  if (mo->stop_fraction > 0.0) add_geometric_tail(&m, ratio, separate_output, opt, entries);
+  if (mo->stop_fraction > 0.0 && add_geometric_tail(&m, ratio, separate_output, opt, entries)) {
+    free_run(&m, threads);
+    return sf_fail(err, SF_ERR_INTERNAL, "out of memory for the multiple scattering's tail");
+  }
   if (separate_output) {
     run_gather(&m, p, multiple->data, m.g_sum_data, opt, "multiple scattering: output");
   } else {
