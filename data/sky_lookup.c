@@ -8,6 +8,7 @@
 #include "models/phase.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
+#include "util/constants.h"
 
 void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf_table_set *set) {
   memset(sky, 0, sizeof *sky);
@@ -34,11 +35,21 @@ int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, doubl
   return 1;
 }
 
-/* The sun's cosines below which the single scattering is interpolated
- * through the sunlit air alone (sin 10 deg), and above which not at all
- * (sin 14 deg). */
-#define SUNLIT_MU_S_FULL 0.17364817766693033
-#define SUNLIT_MU_S_END 0.24192189559966773
+/* How much of a lookup's single scattering is interpolated through the
+ * sunlit air (1: all of it). The planet's shadow can reach a table's ray
+ * while the sun is less than acos(R / R_top) above the viewer's horizon,
+ * the depression of the horizon seen from the top (10.1 deg for Earth's
+ * 100 km of air, 24.6 deg for 100 km over a 1000 km planet): all of it
+ * below that elevation, none 4 deg above, linear in the elevation between,
+ * where the samples' own interpolation costs about a fifteenth as much (F
+ * at 17 points). */
+#define SUNLIT_BLEND_RAD (4.0 * SF_PI / 180.0)
+
+static double sunlit_weight(const sf_atmosphere *atm, double mu_s) {
+  double shadow_reach = acos(atm->bottom_radius_km / atm->top_radius_km);
+  double elevation = asin(fmax(-1.0, fmin(1.0, mu_s)));
+  return fmin(1.0, fmax(0.0, (shadow_reach + SUNLIT_BLEND_RAD - elevation) / SUNLIT_BLEND_RAD));
+}
 
 /* F (data/sunlit_ray.h) of every single table at the grid sample at
  * offset (in samples) of view g. */
@@ -118,11 +129,9 @@ void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s
    * horizon fades exponentially as it sinks */
   int mu_s_axis = sky->params.kind == SF_PARAM_BRUNETON ? 0 : 2;
   /* through the sunlit air where the sun is low enough for the planet's
-   * shadow to cross a ray of the table (100 km sees 10.1 deg below its
-   * horizon), blended into the samples' own interpolation above, which
-   * costs about a fifteenth as much (F at 17 points) */
-  double w_sunlit = sky->transmittance ? fmin(1.0, fmax(0.0, (SUNLIT_MU_S_END - mu_s) /
-                                                                (SUNLIT_MU_S_END - SUNLIT_MU_S_FULL))) : 0.0;
+   * shadow to cross a ray of the table, blended into the samples' own
+   * interpolation above */
+  double w_sunlit = sky->transmittance ? sunlit_weight(atm, mu_s) : 0.0;
   if (sky->n_single > 0 && w_sunlit > 0.0) single_of_sunlit(sky, &c, pos, mu_s_axis, out->single);
   if (sky->n_single > 0 && w_sunlit < 1.0) {
     double plain[SF_MAX_CHANNELS];

@@ -20,7 +20,11 @@ static const double node_w[NODES] = {0.050614268145188126, 0.11119051722668724, 
                                      0.11119051722668724,  0.050614268145188126};
 
 /* T of the ray from altitude h at cosine mu to the top (a sun ray, or a
- * view ray); 0 where it hits the ground. */
+ * view ray); 0 where it hits the ground in Bruneton's parameterisation,
+ * whose table refuses such rays. Leenman's table holds T to the ground
+ * there, which this returns instead: the lit parts' sun rays miss the
+ * ground, so only the shadow's edge sees it, and the figures of
+ * data/sky_lookup.c are of Bruneton's tables. */
 static void to_top(const sf_table_params *p, const sf_table *transmittance, int nch, double h, double mu,
                    double *out) {
   double pos[4] = {0, 0, 0, 0};

@@ -18,6 +18,13 @@ int sf_table_set_orders_short(const sf_table_set *set, const sf_table_set_option
   const sf_table_orders *r = &set->multiple.orders;
   if (!(o->stop_fraction > 0.0) || r->highest != o->orders || o->orders < 3 || r->left_fraction < o->stop_fraction)
     return 0;
+  if (!isfinite(r->left_fraction)) {   /* no tail: data/precompute_multiple.c adds one where the orders shrink */
+    snprintf(text, n,
+             "multiple scattering: after order %d, the most asked for, the orders were not yet shrinking in its "
+             "slowest channel (the stop fraction is %g): the orders left are not estimated, and the tables lack them",
+             r->highest, o->stop_fraction);
+    return 1;
+  }
   snprintf(text, n,
            "multiple scattering: after order %d, the most asked for, the orders left would still add about %.3g of "
            "the sky radiance in its slowest channel (the stop fraction is %g), summed over all the tables' entries "
