@@ -116,9 +116,11 @@ static int parse_options(int argc, char **argv, eval_options *o) {
                 argv[i]);
         return 2;
       }
-    } else if (strcmp(a, "--tables") == 0) {   /* "unknown option" had said nothing of why */
-      fprintf(stderr, "skyfit eval: --tables: the reference's multiple_scattering and sky_radiance read tables; "
-              "a fitted model (--model) and the other quantities do not\n");
+    } else if (strcmp(a, "--tables") == 0 || strcmp(a, "--scene") == 0 || strcmp(a, "--resolution") == 0) {
+      /* "unknown option" had said nothing of why (--scene: it is one of
+       * sky_radiance's options, so it looked like a typo) */
+      fprintf(stderr, "skyfit eval: %s: the reference's multiple_scattering and sky_radiance read tables (of a "
+              "scene's domain, at a resolution); a fitted model (--model) and the other quantities do not\n", a);
       return 2;
     } else if (a[0] == '-') {
       return sf_cli_bad_option("skyfit eval", a, missing);

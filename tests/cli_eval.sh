@@ -514,6 +514,9 @@ expect_error "multiple scattering of a fitted model" "$(cat "$TMP/ground.csv")" 
   multiple_scattering --model "$W/mlp-scattering.json"
 expect_error "--tables with --model" "$(cat "$TMP/ground.csv")" "--tables: the reference's multiple_scattering" \
   sky_radiance --model "$W/mlp-scattering.json" --tables "$TMP"
+expect_error "--scene with the reference's transmittance" "h_km,mu
+0,1
+" "--scene: the reference's multiple_scattering and sky_radiance read tables" transmittance --scene "$TMP/none.json"
 expect_error "a missing weights file" "$(cat "$TMP/all.csv")" "no_such.json" transmittance --model "$TMP/no_such.json"
 # Parameters the model does not read (they had been ignored): a misspelt
 # one, the sky network's ground network in a transmittance file, a layer
