@@ -153,12 +153,13 @@ void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s
   }
 }
 
-/* Transmittance to the top from (h, mu), mu at or above the horizon. */
-static void to_top(const sf_sky_tables *sky, double h, double mu, double *out) {
+int sf_transmittance_table_to_top(const sf_table_params *p, const sf_table *transmittance, double h, double mu,
+                                  double *out) {
   double pos[4] = {0, 0, 0, 0};
-  sf_params_transmittance_pos(&sky->params, h, mu, pos);
-  sf_grid_view g = sf_grid_view_of(sky->transmittance);
+  int status = sf_params_transmittance_pos(p, h, mu, pos);
+  sf_grid_view g = sf_grid_view_of(transmittance);
   sf_grid_interp(&g, pos, out);
+  return status;
 }
 
 void sf_sky_transmittance(const sf_sky_tables *sky, double h_km, double mu, double *transmittance) {
@@ -170,10 +171,7 @@ void sf_sky_transmittance(const sf_sky_tables *sky, double h_km, double mu, doub
   double R = atm->bottom_radius_km, h = r - R;
   int ground = sf_ray_hits_sphere_from_above(r, mu, R);
   if (sky->params.kind == SF_PARAM_LEENMAN || !ground) {
-    double pos[4] = {0, 0, 0, 0};
-    sf_params_transmittance_pos(&sky->params, h, mu, pos);
-    sf_grid_view g = sf_grid_view_of(sky->transmittance);
-    sf_grid_interp(&g, pos, transmittance);
+    sf_transmittance_table_to_top(&sky->params, sky->transmittance, h, mu, transmittance);
     return;
   }
   /* T(x -> ground) = T(ground -> top, reversed) / T(x -> top, reversed) */
@@ -182,7 +180,7 @@ void sf_sky_transmittance(const sf_sky_tables *sky, double h_km, double mu, doub
   double mu_g = (r * mu + d) / R;
   mu_g = mu_g > 1.0 ? 1.0 : (mu_g < -1.0 ? -1.0 : mu_g);
   double a[SF_MAX_CHANNELS], b[SF_MAX_CHANNELS];
-  to_top(sky, 0.0, -mu_g, a);
-  to_top(sky, h, -mu, b);
+  sf_transmittance_table_to_top(&sky->params, sky->transmittance, 0.0, -mu_g, a);
+  sf_transmittance_table_to_top(&sky->params, sky->transmittance, h, -mu, b);
   for (int ch = 0; ch < nch; ++ch) transmittance[ch] = b[ch] > 0.0 ? fmin(1.0, a[ch] / b[ch]) : 0.0;
 }

@@ -46,6 +46,13 @@ int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, doubl
 void sf_sky_lookup(const sf_sky_tables *sky, double h_km, double mu, double mu_s, double nu,
                    sf_sky_sample *out);
 
+/* The transmittance table's T from altitude h along mu to the top (Bruneton
+ * 2017 GetTransmittanceToTopAtmosphereBoundary), per channel. Returns 0, or
+ * nonzero where the parameterisation refuses the ray (Bruneton's: one that
+ * passes below the ground), out then holding the table's first entry. */
+int sf_transmittance_table_to_top(const sf_table_params *p, const sf_table *transmittance, double h, double mu,
+                                  double *out);
+
 /* Transmittance along the same ray to its end (the ground or the top); 1 if
  * the ray never enters the atmosphere. Bruneton's table holds rays to the
  * top only: a ray to the ground is the ratio of two of them (Bruneton 2017

@@ -2,7 +2,7 @@
 
 #include <math.h>
 
-#include "data/table_interp.h"
+#include "data/sky_lookup.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
 #include "models/sun_shadow.h"
@@ -27,13 +27,8 @@ static const double node_w[NODES] = {0.050614268145188126, 0.11119051722668724, 
  * data/sky_lookup.c are of Bruneton's tables. */
 static void to_top(const sf_table_params *p, const sf_table *transmittance, int nch, double h, double mu,
                    double *out) {
-  double pos[4] = {0, 0, 0, 0};
-  if (sf_params_transmittance_pos(p, h, mu, pos) != 0) {
+  if (sf_transmittance_table_to_top(p, transmittance, h, mu, out) != 0)
     for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
-    return;
-  }
-  sf_grid_view g = sf_grid_view_of(transmittance);
-  sf_grid_interp(&g, pos, out);
 }
 
 /* T from the viewer (radius r, cosine mu) to distance t along its ray,
