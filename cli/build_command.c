@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/cache_limit_option.h"
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/interrupt_cleanup.h"
@@ -358,6 +359,7 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
   } else {
     sf_scene_default(scene);
   }
+  sf_cli_warn_atmosphere_units(command, scene->atmosphere_path, &scene->atmosphere);
   sf_scene_domain domain;
   if (sf_scene_get_domain(scene, &domain, &err) != SF_OK) {
     fprintf(stderr, "%s: %s\n", command, err.message);

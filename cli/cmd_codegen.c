@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/commands.h"
 #include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
@@ -247,6 +248,8 @@ static int load_scene(const codegen_options *o, codegen_job *job, sf_error *err)
   if (o->atmosphere_path &&
       sf_atmosphere_load_file(o->atmosphere_path, &job->scene.atmosphere, err) != SF_OK)
     return err->status;
+  sf_cli_warn_atmosphere_units("skyfit codegen", o->atmosphere_path ? o->atmosphere_path : job->scene.atmosphere_path,
+                               &job->scene.atmosphere);
   return sf_scene_get_domain(&job->scene, &job->domain, err);
 }
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/commands.h"
 #include "cli/csv_points.h"
 #include "cli/cmd_eval_tables.h"
@@ -324,6 +325,7 @@ int sf_cmd_eval(int argc, char **argv) {
       fprintf(stderr, "skyfit eval: %s\n", err.message);
       return err.status;
     }
+    sf_cli_warn_atmosphere_units("skyfit eval", o.atmosphere_path, &atm);
   } else {
     sf_atmosphere_default(&atm);
   }

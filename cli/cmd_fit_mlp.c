@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/cmd_fit_mlp_options.h"
 #include "cli/fit_commands.h"
 #include "cli/interrupt_cleanup.h"
@@ -303,6 +304,8 @@ static int run_sky(int argc, char **argv, int scattering) {
   *atm = scene->atmosphere;
   if (job.tables.atmosphere_path && sf_atmosphere_load_file(job.tables.atmosphere_path, atm, &err)) goto fail;
   scene->atmosphere = *atm;
+  sf_cli_warn_atmosphere_units(command, job.tables.atmosphere_path ? job.tables.atmosphere_path
+                                                                   : scene->atmosphere_path, atm);
   sf_scene_domain dom;
   if (sf_scene_get_domain(scene, &dom, &err)) goto fail;
   /* the run's files, which none of its outputs may overwrite (the scene's

@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/fit_commands.h"
 #include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
@@ -117,6 +118,8 @@ int sf_cmd_fit_sigmoid(int argc, char **argv) {
       sf_scene_default(scene);
       if (atm_path) status = sf_atmosphere_load_file(atm_path, &scene->atmosphere, &err);
     }
+    if (status == SF_OK)
+      sf_cli_warn_atmosphere_units(COMMAND, atm_path ? atm_path : scene->atmosphere_path, &scene->atmosphere);
   }
   sf_scene_domain domain;
   if (status == SF_OK) status = sf_scene_get_domain(scene, &domain, &err);

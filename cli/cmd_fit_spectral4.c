@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/cache_limit_option.h"
 #include "cli/fit_commands.h"
 #include "cli/interrupt_cleanup.h"
@@ -165,6 +166,8 @@ int sf_cmd_fit_spectral4(int argc, char **argv) {
       sf_scene_default(scene);
       if (atm_path) status = sf_atmosphere_load_file(atm_path, &scene->atmosphere, &err);
     }
+    if (status == SF_OK)
+      sf_cli_warn_atmosphere_units(COMMAND, atm_path ? atm_path : scene->atmosphere_path, &scene->atmosphere);
   }
   /* the inputs checked before the cache folder is made or any work done;
    * the message names the file they came from */

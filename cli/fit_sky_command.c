@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/csv_points.h"
 #include "cli/interrupt_cleanup.h"
 #include "cli/option_value.h"
@@ -309,6 +310,9 @@ static int fit_tables(sf_sky_form form, const char *command, sf_table_cli *o, co
       sf_scene_default(scene);
       if (o->atmosphere_path) status = sf_atmosphere_load_file(o->atmosphere_path, &scene->atmosphere, &err);
     }
+    if (status == SF_OK)
+      sf_cli_warn_atmosphere_units(command, o->atmosphere_path ? o->atmosphere_path : scene->atmosphere_path,
+                                   &scene->atmosphere);
   }
   sf_scene_domain domain;
   if (status == SF_OK) status = sf_scene_get_domain(scene, &domain, &err);

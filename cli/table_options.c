@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli/atmosphere_warnings.h"
 #include "cli/option_value.h"
 #include "models/atmosphere_file.h"
 #include "models/scene_file.h"
@@ -117,6 +118,7 @@ static int apply_scene(sf_table_cli *o, const char *command, sf_atmosphere *atm)
     free(scene);
     return err.status ? err.status : 2;
   }
+  sf_cli_warn_atmosphere_units(command, scene->atmosphere_path, &scene->atmosphere);
   *atm = scene->atmosphere;
   o->scene_domain = d;
   o->set.has_domain = 1;
@@ -148,5 +150,6 @@ int sf_table_cli_atmosphere(sf_table_cli *o, const char *command, sf_atmosphere 
     fprintf(stderr, "%s: %s\n", command, err.message);
     return err.status ? err.status : 2;
   }
+  sf_cli_warn_atmosphere_units(command, o->atmosphere_path, atm);
   return 0;
 }
