@@ -21,6 +21,10 @@ void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf
     sky->single[k] = &set->single[k];
   }
   sky->multiple = set->multiple.data ? &set->multiple : NULL;   /* none: transmittance only */
+  /* the memo holds F of the set's own atmosphere (that of its tables): a
+   * view given one of another channel count computes F at every lookup */
+  if (set->single_sunlit && sf_sample_memo_record_len(set->single_sunlit) == set->n_single * atm->n_channels)
+    sky->sunlit = set->single_sunlit;
 }
 
 int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, double *mu, double *mu_s, double nu) {
@@ -41,8 +45,9 @@ int sf_sky_enter_atmosphere(const sf_atmosphere *atm, double h, double *r, doubl
  * the depression of the horizon seen from the top (10.1 deg for Earth's
  * 100 km of air, 24.6 deg for 100 km over a 1000 km planet): all of it
  * below that elevation, none 4 deg above, linear in the elevation between,
- * where the samples' own interpolation costs about a fifteenth as much (F
- * at 17 points). */
+ * where the samples' own interpolation had cost about a fifteenth as much
+ * (F at 17 points; the 16 samples' F now come from the set's memo,
+ * data/sample_memo.h). */
 #define SUNLIT_BLEND_RAD (4.0 * SF_PI / 180.0)
 
 static double sunlit_weight(const sf_atmosphere *atm, double mu_s) {
@@ -52,17 +57,31 @@ static double sunlit_weight(const sf_atmosphere *atm, double mu_s) {
 }
 
 /* F (data/sunlit_ray.h) of every single table at the grid sample at
- * offset (in samples) of view g. */
+ * offset (in samples) of view g: from the set's memo where it holds it,
+ * else computed (and offered to the memo). Either way the same function
+ * of the same sample, so the same bits. */
 static void sunlit_at_sample(const sf_sky_tables *sky, const sf_grid_view *g, long offset,
                              double out[][SF_MAX_CHANNELS]) {
+  int n = sky->n_single, nch = sky->atm->n_channels;
+  double record[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+  if (sky->sunlit && sf_sample_memo_get(sky->sunlit, offset, record)) {
+    for (int k = 0; k < n; ++k)
+      for (int ch = 0; ch < nch; ++ch) out[k][ch] = record[k * nch + ch];
+    return;
+  }
+  long at = offset;
   double pos[4];
   for (int k = 0; k < 4; ++k) {
-    pos[k] = (double)(offset % g->size[k]);
-    offset /= g->size[k];
+    pos[k] = (double)(at % g->size[k]);
+    at /= g->size[k];
   }
   sf_scattering_coord c;
   sf_params_scattering_coord(&sky->params, pos, &c);
-  sf_sunlit_ray(sky->atm, &sky->params, sky->transmittance, sky->n_single, sky->single_constituent, &c, out);
+  sf_sunlit_ray(sky->atm, &sky->params, sky->transmittance, n, sky->single_constituent, &c, out);
+  if (!sky->sunlit) return;
+  for (int k = 0; k < n; ++k)
+    for (int ch = 0; ch < nch; ++ch) record[k * nch + ch] = out[k][ch];
+  sf_sample_memo_put(sky->sunlit, offset, record);
 }
 
 /* The single scattering of every table at c (position pos): the samples

@@ -11,6 +11,7 @@
 #ifndef SKYFIT_DATA_SKY_LOOKUP_H
 #define SKYFIT_DATA_SKY_LOOKUP_H
 
+#include "data/sample_memo.h"
 #include "data/table.h"
 #include "data/table_params.h"
 #include "data/table_set.h"
@@ -25,6 +26,9 @@ typedef struct sf_sky_tables {
   int single_constituent[SF_MAX_CONSTITUENTS];
   const sf_table *single[SF_MAX_CONSTITUENTS];
   const sf_table *multiple;
+  /* The set's memo of F at the single tables' samples (data/table_set.h;
+   * not owned, shared between threads); NULL: F computed at every lookup. */
+  sf_sample_memo *sunlit;
 } sf_sky_tables;
 
 void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf_table_set *set);

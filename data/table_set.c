@@ -10,6 +10,7 @@
 #include "data/precompute_transmittance.h"
 #include "data/scattering_setup.h"
 #include "data/table_cache.h"
+#include "data/table_interp.h"
 #include "models/atmosphere_file.h"
 #include "util/memory_limit.h"
 
@@ -131,6 +132,7 @@ void sf_table_set_free(sf_table_set *set) {
   for (int k = 0; k < SF_MAX_CONSTITUENTS; ++k) sf_table_free(&set->single[k]);
   sf_table_free(&set->multiple);
   sf_table_free(&set->irradiance);
+  sf_sample_memo_free(set->single_sunlit);
   memset(set, 0, sizeof *set);
 }
 
@@ -272,6 +274,16 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
     status = sf_table_cache_store(o->cache_dir, set->tables[t], err);
   }
   free(json);
+  /* the memo of F at the single tables' samples, sliced along mu_s (the
+   * axis orders of data/table_params.h) so that no storage is taken for
+   * the high suns, whose lookups never ask for F */
+  if (status == SF_OK && set->n_single > 0) {
+    sf_grid_view g = sf_grid_view_of(&set->single[0]);
+    set->single_sunlit = sf_sample_memo_make(g.size, p->kind == SF_PARAM_BRUNETON ? 0 : 2,
+                                             set->n_single * atm->n_channels);
+    if (!set->single_sunlit)
+      status = sf_fail(err, SF_ERR_INTERNAL, "out of memory for the memo of the single tables' sunlit air");
+  }
   if (status != SF_OK) {
     sf_table_set_free(set);
     return err->status ? err->status : SF_ERR_INTERNAL;

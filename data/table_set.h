@@ -16,6 +16,7 @@
 
 #include "data/precompute_multiple.h"
 #include "data/precompute_options.h"
+#include "data/sample_memo.h"
 #include "data/table.h"
 #include "data/table_params.h"
 #include "models/atmosphere.h"
@@ -84,6 +85,11 @@ typedef struct sf_table_set {
   char paths[SF_TABLE_SET_MAX_TABLES][4096];
   sf_multiple_report report;     /* when multiple scattering was computed */
   int multiple_computed;
+  /* The sunlit air F (data/sunlit_ray.h) of every single table at its
+   * samples, per constituent then channel, filled as lookups ask for it
+   * (data/sky_lookup.c): owned; NULL without single tables (a set made by
+   * hand may also leave it NULL: F is then computed at every lookup). */
+  sf_sample_memo *single_sunlit;
 } sf_table_set;
 
 /* Bytes of memory the computation needs for these options (an estimate
