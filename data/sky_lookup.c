@@ -5,6 +5,7 @@
 
 #include "data/sunlit_ray.h"
 #include "data/table_interp.h"
+#include "models/atmosphere_file.h"
 #include "models/phase.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
@@ -22,8 +23,9 @@ void sf_sky_tables_of_set(sf_sky_tables *sky, const sf_atmosphere *atm, const sf
   }
   sky->multiple = set->multiple.data ? &set->multiple : NULL;   /* none: transmittance only */
   /* the memo holds F of the set's own atmosphere (that of its tables): a
-   * view given one of another channel count computes F at every lookup */
-  if (set->single_sunlit && sf_sample_memo_record_len(set->single_sunlit) == set->n_single * atm->n_channels)
+   * view given another atmosphere computes F at every lookup */
+  if (set->single_sunlit && sf_sample_memo_record_len(set->single_sunlit) == set->n_single * atm->n_channels &&
+      sf_atmosphere_hash(atm) == set->atmosphere_hash)
     sky->sunlit = set->single_sunlit;
 }
 

@@ -278,6 +278,7 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
    * axis orders of data/table_params.h) so that no storage is taken for
    * the high suns, whose lookups never ask for F */
   if (status == SF_OK && set->n_single > 0) {
+    set->atmosphere_hash = sf_atmosphere_hash(atm);
     sf_grid_view g = sf_grid_view_of(&set->single[0]);
     set->single_sunlit = sf_sample_memo_make(g.size, p->kind == SF_PARAM_BRUNETON ? 0 : 2,
                                              set->n_single * atm->n_channels);

@@ -13,6 +13,7 @@
 #define SKYFIT_DATA_TABLE_SET_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "data/precompute_multiple.h"
 #include "data/precompute_options.h"
@@ -90,6 +91,9 @@ typedef struct sf_table_set {
    * (data/sky_lookup.c): owned; NULL without single tables (a set made by
    * hand may also leave it NULL: F is then computed at every lookup). */
   sf_sample_memo *single_sunlit;
+  /* sf_atmosphere_hash of the atmosphere the tables are of: a view of
+   * another atmosphere (data/sky_lookup.h) does not share single_sunlit */
+  uint64_t atmosphere_hash;
 } sf_table_set;
 
 /* Bytes of memory the computation needs for these options (an estimate

@@ -125,6 +125,13 @@ static void lookup_checks(const char *name, sf_parameterization kind, const char
   bare = sky;
   bare.sunlit = NULL;
   CHECK(sky.sunlit == set.single_sunlit && sky.sunlit != NULL);
+  /* the memo is the set's atmosphere's: a view of another (same channels
+   * and constituents, a denser Mie) must not read its F */
+  sf_atmosphere other = a;
+  for (int ch = 0; ch < other.n_channels; ++ch) other.constituents[1].scattering[ch] *= 2.0;
+  sf_sky_tables other_sky;
+  sf_sky_tables_of_set(&other_sky, &other, &set);
+  CHECK(other_sky.sunlit == NULL);
   sf_sky_sample *want = calloc(N_VIEWS, sizeof *want), *got = calloc(N_VIEWS, sizeof *got);
   if (!CHECK(want && got)) return;
   lookups serial_bare = {&bare, want}, memo = {&sky, got};
