@@ -3,8 +3,9 @@
  * every scattering constituent times its phase function at nu, plus the
  * multiple-scattering table, all interpolated multilinearly in the table's
  * parameterisation (data/table_params.h), the single scattering of a low
- * sun divided by the ray's sunlit air (data/sunlit_ray.h) to be
- * interpolated and multiplied back. A viewer above the top of the
+ * sun, or of a ray that keeps to the top altitude cell, divided by the
+ * ray's sunlit air (data/sunlit_ray.h) to be interpolated and multiplied
+ * back. A viewer above the top of the
  * atmosphere is moved along the ray to where it enters (nothing if it never
  * does). The direct sun and the ground seen at the end of the ray are not
  * included. */
