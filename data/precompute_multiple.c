@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "data/density_mu.h"
 #include "data/gauss_rule.h"
 #include "data/parallel_rows.h"
 #include "data/precompute_transmittance.h"
@@ -290,7 +291,7 @@ static void density_row(void *ctx, int thread, long row) {
       for (int ch = 0; ch < nch; ++ch) m_l[j][ch] += mono[j] * in[ch];
     }
   }
-  int direct[SF_MAX_CONSTITUENTS], n_direct = 0;
+  int direct[SF_MAX_CONSTITUENTS], n_direct = 0, half = m->n_mu / 2;
   for (int k = 0; k < ns; ++k) {
     sf_phase_kind kind = atm->constituents[m->s->scattering[k]].phase.kind;
     if (kind != SF_PHASE_RAYLEIGH && kind != SF_PHASE_ISOTROPIC) direct[n_direct++] = k;
@@ -301,6 +302,9 @@ static void density_row(void *ctx, int thread, long row) {
       double pos[4] = {i_s, i_mu, i_n, i_h};
       sf_scattering_coord c;
       sf_params_scattering_coord(&m->pi, pos, &c);
+      /* G's ground half is linear in mu (data/density_mu.h) */
+      if (c.hits_ground)
+        c.mu = sf_density_mu_ground_from_x(atm->bottom_radius_km, h, 1.0 - (double)i_mu / (half - 1));
       double nu = sf_clamp_nu(c.mu, mu_s, c.nu);
       double sin_v = sqrt(fmax(0.0, (1.0 - c.mu) * (1.0 + c.mu)));
       double cos_phi = sin_v * sin_s > 0.0 ? (nu - c.mu * mu_s) / (sin_v * sin_s) : 1.0;
@@ -545,7 +549,8 @@ static void gather_row(void *ctx, int thread, long row) {
       double rho = nodes->density[(size_t)q * nc + s->scattering[k]];
       for (int ch = 0; ch < nch; ++ch) coef[k * nch + ch] = nodes->weight[q] * tv[ch] * con->scattering[ch] * rho;
     }
-    double pm = c0.hits_ground ? (half - 1) * (1.0 - sf_bruneton_x_from_mu_ground(R, hp, mu_p))
+    /* G's mu mapping: linear in mu on the ground half (data/density_mu.h) */
+    double pm = c0.hits_ground ? (half - 1) * (1.0 - sf_density_x_from_mu_ground(R, hp, mu_p))
                                : half + (half - 1) * sf_bruneton_x_from_mu_top(R, Rt, hp, mu_p);
     double ph = sf_bruneton_x_from_h(R, Rt, hp) * (m->n_h - 1), f_mu, f_h;
     int j_mu = split_position(pm, m->n_mu, &f_mu), j_h = split_position(ph, m->n_h, &f_h);

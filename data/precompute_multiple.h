@@ -11,7 +11,11 @@
  *     phase function:  G_c(x, w) = integral of L_in(x, w_i) P_c(w . w_i) dw_i.
  *     The density of order k is J_k = sum_c beta_s,c density_c(x) G_c; the
  *     tables keep G_c, without the density, because G_c is smooth in
- *     altitude and density_c is applied exactly where J is used.
+ *     altitude and density_c is applied exactly where J is used. G is
+ *     sampled on the grid's mu positions with its own ground half, linear
+ *     in mu (data/density_mu.h): G is smooth in the direction, where the
+ *     grid's ground half, linear in the distance to the ground, is made
+ *     for the radiance along a ray.
  *  2. Indirect irradiance of order k-1 on a horizontal surface, E_{k-1} =
  *     integral over the upper hemisphere of L_{k-1} cos(theta) dw: at the
  *     ground for the next order's ground term, and at every altitude for the

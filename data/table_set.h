@@ -26,7 +26,7 @@
 /* Bump whenever a change makes the tables' values differ, or what a table
  * file holds (4: the multiple table's skyfit:orders, data/table_exr.h,
  * which tables cached before lack). */
-#define SF_TABLES_CODE_VERSION "skyfit-tables 9"
+#define SF_TABLES_CODE_VERSION "skyfit-tables 10"   /* 10: G's ground half linear in mu, data/density_mu.h */
 /* All orders (SPEC §6): up to the most, stopping once the orders left
  * would add less than 5e-4 of every channel's sky radiance (estimated as
  * the geometric tail of the last two; 7 orders for the built-in Earth,
