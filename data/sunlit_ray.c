@@ -31,16 +31,51 @@ static void to_top(const sf_table_params *p, const sf_table *transmittance, int 
     for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
 }
 
-/* T from the viewer (radius r, cosine mu) to distance t along its ray,
- * as a ratio of two rays to the top (Bruneton 2017 GetTransmittance):
- * the ray's own for a ray to the top, the reversed ones for a ray to the
- * ground; t0: the viewer's factor, computed once. */
+/* The factors of T_view that do not depend on the point: T to the top
+ * from the viewer along the ray upward (the ray itself if it rises, else
+ * reversed), and, for a ray that falls to a lowest point above the ground,
+ * the distance t_low to that point and T to the top from it along the
+ * horizontal. */
+typedef struct view_ends {
+  double t_low;
+  double viewer[SF_MAX_CHANNELS], low[SF_MAX_CHANNELS];
+} view_ends;
+
+static view_ends view_ends_make(const sf_table_params *p, const sf_table *transmittance, int nch, double R,
+                                double h, double mu, int hits_ground) {
+  view_ends e;
+  double r = R + h;
+  e.t_low = mu < 0.0 && !hits_ground ? -r * mu : 0.0;
+  to_top(p, transmittance, nch, h, fabs(mu), e.viewer);
+  if (e.t_low > 0.0) to_top(p, transmittance, nch, fmax(0.0, sqrt(sf_ray_closest_radius_sq(r, mu)) - R), 0.0, e.low);
+  return e;
+}
+
+/* T from the viewer (radius r, cosine mu) to distance t along its ray, as
+ * a ratio of rays to the top (Bruneton 2017 GetTransmittance) taken, as
+ * his are for a ray to the ground, upward or level only: on the way down
+ * (a ray to the ground, or before its lowest point) the reversed rays,
+ * T(p, -mu_p) / T(viewer, -mu); past the lowest point the ray goes through
+ * it, T(viewer -> low) T(low -> p) = [T(low, 0) / T(viewer, -mu)]
+ * [T(low, 0) / T(p, mu_p)]; a rising ray's own, T(viewer, mu) / T(p, mu_p).
+ * Bruneton's own ratio for a falling ray to the top, T(viewer, mu) /
+ * T(p, mu_p), divides two rays that both pass the lowest point, tiny where
+ * that is near the ground, and their table errors do not cancel: from
+ * 220 km, sun 2.5 deg down, 45 deg from it, the exact single scattering
+ * over F came out 23 % (blue Rayleigh), 29 % (blue Mie) low for a ray 1 km
+ * above the ground against a ray that hits it, and wavered by several %
+ * up to 12 km; now within 0.1 % over -3..12 km (F on a fine rule).
+ * e: view_ends_make of the same ray. */
 static void view_transmittance(const sf_table_params *p, const sf_table *transmittance, int nch, double R, double r,
-                               double mu, int hits_ground, double t, const double *t0, double *out) {
+                               double mu, int hits_ground, double t, const view_ends *e, double *out) {
   double rp = sf_ray_radius_at(r, mu, t), mu_p = fmax(-1.0, fmin(1.0, (r * mu + t) / rp)), T[SF_MAX_CHANNELS];
-  to_top(p, transmittance, nch, fmax(0.0, rp - R), hits_ground ? -mu_p : mu_p, T);
+  int falling = mu < 0.0 && (hits_ground || t <= e->t_low);
+  to_top(p, transmittance, nch, fmax(0.0, rp - R), falling ? -mu_p : mu_p, T);
   for (int ch = 0; ch < nch; ++ch) {
-    double ratio = hits_ground ? (t0[ch] > 0.0 ? T[ch] / t0[ch] : 0.0) : (T[ch] > 0.0 ? t0[ch] / T[ch] : 0.0);
+    double v = e->viewer[ch], ratio;
+    if (falling) ratio = v > 0.0 ? T[ch] / v : 0.0;
+    else if (mu < 0.0) ratio = v > 0.0 && T[ch] > 0.0 ? e->low[ch] / v * (e->low[ch] / T[ch]) : 0.0;
+    else ratio = T[ch] > 0.0 ? v / T[ch] : 0.0;
     out[ch] = fmin(1.0, ratio);
   }
 }
@@ -63,15 +98,23 @@ void sf_sunlit_ray(const sf_atmosphere *atm, const sf_table_params *p, const sf_
   double nu = sf_clamp_nu(mu, mu_s, c->nu);
   double length = ray_length(atm, r, mu, c->hits_ground);
   if (!(length > 0.0)) return;
-  /* the parts: cut where the sun ray grazes the ground and where the sun
-   * crosses the point's horizon (p.s = 0); sorted by insertion */
+  view_ends ends = view_ends_make(p, transmittance, nch, R, c->h, mu, c->hits_ground);
+  /* the parts: cut where the sun ray grazes the ground, where the sun
+   * crosses the point's horizon (p.s = 0) and at the ray's lowest point,
+   * where the density peaks and T_view changes its rays (see
+   * view_transmittance); sorted by insertion. Without the last cut, over
+   * random views from 100-400 km, suns -10..10 deg, rays whose lowest
+   * point lies -3..10 km (3 channels), the lookups' relative RMS error was
+   * 2.2 % against 0.7 %; it adds 8 nodes on such rays (F 4.2 -> 5.5 us,
+   * a lookup 6.9 -> 8.1 us on them, low suns) */
   sf_sun_line line = sf_sun_line_make(r, mu, mu_s, nu, R);
-  double cuts[5], roots[2];
+  double cuts[6], roots[2];
   int n_cuts = 0, n_roots = sf_sun_line_tangent_distances(&line, roots);
   cuts[n_cuts++] = 0.0;
   for (int k = 0; k < n_roots; ++k)
     if (roots[k] > 0.0 && roots[k] < length) cuts[n_cuts++] = roots[k];
   if (nu != 0.0 && -r * mu_s / nu > 0.0 && -r * mu_s / nu < length) cuts[n_cuts++] = -r * mu_s / nu;
+  if (ends.t_low > 0.0 && ends.t_low < length) cuts[n_cuts++] = ends.t_low;
   cuts[n_cuts++] = length;
   for (int i = 1; i < n_cuts; ++i)
     for (int j = i; j > 0 && cuts[j] < cuts[j - 1]; --j) {
@@ -79,8 +122,6 @@ void sf_sunlit_ray(const sf_atmosphere *atm, const sf_table_params *p, const sf_
       cuts[j] = cuts[j - 1];
       cuts[j - 1] = x;
     }
-  double t0_view[SF_MAX_CHANNELS];
-  to_top(p, transmittance, nch, c->h, c->hits_ground ? -mu : mu, t0_view);
   for (int i = 0; i + 1 < n_cuts; ++i) {
     double t0 = cuts[i], span = cuts[i + 1] - t0;
     if (!(span > 0.0) || sf_sun_line_hidden(&line, t0 + 0.5 * span)) continue;
@@ -91,7 +132,7 @@ void sf_sunlit_ray(const sf_atmosphere *atm, const sf_table_params *p, const sf_
       double T[SF_MAX_CHANNELS];
       to_top(p, transmittance, nch, hp, mu_sp, T);
       double V[SF_MAX_CHANNELS];
-      view_transmittance(p, transmittance, nch, R, r, mu, c->hits_ground, t, t0_view, V);
+      view_transmittance(p, transmittance, nch, R, r, mu, c->hits_ground, t, &ends, V);
       for (int ch = 0; ch < nch; ++ch) T[ch] *= V[ch];
       for (int k = 0; k < n; ++k) {
         double w = span * node_w[q] * sf_constituent_density(&atm->constituents[constituents[k]], hp);

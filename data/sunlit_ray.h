@@ -5,11 +5,12 @@
  * with the planet's shadow cut out exactly (models/sun_shadow.h: the ray is
  * split where the sun ray grazes the ground and where the sun crosses the
  * point's horizon, and a part whose midpoint the planet hides is left
- * out), T_sun and T_view from the transmittance table (T_view as a ratio
- * of two rays to the top, Bruneton 2017 GetTransmittance) and an 8-point
- * Gauss-Legendre rule on each part: the single scattering (seed 000's
- * integral, without the sun's irradiance, the scattering coefficient and
- * the phase) on a coarse rule.
+ * out; a ray that falls to a lowest point above the ground is split there
+ * too), T_sun and T_view from the transmittance table (T_view as a ratio
+ * of rays to the top that rise or run level, Bruneton 2017
+ * GetTransmittance) and an 8-point Gauss-Legendre rule on each part: the
+ * single scattering (seed 000's integral, without the sun's irradiance,
+ * the scattering coefficient and the phase) on a coarse rule.
  *
  * In the planet's shadow at altitude the single scattering of a fixed view
  * falls by decades within one mu_s sample (1.4 deg) and ends at a sun
