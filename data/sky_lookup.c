@@ -70,14 +70,14 @@ static double sunlit_weight(const sf_atmosphere *atm, double mu_s) {
  * +40.9 %, whatever the channel, sun azimuth or mu count, falling about
  * threefold per doubling of the altitude count (16, 32, 64, 128: +109,
  * +36, +12, +3 %). F follows the density and the length, so the samples
- * over F interpolate well (within 0.01 % there). It does not on a ray that
- * dips into dense air, whose peak its coarse rule misses (from 92.55 km,
- * passing 1 km above the ground: +14.6 % through F, -2.5 % by the
- * samples), and whose samples the top's thin air does not dominate (from
- * 99 km, 5 deg down: +1.3 % by the samples). So the weight goes by the
- * ray's lowest altitude: 1 in the top cell, 0 at the sample below it,
- * linear between; and only where the table reaches the top of the
- * atmosphere, whose rays shrink to nothing. */
+ * over F interpolate well (within 0.01 % there). A ray that dips into
+ * dense air is not the top's: its samples' own interpolation does well
+ * (from 99 km, 5 deg down: +1.3 %; from 92.55 km, passing 1 km above the
+ * ground: -2.5 %, and +0.04 % through F since F follows such rays through
+ * their lowest point, data/sunlit_ray.h; +14.6 % before). So the weight
+ * goes by the ray's lowest altitude: 1 in the top cell, 0 at the sample
+ * below it, linear between; and only where the table reaches the top of
+ * the atmosphere, whose rays shrink to nothing. */
 static double top_cell_weight(const sf_sky_tables *sky, const sf_scattering_coord *c) {
   const sf_table_params *p = &sky->params;
   double R = p->bottom_radius_km, r = R + c->h;
