@@ -9,6 +9,6 @@ double sf_density_mu_ground_from_x(double R, double h, double x) {
 
 double sf_density_x_from_mu_ground(double R, double h, double mu) {
   double mu_h = sf_horizon_mu(R + h, R);
-  double x = (mu + 1.0) / (mu_h + 1.0);   /* mu_h >= -1: a viewer at the centre is not one */
+  double x = (mu + 1.0) / (mu_h + 1.0);   /* mu_h > -1 at any finite r */
   return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x);
 }

@@ -7,8 +7,10 @@
  *
  * Storage is taken one slice of the slice axis at a time (a sample's
  * index along it), when a record of that slice is first kept: the lookup
- * reads only the suns below its blend's upper end (24 of the default 32
- * mu_s samples), and a command that never looks at a low sun takes none.
+ * reads the suns below its blend's upper end (24 of the default 32 mu_s
+ * samples) and, for rays that keep to the top altitude cell, any sun; a
+ * command that looks at neither takes none. sf_table_set_memory_bytes
+ * counts all of it (51 MB for the RGB default).
  *
  * A record is kept by the first thread to offer it and read back as kept;
  * a thread that finds it missing or still being written computes its own.

@@ -64,6 +64,7 @@ size_t sf_table_set_memory_bytes(const sf_atmosphere *atm, const sf_table_set_op
     entries = 0;
   }
   bytes += 4.0 * nch * entries * (ns + 1.0);                /* output singles, multiple */
+  bytes += entries * (8.0 * ns * nch + 1.0);   /* the lookups' memo of F, all of it (data/sample_memo.h) */
   if (o->orders >= 2 && ns > 0) {
     /* an output apart from the internal grid: Leenman, or a restricted domain */
     double leenman = o->kind == SF_PARAM_LEENMAN || o->has_domain;
@@ -276,7 +277,8 @@ int sf_table_set_make(sf_table_set *set, const sf_atmosphere *atm, const sf_tabl
   free(json);
   /* the memo of F at the single tables' samples, sliced along mu_s (the
    * axis orders of data/table_params.h) so that no storage is taken for
-   * the high suns, whose lookups never ask for F */
+   * the high suns until a ray that keeps to the top altitude cell asks for
+   * F there (data/sky_lookup.c) */
   if (status == SF_OK && set->n_single > 0) {
     set->atmosphere_hash = sf_atmosphere_hash(atm);
     sf_grid_view g = sf_grid_view_of(&set->single[0]);

@@ -13,6 +13,7 @@
 #include "data/parallel_rows.h"
 #include "data/sample_memo.h"
 #include "data/sky_lookup.h"
+#include "data/table_interp.h"
 #include "data/table_set.h"
 #include "models/atmosphere_file.h"
 #include "tests/check.h"
@@ -133,7 +134,12 @@ static void lookup_checks(const char *name, sf_parameterization kind, const char
   sf_sky_tables_of_set(&other_sky, &other, &set);
   CHECK(other_sky.sunlit == NULL);
   sf_sky_sample *want = calloc(N_VIEWS, sizeof *want), *got = calloc(N_VIEWS, sizeof *got);
-  if (!CHECK(want && got)) return;
+  if (!CHECK(want && got)) {
+    free(want);
+    free(got);
+    sf_table_set_free(&set);
+    return;
+  }
   lookups serial_bare = {&bare, want}, memo = {&sky, got};
   sf_precompute_options one = {0}, four = {0};
   one.n_threads = 1;
@@ -149,6 +155,36 @@ static void lookup_checks(const char *name, sf_parameterization kind, const char
   sf_parallel_rows(N_VIEWS, &one, NULL, lookup_row, &memo);    /* read back */
   CHECK(same_single(got, want, N_VIEWS));
   CHECK(sf_sample_memo_bytes(set.single_sunlit) == filled);
+  /* the lookups read what the memo holds: a copy of it with every record
+   * doubled halves their single scattering (corners over 2F, times F at
+   * the point) wherever the sunlit air is all of it */
+  sf_grid_view g = sf_grid_view_of(&set.single[0]);
+  int rec_len = sf_sample_memo_record_len(set.single_sunlit);
+  sf_sample_memo *doubled = sf_sample_memo_make(g.size, kind == SF_PARAM_BRUNETON ? 0 : 2, rec_len);
+  if (CHECK(doubled != NULL)) {
+    double rec[SF_MAX_CONSTITUENTS * SF_MAX_CHANNELS];
+    long n_samples = (long)g.size[0] * g.size[1] * g.size[2] * g.size[3], kept = 0;
+    for (long off = 0; off < n_samples; ++off) {
+      if (!sf_sample_memo_get(set.single_sunlit, off, rec)) continue;
+      for (int i = 0; i < rec_len; ++i) rec[i] *= 2.0;
+      sf_sample_memo_put(doubled, off, rec);
+      ++kept;
+    }
+    CHECK(kept > 0);
+    sf_sky_tables poisoned = sky;
+    poisoned.sunlit = doubled;
+    lookups halved = {&poisoned, got};
+    sf_parallel_rows(N_VIEWS, &one, NULL, lookup_row, &halved);
+    long n_halved = 0, n_lit = 0;
+    for (long v = 0; v < N_VIEWS; ++v) {
+      double a = want[v].single[0][0], b = got[v].single[0][0];
+      if (a > 0.0) ++n_lit;
+      if (a > 0.0 && fabs(b - 0.5 * a) <= 1e-12 * a) ++n_halved;
+    }
+    printf("%s: %ld of %ld lit views halved through the doubled memo\n", name, n_halved, n_lit);
+    CHECK(n_halved > n_lit / 4);
+    sf_sample_memo_free(doubled);
+  }
   double lit = 0.0;
   for (long v = 0; v < N_VIEWS; ++v) lit += want[v].single[0][0];
   CHECK(lit > 0.0);
