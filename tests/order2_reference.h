@@ -12,14 +12,17 @@
 #define SKYFIT_TESTS_ORDER2_REFERENCE_H
 
 #include <math.h>
+#include <stdio.h>
 
 #include "data/gauss_rule.h"
+#include "data/sky_lookup.h"
 #include "models/atmosphere.h"
 #include "models/optical_depth.h"
 #include "models/phase.h"
 #include "models/ray_geometry.h"
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
+#include "tests/check.h"
 #include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
@@ -105,6 +108,23 @@ static inline void order2_reference(const sf_atmosphere *a, double h, double mu,
       double rho = sf_constituent_density(&a->constituents[c], rp - R);
       for (int ch = 0; ch < nch; ++ch) out[ch] += wt * T[ch] * a->constituents[c].scattering[ch] * rho * G[c * nch + ch];
     }
+  }
+}
+
+/* The lookup's multiple scattering (a table of order 2 alone) at a point
+ * against order2_reference, per channel, within rel_bound; prints each. */
+static inline void check_order2_point(const sf_sky_tables *sky, const sf_atmosphere *a, const char *name, double h,
+                                      double mu, double mu_s, double nu, const order2_nodes *nodes,
+                                      double rel_bound) {
+  sf_sky_sample table;
+  sf_sky_lookup(sky, h, mu, mu_s, nu, &table);
+  double want[SF_MAX_CHANNELS];
+  order2_reference(a, h, mu, mu_s, nu, nodes, want);
+  for (int ch = 0; ch < a->n_channels; ++ch) {
+    double rel = table.multiple[ch] / want[ch] - 1.0;
+    printf("%-30s ch %d order 2: table %.5g reference %.5g %+.2f%%\n", name, ch, table.multiple[ch], want[ch],
+           100.0 * rel);
+    check_report(want[ch] > 0.0 && fabs(rel) <= rel_bound, name, __FILE__, __LINE__);
   }
 }
 

@@ -25,22 +25,18 @@
 #include "data/table_set.h"
 #include "models/atmosphere_file.h"
 #include "tests/check.h"
+#include "tests/lookup_test_tables.h"
 #include "tests/order2_reference.h"
 
 int main(void) {
   sf_atmosphere a;
   sf_atmosphere_default(&a);
   sf_atmosphere_finalize(&a);
-  sf_table_set_options o;
-  sf_table_set_options_default(&o);   /* the default resolution: the error is its mu axis' */
-  o.orders = 2;                         /* the table is order 2 alone */
-  o.stop_fraction = 0.0;
-  o.run.n_threads = 2;
-  sf_error err = {0};
   sf_table_set set;
-  if (!CHECK(sf_table_set_make(&set, &a, &o, &err) == 0)) return check_summary();
   sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &a, &set);
+  /* the default resolution (the error is its mu axis'); the multiple
+   * table is order 2 alone */
+  if (!CHECK(lookup_test_tables(&a, "256x64,32x128x32x8", 2, &set, &sky) == 0)) return check_summary();
   const order2_nodes nodes = {8, 4, 16};
   static const struct { const char *name; double h, mu, mu_s, nu, rel_bound; } points[] = {
       {"10 km, mu -0.5, sun mu_s 0.6", 10.0, -0.5, 0.6, 0.1, 0.010},
@@ -48,18 +44,9 @@ int main(void) {
       {"10 km, mu -0.5, sun mu_s 0.2", 10.0, -0.5, 0.2, 0.3, 0.010},
       {"10 km, mu -0.7, sun mu_s 0.2", 10.0, -0.7, 0.2, 0.3, 0.018},
   };
-  for (size_t p = 0; p < sizeof points / sizeof points[0]; ++p) {
-    sf_sky_sample table;
-    sf_sky_lookup(&sky, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &table);
-    double want[SF_MAX_CHANNELS];
-    order2_reference(&a, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &nodes, want);
-    for (int ch = 0; ch < a.n_channels; ++ch) {
-      double rel = table.multiple[ch] / want[ch] - 1.0;
-      printf("%-30s ch %d order 2: table %.5g reference %.5g %+.2f%%\n", points[p].name, ch, table.multiple[ch],
-             want[ch], 100.0 * rel);
-      check_report(want[ch] > 0.0 && fabs(rel) <= points[p].rel_bound, points[p].name, __FILE__, __LINE__);
-    }
-  }
+  for (size_t p = 0; p < sizeof points / sizeof points[0]; ++p)
+    check_order2_point(&sky, &a, points[p].name, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &nodes,
+                       points[p].rel_bound);
   sf_table_set_free(&set);
   return check_summary();
 }

@@ -33,6 +33,7 @@
 #include "data/table_set.h"
 #include "models/atmosphere_file.h"
 #include "tests/check.h"
+#include "tests/lookup_test_tables.h"
 #include "tests/order2_reference.h"
 
 #define REL_BOUND 0.04
@@ -41,34 +42,18 @@ int main(void) {
   sf_atmosphere a;
   sf_atmosphere_default(&a);
   sf_atmosphere_finalize(&a);
-  sf_table_set_options o;
-  sf_table_set_options_default(&o);
-  sf_error err = {0};
   sf_table_set set;
-  if (!CHECK(sf_table_resolution_parse("256x64,16x64x64x16", &o.res, &err) == 0)) return check_summary();
-  o.orders = 2;   /* the table is order 2 alone */
-  o.stop_fraction = 0.0;
-  o.run.n_threads = 2;
-  if (!CHECK(sf_table_set_make(&set, &a, &o, &err) == 0)) return check_summary();
   sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &a, &set);
+  /* the multiple table is order 2 alone */
+  if (!CHECK(lookup_test_tables(&a, "256x64,16x64x64x16", 2, &set, &sky) == 0)) return check_summary();
   const order2_nodes nodes = {8, 4, 16};
   static const struct { const char *name; double h, mu, mu_s, nu; } points[] = {
       {"20 km, sun -8 deg, away", 20.0, 0.05, -0.139, -0.9},
       {"20 km, sun -8 deg, 17 deg up", 20.0, 0.3, -0.139, 0.0},
   };
-  for (size_t p = 0; p < sizeof points / sizeof points[0]; ++p) {
-    sf_sky_sample table;
-    sf_sky_lookup(&sky, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &table);
-    double want[SF_MAX_CHANNELS];
-    order2_reference(&a, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &nodes, want);
-    for (int ch = 0; ch < a.n_channels; ++ch) {
-      double rel = table.multiple[ch] / want[ch] - 1.0;
-      printf("%-30s ch %d order 2: table %.5g reference %.5g %+.2f%%\n", points[p].name, ch, table.multiple[ch],
-             want[ch], 100.0 * rel);
-      check_report(want[ch] > 0.0 && fabs(rel) <= REL_BOUND, points[p].name, __FILE__, __LINE__);
-    }
-  }
+  for (size_t p = 0; p < sizeof points / sizeof points[0]; ++p)
+    check_order2_point(&sky, &a, points[p].name, points[p].h, points[p].mu, points[p].mu_s, points[p].nu, &nodes,
+                       REL_BOUND);
   sf_table_set_free(&set);
   return check_summary();
 }

@@ -27,37 +27,20 @@
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
 #include "tests/check.h"
+#include "tests/lookup_test_tables.h"
 #include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
 #define REL_BOUND 0.02
 
-static double table_single(const sf_sky_tables *sky, const sf_atmosphere *a, double h, double mu, double mu_s,
-                           double nu, int ch) {
-  sf_sky_sample s;
-  sf_sky_lookup(sky, h, mu, mu_s, nu, &s);
-  nu = sf_clamp_nu(mu, mu_s, nu);
-  double sum = 0.0;
-  for (int k = 0; k < sky->n_single; ++k)
-    sum += sf_phase_value(&a->constituents[sky->single_constituent[k]].phase, nu) * s.single[k][ch];
-  return sum;
-}
-
 int main(void) {
   sf_atmosphere a;
   sf_atmosphere_default(&a);
   sf_atmosphere_finalize(&a);
-  sf_table_set_options o;
-  sf_table_set_options_default(&o);
-  sf_error err = {0};
   sf_table_set set;
-  if (!CHECK(sf_table_resolution_parse("256x64,16x64x32x8", &o.res, &err) == 0)) return check_summary();
-  o.orders = 1;   /* single scattering alone */
-  o.stop_fraction = 0.0;
-  o.run.n_threads = 2;
-  if (!CHECK(sf_table_set_make(&set, &a, &o, &err) == 0)) return check_summary();
   sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &a, &set);
+  /* single scattering alone */
+  if (!CHECK(lookup_test_tables(&a, "256x64,16x64x32x8", 1, &set, &sky) == 0)) return check_summary();
   /* elevation and azimuth from the sun in degrees */
   static const struct { const char *name; double h, sun, el, az; } views[] = {
       {"20 km, sun -8, zenith", 20.0, -8.0, 90.0, 0.0},
@@ -75,7 +58,7 @@ int main(void) {
     double want[SF_MAX_CHANNELS];
     exact_single_radiance(&a, views[v].h, mu, mu_s, nu, 1e-6, want);
     for (int ch = 0; ch < a.n_channels; ++ch) {
-      double got = table_single(&sky, &a, views[v].h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
+      double got = lookup_single_with_phase(&sky, &a, views[v].h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
       printf("%-36s ch %d table %.5g exact %.5g %+.2f%%\n", views[v].name, ch, got, want[ch], 100.0 * rel);
       check_report(want[ch] > 0.0 && fabs(rel) <= REL_BOUND, views[v].name, __FILE__, __LINE__);
     }
@@ -87,7 +70,7 @@ int main(void) {
   exact_single_radiance(&a, 20.0, 1.0, mu_s, mu_s, 1e-6, dark);
   for (int ch = 0; ch < a.n_channels; ++ch) {
     CHECK(dark[ch] == 0.0);
-    CHECK_ABS(table_single(&sky, &a, 20.0, 1.0, mu_s, mu_s, ch), 0.0, 0.0);
+    CHECK_ABS(lookup_single_with_phase(&sky, &a, 20.0, 1.0, mu_s, mu_s, ch), 0.0, 0.0);
   }
   sf_table_set_free(&set);
   return check_summary();

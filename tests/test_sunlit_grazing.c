@@ -31,6 +31,7 @@
 #include "models/single_scattering.h"
 #include "models/view_ray.h"
 #include "tests/check.h"
+#include "tests/lookup_test_tables.h"
 #include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
@@ -44,17 +45,6 @@ static void grazing_view(const sf_atmosphere *a, double h, double low, double su
   *mu = -sqrt(1.0 - ratio * ratio);
   *mu_s = sin(sun * D);
   *nu = *mu * *mu_s + sqrt(1.0 - *mu * *mu) * cos(sun * D) * cos(az * D);
-}
-
-static double table_single(const sf_sky_tables *sky, const sf_atmosphere *a, double h, double mu, double mu_s,
-                           double nu, int ch) {
-  sf_sky_sample s;
-  sf_sky_lookup(sky, h, mu, mu_s, nu, &s);
-  nu = sf_clamp_nu(mu, mu_s, nu);
-  double sum = 0.0;
-  for (int k = 0; k < sky->n_single; ++k)
-    sum += sf_phase_value(&a->constituents[sky->single_constituent[k]].phase, nu) * s.single[k][ch];
-  return sum;
 }
 
 /* F of every single table against the exact quadrature over families of
@@ -103,21 +93,14 @@ int main(void) {
   sf_atmosphere a;
   sf_atmosphere_default(&a);
   sf_atmosphere_finalize(&a);
-  sf_table_set_options o;
-  sf_table_set_options_default(&o);
-  sf_error err = {0};
   sf_table_set set;
-  if (!CHECK(sf_table_resolution_parse("256x64,32x128x16x8", &o.res, &err) == 0)) return check_summary();
-  o.orders = 1;   /* single scattering alone */
-  o.stop_fraction = 0.0;
-  o.run.n_threads = 2;
-  if (!CHECK(sf_table_set_make(&set, &a, &o, &err) == 0)) return check_summary();
+  sf_sky_tables sky;
+  /* single scattering alone */
+  if (!CHECK(lookup_test_tables(&a, "256x64,32x128x16x8", 1, &set, &sky) == 0)) return check_summary();
   double worst = worst_sunlit_error(&a, &set);
   printf("F: worst %+.2f%%\n", 100.0 * worst);
   check_report(fabs(worst) <= 0.05, "F on grazing rays within 5 %", __FILE__, __LINE__);
 
-  sf_sky_tables sky;
-  sf_sky_tables_of_set(&sky, &a, &set);
   /* a view by its elevation (el < 90) or by its ray's lowest altitude
    * (el = 90: low); sun elevation and azimuth from the sun in degrees */
   static const struct { const char *name; double h, sun, el, low, az; } views[] = {
@@ -139,7 +122,7 @@ int main(void) {
     double want[SF_MAX_CHANNELS];
     exact_single_radiance(&a, views[v].h, mu, mu_s, nu, 1e-7, want);
     for (int ch = 0; ch < a.n_channels; ++ch) {
-      double got = table_single(&sky, &a, views[v].h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
+      double got = lookup_single_with_phase(&sky, &a, views[v].h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
       printf("%-50s ch %d table %.5g exact %.5g %+.3f%%\n", views[v].name, ch, got, want[ch], 100.0 * rel);
       check_report(want[ch] > 0.0 && fabs(rel) <= 0.01, views[v].name, __FILE__, __LINE__);
     }
