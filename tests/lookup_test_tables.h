@@ -12,6 +12,9 @@
 #include "data/table_set.h"
 #include "models/phase.h"
 #include "models/single_scattering.h"
+#include "tests/check.h"
+#include "tests/exact_single_radiance.h"
+#include "util/constants.h"
 
 /* res in --resolution's syntax ("256x64,32x128x16x8"); orders: the highest
  * order (1: single scattering alone; the multiple table then holds orders
@@ -47,6 +50,28 @@ static inline double lookup_single_with_phase(const sf_sky_tables *sky, const sf
   for (int k = 0; k < sky->n_single; ++k)
     sum += sf_phase_value(&a->constituents[sky->single_constituent[k]].phase, nu) * s.single[k][ch];
   return sum;
+}
+
+/* The cosines of a view given in degrees: the sun's elevation, the view's
+ * elevation and its azimuth from the sun. */
+static inline void view_cosines(double sun_deg, double el_deg, double az_deg, double *mu, double *mu_s, double *nu) {
+  double D = SF_PI / 180.0;
+  *mu = sin(el_deg * D);
+  *mu_s = sin(sun_deg * D);
+  *nu = *mu * *mu_s + cos(el_deg * D) * cos(sun_deg * D) * cos(az_deg * D);
+}
+
+/* The lookup's single scattering against exact_single_radiance (relative
+ * tolerance tol) in every channel, within rel_bound; prints each. */
+static inline void check_single_lookup(const sf_sky_tables *sky, const sf_atmosphere *a, const char *name, double h,
+                                       double mu, double mu_s, double nu, double tol, double rel_bound) {
+  double want[SF_MAX_CHANNELS];
+  exact_single_radiance(a, h, mu, mu_s, nu, tol, want);
+  for (int ch = 0; ch < a->n_channels; ++ch) {
+    double got = lookup_single_with_phase(sky, a, h, mu, mu_s, nu, ch), rel = got / want[ch] - 1.0;
+    printf("%-50s ch %d table %.5g exact %.5g %+.3f%%\n", name, ch, got, want[ch], 100.0 * rel);
+    check_report(want[ch] > 0.0 && fabs(rel) <= rel_bound, name, __FILE__, __LINE__);
+  }
 }
 
 #endif
