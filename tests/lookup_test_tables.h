@@ -10,17 +10,21 @@
 
 #include "data/sky_lookup.h"
 #include "data/table_set.h"
+#include "models/atmosphere_file.h"
 #include "models/phase.h"
 #include "models/single_scattering.h"
 #include "tests/check.h"
 #include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
-/* res in --resolution's syntax ("256x64,32x128x16x8"); orders: the highest
- * order (1: single scattering alone; the multiple table then holds orders
- * 2..orders). 0 on success, else 1 with the reason on stderr. */
-static inline int lookup_test_tables(const sf_atmosphere *a, const char *res, int orders, sf_table_set *set,
+/* *a: the default atmosphere; res in --resolution's syntax
+ * ("256x64,32x128x16x8"); orders: the highest order (1: single scattering
+ * alone; the multiple table then holds orders 2..orders). 0 on success,
+ * else 1 with the reason on stderr. */
+static inline int lookup_test_tables(const char *res, int orders, sf_atmosphere *a, sf_table_set *set,
                                      sf_sky_tables *sky) {
+  sf_atmosphere_default(a);
+  sf_atmosphere_finalize(a);
   sf_table_set_options o;
   sf_table_set_options_default(&o);
   sf_error err = {0};
