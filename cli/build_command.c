@@ -59,6 +59,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       the dawn views several times better (README)\n"
           "  --mlp-normalise-cap C  that brightness capped C (natural log) below the brightest\n"
           "                       situation's (default %g), or none\n"
+          "  --mlp-loss-floor F   0 (default): the sky network trains on the MSE of its targets; F > 0:\n"
+          "                       on their relative error, each residual over |target| + F x the\n"
+          "                       largest target (dark skies weigh more)\n"
           "  --mlp-restarts N     networks trained per quantity at most (default %d; 1 with --quick):\n"
           "                       while no model meets the budget, the seed's next restart is trained\n"
           "                       (named mlp-*-2, -3, ...), measured and the selection made again;\n"
@@ -317,6 +320,12 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
         o.mlp_scattering_normalise_cap = INFINITY;
       else if (sf_mlp_cli_parse_double(v, 0.0, HUGE_VAL, &o.mlp_scattering_normalise_cap)) {
         fprintf(stderr, "%s: --mlp-normalise-cap: expected a number >= 0 or none, got '%s'\n", command, v);
+        return 2;
+      }
+    } else if (sf_cli_valued(a, "--mlp-loss-floor", v, &missing)) {
+      ++i;
+      if (sf_mlp_cli_parse_double(v, 0.0, 1.0, &o.mlp_scattering_loss_floor)) {
+        fprintf(stderr, "%s: --mlp-loss-floor: expected a number in 0..1, got '%s'\n", command, v);
         return 2;
       }
     } else if (sf_cli_valued(a, "--exclude", v, &missing)) {

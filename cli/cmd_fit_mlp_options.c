@@ -227,12 +227,7 @@ int sf_mlp_cli_polish(const sf_mlp_cli *o, const sf_dataset *train, const sf_dat
   if (o->polish.iterations <= 0) return SF_OK;
   const sf_train_options *t = &o->train;
   double delta[SF_MLP_MAX_WIDTH];
-  int n_out = t->shape.sizes[t->shape.n_layers];
-  for (int k = 0; k < n_out; ++k) {
-    double m = 0.0;
-    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
-    delta[k] = t->loss_floor * m > 0.0 ? t->loss_floor * m : 1e-300;
-  }
+  sf_train_loss_floors(train, t->loss_floor, delta);
   sf_mlp_loss loss = {t->loss, delta};
   sf_mlp_lm_options polish = o->polish;
   polish.n_threads = t->n_threads;

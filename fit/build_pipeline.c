@@ -414,7 +414,8 @@ int sf_build_run(const sf_scene *scene, const sf_build_options *o, sf_build_resu
                             .mlp_scattering_epochs = o->mlp_scattering_epochs,
                             .mlp_scattering_samples = o->mlp_scattering_samples,
                             .mlp_scattering_normalise = o->mlp_scattering_normalise,
-                            .mlp_scattering_normalise_cap = o->mlp_scattering_normalise_cap, .run = o->report.run,
+                            .mlp_scattering_normalise_cap = o->mlp_scattering_normalise_cap,
+                            .mlp_scattering_loss_floor = o->mlp_scattering_loss_floor, .run = o->report.run,
                             .exclude = o->exclude,
                             .note = log_note, .note_ctx = notes};
   sf_candidate_list list;

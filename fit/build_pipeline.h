@@ -30,6 +30,8 @@ typedef struct sf_build_options {
   int mlp_scattering_normalise;      /* 1 (default): the sky network brightness-normalised (fit/output_norm.h) */
   double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (default
                                             SF_OUTPUT_NORM_CAP_BELOW); INFINITY: none */
+  double mlp_scattering_loss_floor;  /* 0: the sky network trains on MSE; > 0: on the relative loss
+                                        of that floor (sf_train_options.loss_floor) */
   int mlp_restarts;                  /* networks trained per quantity at most: while no model meets
                                         the budget, the seed's next restart (0: SF_BUILD_MLP_RESTARTS,
                                         1 with quick, and none where the networks miss the budget by

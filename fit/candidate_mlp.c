@@ -134,15 +134,19 @@ static int train_network(const sf_candidate_inputs *in, mlp_job *job, const sf_d
     lm_opt.iterations = job->polish_iterations;
     lm_opt.max_samples = job->polish_samples;
     lm_opt.n_threads = in->run.n_threads;
-    sf_mlp_loss loss = {job->train.loss, NULL};   /* both networks train on MSE: no per-output delta */
+    double *delta = malloc(sizeof *delta * (size_t)(train.n_out > 0 ? train.n_out : 1));
+    if (!delta) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
+    if (status == SF_OK) sf_train_loss_floors(&train, job->train.loss_floor, delta);
+    sf_mlp_loss loss = {job->train.loss, delta};
     sf_mlp_lm_result lm;
-    status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
+    if (status == SF_OK) status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
     if (status == SF_OK) {
       result->train_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &train, in->run.n_threads);
       result->validation_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &val, in->run.n_threads);
     } else {
       sf_mlp_free(&result->net);
     }
+    free(delta);
   }
   *n_train = train.n;
   *n_val = val.n;
@@ -266,6 +270,7 @@ static int train_and_store(const sf_candidate_inputs *in, mlp_job *job, const ch
     cJSON_AddNumberToObject(training, "epochs", job->train.epochs);
     cJSON_AddNumberToObject(training, "epochs_run", result.epochs_run);
     cJSON_AddStringToObject(training, "loss", sf_mlp_loss_name(job->train.loss));
+    if (job->train.loss != SF_LOSS_MSE) cJSON_AddNumberToObject(training, "loss_floor", job->train.loss_floor);
     if (!job->scattering && job->target_root > 1) cJSON_AddNumberToObject(training, "target_root", job->target_root);
     cJSON_AddNumberToObject(training, "batch", (double)job->train.batch);
     cJSON_AddNumberToObject(training, "lr", job->train.adam.lr);
@@ -291,6 +296,7 @@ static int make(const sf_candidate_inputs *in, mlp_job *job, sf_candidate *out, 
   sf_cache_key_add_number(&key, "epochs", job->train.epochs);
   sf_cache_key_add_number(&key, "batch", (double)job->train.batch);
   sf_cache_key_add_number(&key, "loss", job->train.loss);
+  if (job->train.loss != SF_LOSS_MSE) sf_cache_key_add_number(&key, "loss_floor", job->train.loss_floor);
   sf_cache_key_add_number(&key, "lr", job->train.adam.lr);
   sf_cache_key_add_number(&key, "samples", (double)job->max_samples);
   sf_cache_key_add_number(&key, "lr_decay", job->train.adam.lr_decay_per_epoch);
@@ -461,7 +467,8 @@ int sf_candidate_make_mlp_scattering(const sf_candidate_inputs *in, sf_candidate
   name_job(&job, "mlp-scattering", in->restart);
   /* MSE, not the relative loss: the relative loss left the validation
    * RMSE about 5x higher (bench/mlp_accuracy.sh). */
-  job.train.loss = SF_LOSS_MSE;
+  job.train.loss = in->mlp_scattering_loss_floor > 0.0 ? SF_LOSS_REL : SF_LOSS_MSE;
+  job.train.loss_floor = in->mlp_scattering_loss_floor;
   job.train.batch = 1024;
   /* Epochs decaying by 0.95 on every grid point (on a 200,000-sample
    * subset, and with decay 0.9, the error over the scene domain was higher).

@@ -44,6 +44,8 @@ typedef struct sf_candidate_inputs {
   long mlp_scattering_samples;       /* training samples kept (0: the default; < 0: all) */
   int mlp_scattering_normalise;      /* 1: the sky network brightness-normalised (fit/output_norm.h) */
   double mlp_scattering_normalise_cap;   /* its brightness's cap below the brightest (>= 0); INFINITY: none */
+  double mlp_scattering_loss_floor;  /* 0: the sky network trains on MSE; > 0: on the relative loss of
+                                        that floor (sf_train_options.loss_floor) */
   sf_precompute_options run;         /* threads, progress */
   const char *exclude;               /* comma-separated names left out (sf_candidate_exclude_check); NULL: none */
   void (*note)(void *ctx, const char *message);   /* messages for the user; may be NULL */

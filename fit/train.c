@@ -296,6 +296,14 @@ static void start_restart(train_state *st, const sf_train_options *o, int np) {
  * measure against the target, so a column that is 0 everywhere has no
  * scale (its floor is 0); log takes log(target + floor), undefined at or
  * below -floor. */
+void sf_train_loss_floors(const sf_dataset *train, double loss_floor, double *delta) {
+  for (int k = 0; k < train->n_out; ++k) {
+    double m = 0.0;
+    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
+    delta[k] = loss_floor * m > 1e-300 ? loss_floor * m : 1e-300;
+  }
+}
+
 static int check_targets(const sf_dataset *train, const sf_dataset *val, sf_mlp_loss_kind kind, const double *delta,
                          sf_error *err) {
   /* Squared errors of targets near 1e154 overflow at the first epoch: that
@@ -387,12 +395,7 @@ int sf_mlp_train(const sf_dataset *train, const sf_dataset *val, const sf_train_
     goto done;
   }
   cs.parallel_work = val_cs.parallel_work = o->parallel_work;
-  /* rel/log floors from the training targets (fit/mlp_backward.h). */
-  for (int k = 0; k < train->n_out; ++k) {
-    double m = 0.0;
-    for (long i = 0; i < train->n; ++i) m = fmax(m, fabs(train->y[i * train->n_out + k]));
-    delta[k] = o->loss_floor * m > 1e-300 ? o->loss_floor * m : 1e-300;
-  }
+  sf_train_loss_floors(train, o->loss_floor, delta);
   if ((status = check_targets(train, has_val ? val : NULL, o->loss, delta, err)) != SF_OK) goto done;
   result->n_threads = thread_count(o->n_threads);
   sf_mlp_loss loss = {o->loss, delta};

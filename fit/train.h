@@ -117,6 +117,10 @@ long sf_train_chunk_size(long batch);
  * zero biases, from the stream (seed, restart). */
 void sf_mlp_init_xavier(const sf_mlp_shape *shape, uint64_t seed, int restart, double *params);
 
+/* The rel/log losses' floors (fit/mlp_backward.h): delta[k] = loss_floor *
+ * max |y_k| over train, at least 1e-300; delta holds train->n_out. */
+void sf_train_loss_floors(const sf_dataset *train, double loss_floor, double *delta);
+
 /* Trains on train, stopping early and choosing among restarts on validation
  * (NULL or empty: no early stopping, the last network of the best final
  * training loss is kept). */

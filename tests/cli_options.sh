@@ -15,7 +15,7 @@ passed=0
 failed=0
 cases=(
   "sample|--out --resolution --atmosphere --scene --orders --threads --parameterization --stop-fraction"
-  "build|--out --header-c --header-glsl --prefix --resolution --views --samples --timing-points --repetitions --seed --mlp-epochs --mlp-samples --mlp-restarts --mlp-normalise --mlp-normalise-cap --cache-limit --threads"
+  "build|--out --header-c --header-glsl --prefix --resolution --views --samples --timing-points --repetitions --seed --mlp-epochs --mlp-samples --mlp-restarts --mlp-normalise --mlp-normalise-cap --mlp-loss-floor --cache-limit --threads"
   "report|--out --resolution --views --samples --seed --cache-limit --threads"
   "eval transmittance|--atmosphere --model --to --to-distance"
   "eval sky_radiance|--tables --resolution"

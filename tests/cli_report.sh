@@ -468,11 +468,23 @@ print("mars: fitted " + ", ".join(f"{m['name']} (rel RMSE {m['errors']['rel_rmse
 PY
 [ $rc -eq 0 ] || { echo "FAIL mars build exited $rc"; cat "$tmp/mars.out"; fail=1; }
 # --mlp-normalise-cap none: the brightness normalised, uncapped (as `fit
-# mlp-scattering --normalise-cap none`); a bad cap exits 2, writing nothing
-"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise-cap none --out "$tmp/mars-nc" > /dev/null 2>&1 &&
+# mlp-scattering --normalise-cap none`); a bad cap exits 2, writing nothing.
+# The same build's --mlp-loss-floor: the sky network trained on the relative
+# loss of that floor, as its weights file says.
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise-cap none --mlp-loss-floor 0.01 \
+  --out "$tmp/mars-nc" > /dev/null 2>&1 &&
   grep -q '"norm_coef"' "$tmp/mars-nc/weights/mlp-scattering.json" &&
   ! grep -q '"norm_cap"' "$tmp/mars-nc/weights/mlp-scattering.json" ||
   { echo "FAIL mars scene: --mlp-normalise-cap none: norm_coef missing or norm_cap present"; fail=1; }
+python3 - "$tmp/mars-nc/weights/mlp-scattering.json" <<'PY' || fail=1
+import json, sys
+t = json.load(open(sys.argv[1]))["training"]
+assert t["loss"] == "rel" and t["loss_floor"] == 0.01, t
+PY
+"$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-loss-floor 2 --out "$tmp/mars-bad" 2> "$tmp/err"
+rc=$?
+[ $rc -eq 2 ] && grep -q -- "--mlp-loss-floor" "$tmp/err" && [ ! -e "$tmp/mars-bad" ] ||
+  { echo "FAIL --mlp-loss-floor 2 should exit 2 naming the option and write nothing"; fail=1; }
 "$bin" build "$src/examples/scenes/mars.json" "${tiny[@]}" --mlp-normalise-cap -1 --out "$tmp/mars-bad" 2> "$tmp/err"
 rc=$?
 echo "--mlp-normalise-cap -1: exit $rc: $(head -1 "$tmp/err")"
