@@ -8,7 +8,9 @@
  * out; a ray that falls to a lowest point above the ground is split there
  * too), T_sun and T_view from the transmittance table (T_view as a ratio
  * of rays to the top that rise or run level, Bruneton 2017
- * GetTransmittance) and an 8-point Gauss-Legendre rule on each part: the
+ * GetTransmittance; with Leenman's tables, whose linear mu cannot follow T
+ * near the horizontal, from the reference optical depth, data/sunlit_ray.c)
+ * and an 8-point Gauss-Legendre rule on each part: the
  * single scattering (seed 000's integral, without the sun's irradiance,
  * the scattering coefficient and the phase) on a coarse rule.
  *

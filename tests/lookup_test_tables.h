@@ -17,17 +17,18 @@
 #include "tests/exact_single_radiance.h"
 #include "util/constants.h"
 
-/* *a: the default atmosphere; res in --resolution's syntax
- * ("256x64,32x128x16x8"); orders: the highest order (1: single scattering
- * alone; the multiple table then holds orders 2..orders). 0 on success,
- * else 1 with the reason on stderr. */
-static inline int lookup_test_tables(const char *res, int orders, sf_atmosphere *a, sf_table_set *set,
-                                     sf_sky_tables *sky) {
+/* *a: the default atmosphere; kind: the tables' parameterisation; res in
+ * --resolution's syntax ("256x64,32x128x16x8"); orders: the highest order
+ * (1: single scattering alone; the multiple table then holds orders
+ * 2..orders). 0 on success, else 1 with the reason on stderr. */
+static inline int lookup_test_tables_of(sf_parameterization kind, const char *res, int orders, sf_atmosphere *a,
+                                        sf_table_set *set, sf_sky_tables *sky) {
   sf_atmosphere_default(a);
   sf_atmosphere_finalize(a);
   sf_table_set_options o;
   sf_table_set_options_default(&o);
   sf_error err = {0};
+  o.kind = kind;
   int status = sf_table_resolution_parse(res, &o.res, &err);
   if (status == 0) {
     o.orders = orders;
@@ -41,6 +42,12 @@ static inline int lookup_test_tables(const char *res, int orders, sf_atmosphere 
   }
   sf_sky_tables_of_set(sky, a, set);
   return 0;
+}
+
+/* lookup_test_tables_of in Bruneton's parameterisation (the default). */
+static inline int lookup_test_tables(const char *res, int orders, sf_atmosphere *a, sf_table_set *set,
+                                     sf_sky_tables *sky) {
+  return lookup_test_tables_of(SF_PARAM_BRUNETON, res, orders, a, set, sky);
 }
 
 /* The lookup's single scattering in channel ch, each constituent times its
