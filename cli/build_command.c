@@ -59,9 +59,9 @@ static void usage(FILE *out, const char *command, int emit) {
           "                       the dawn views several times better (README)\n"
           "  --mlp-normalise-cap C  that brightness capped C (natural log) below the brightest\n"
           "                       situation's (default %g), or none\n"
-          "  --mlp-loss-floor F   0 (default): the sky network trains on the MSE of its targets; F > 0:\n"
-          "                       on their relative error, each residual over |target| + F x the\n"
-          "                       largest target (dark skies weigh more)\n"
+          "  --mlp-loss-floor F   0 (default): the sky network trains on the MSE of its targets; F in\n"
+          "                       1e-12..1: on their relative error, each residual over |target| + F\n"
+          "                       x the largest target (dark skies weigh more; README)\n"
           "  --mlp-restarts N     networks trained per quantity at most (default %d; 1 with --quick):\n"
           "                       while no model meets the budget, the seed's next restart is trained\n"
           "                       (named mlp-*-2, -3, ...), measured and the selection made again;\n"
@@ -324,8 +324,11 @@ int sf_cli_build_or_report(int argc, char **argv, int emit, const char *command)
       }
     } else if (sf_cli_valued(a, "--mlp-loss-floor", v, &missing)) {
       ++i;
-      if (sf_mlp_cli_parse_double(v, 0.0, 1.0, &o.mlp_scattering_loss_floor)) {
-        fprintf(stderr, "%s: --mlp-loss-floor: expected a number in 0..1, got '%s'\n", command, v);
+      /* a floor of F x a target's largest must stay a number the relative
+       * loss can divide by (fit/train.c gives 1e-300 at least) */
+      if (sf_mlp_cli_parse_double(v, 0.0, 1.0, &o.mlp_scattering_loss_floor) ||
+          (o.mlp_scattering_loss_floor > 0.0 && o.mlp_scattering_loss_floor < 1e-12)) {
+        fprintf(stderr, "%s: --mlp-loss-floor: expected 0 or a number in 1e-12..1, got '%s'\n", command, v);
         return 2;
       }
     } else if (sf_cli_valued(a, "--exclude", v, &missing)) {

@@ -291,11 +291,6 @@ static void start_restart(train_state *st, const sf_train_options *o, int np) {
   st->best_restart_epoch = 0;
 }
 
-/* Targets the loss can measure (SF_ERR_INPUT naming the column otherwise;
- * they had ended as "training diverged in every restart"): rel and log
- * measure against the target, so a column that is 0 everywhere has no
- * scale (its floor is 0); log takes log(target + floor), undefined at or
- * below -floor. */
 void sf_train_loss_floors(const sf_dataset *train, double loss_floor, double *delta) {
   for (int k = 0; k < train->n_out; ++k) {
     double m = 0.0;
@@ -304,6 +299,11 @@ void sf_train_loss_floors(const sf_dataset *train, double loss_floor, double *de
   }
 }
 
+/* Targets the loss can measure (SF_ERR_INPUT naming the column otherwise;
+ * they had ended as "training diverged in every restart"): rel and log
+ * measure against the target, so a column that is 0 everywhere has no
+ * scale (its floor is the least, 1e-300); log takes log(target + floor),
+ * undefined at or below -floor. */
 static int check_targets(const sf_dataset *train, const sf_dataset *val, sf_mlp_loss_kind kind, const double *delta,
                          sf_error *err) {
   /* Squared errors of targets near 1e154 overflow at the first epoch: that

@@ -4,7 +4,7 @@
  * The lookup divides the samples by the ray's sunlit air F
  * (data/sunlit_ray.h) and multiplies back. F had taken its sun and view
  * transmittances from Leenman's table, whose linear mu cannot follow T
- * near the horizontal, and 19 of these 22 values were off by more than 2 %:
+ * near the horizontal, and 19 of these 21 values were off by more than 2 %:
  * 0.9 km looking 10.8 deg down towards a sun 0.57 deg below the horizon
  * +244 / +2878 / +512007 % (r / g / b), 0.4 km 1.5 deg down +311 / +3783 /
  * +745133 %, 20 km zenith -14 / -28 / -60 %. F now integrates the
