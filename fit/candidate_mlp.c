@@ -139,7 +139,8 @@ static int train_network(const sf_candidate_inputs *in, mlp_job *job, const sf_d
     if (status == SF_OK) sf_train_loss_floors(&train, job->train.loss_floor, delta);
     sf_mlp_loss loss = {job->train.loss, delta};
     sf_mlp_lm_result lm;
-    if (status == SF_OK) status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
+    if (status == SF_OK)
+      status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
     if (status == SF_OK) {
       result->train_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &train, in->run.n_threads);
       result->validation_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &val, in->run.n_threads);
