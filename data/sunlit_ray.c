@@ -35,14 +35,16 @@ static const double node_w[NODES] = {0.050614268145188126, 0.11119051722668724, 
  * lookups 6-7x as slow (README). */
 static void to_top(const sf_atmosphere *atm, const sf_table_params *p, const sf_table *transmittance, int nch,
                    double h, double mu, double *out) {
-  for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
   if (p->kind != SF_PARAM_LEENMAN) {
     if (sf_transmittance_table_to_top(p, transmittance, h, mu, out) != 0)
       for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
     return;
   }
   double R = atm->bottom_radius_km, r = R + h, t_near, t_far, depth[SF_MAX_CONSTITUENTS];
-  if (sf_ray_hits_sphere_from_above(r, mu, R)) return;
+  if (sf_ray_hits_sphere_from_above(r, mu, R)) {
+    for (int ch = 0; ch < nch; ++ch) out[ch] = 0.0;
+    return;
+  }
   if (!sf_ray_sphere_intersections(r, mu, atm->top_radius_km, &t_near, &t_far) || !(t_far > 0.0)) {
     for (int ch = 0; ch < nch; ++ch) out[ch] = 1.0;
     return;

@@ -134,20 +134,17 @@ static int train_network(const sf_candidate_inputs *in, mlp_job *job, const sf_d
     lm_opt.iterations = job->polish_iterations;
     lm_opt.max_samples = job->polish_samples;
     lm_opt.n_threads = in->run.n_threads;
-    double *delta = malloc(sizeof *delta * (size_t)(train.n_out > 0 ? train.n_out : 1));
-    if (!delta) status = sf_fail(err, SF_ERR_INTERNAL, "out of memory");
-    if (status == SF_OK) sf_train_loss_floors(&train, job->train.loss_floor, delta);
+    double delta[SF_MLP_MAX_WIDTH];   /* train.n_out is the trained network's output width */
+    sf_train_loss_floors(&train, job->train.loss_floor, delta);
     sf_mlp_loss loss = {job->train.loss, delta};
     sf_mlp_lm_result lm;
-    if (status == SF_OK)
-      status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
+    status = sf_mlp_lm_polish(&job->train.shape, result->net.params, &loss, &train, &val, &lm_opt, &lm, err);
     if (status == SF_OK) {
       result->train_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &train, in->run.n_threads);
       result->validation_loss = sf_mlp_dataset_loss(&job->train.shape, result->net.params, &loss, &val, in->run.n_threads);
     } else {
       sf_mlp_free(&result->net);
     }
-    free(delta);
   }
   *n_train = train.n;
   *n_val = val.n;

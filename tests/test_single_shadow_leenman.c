@@ -9,9 +9,6 @@
  * +244 / +2878 / +512007 % (r / g / b), 0.4 km 1.5 deg down +311 / +3783 /
  * +745133 %, 20 km zenith -14 / -28 / -60 %. F now integrates the
  * reference optical depth with these tables: all within 0.32 %. */
-#include <math.h>
-#include <stdio.h>
-
 #include "tests/check.h"
 #include "tests/lookup_test_tables.h"
 
